@@ -1,0 +1,106 @@
+#include "cli_io.h"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+#include "gonio/material.h"
+
+namespace gonio::cli {
+
+BxDF load_bsdf(const std::string& arg) {
+  if (!arg.empty() && arg[0] == '@') {
+    const std::string path = arg.substr(1);
+    std::ifstream f(path, std::ios::binary);
+    if (!f) throw InputError("--bsdf: cannot read file '" + path + "'");
+    std::stringstream ss;
+    ss << f.rdbuf();
+    if (f.bad()) throw InputError("--bsdf: cannot read file '" + path + "'");
+    return parse_material(ss.str(), path);
+  }
+  return parse_material(arg, "--bsdf");
+}
+
+TransportMode parse_mode(const std::string& name) {
+  return name == "importance" ? TransportMode::Importance : TransportMode::Radiance;
+}
+
+void add_mode_option(CLI::App& cmd, std::string& mode) {
+  cmd.add_option("--mode", mode, "transport mode: radiance (default) or importance")
+      ->check(CLI::IsMember({"radiance", "importance"}));
+}
+
+std::vector<std::array<double, 6>> read_six_numbers(std::istream& in) {
+  std::vector<std::array<double, 6>> rows;
+  std::string line;
+  size_t line_no = 0;
+  while (std::getline(in, line)) {
+    ++line_no;
+    const std::string where = "stdin line " + std::to_string(line_no) + ": ";
+    std::array<double, 6> row{};
+    size_t count = 0;
+    const char* p = line.data();
+    const char* end = p + line.size();
+    while (true) {
+      while (p < end && (*p == ' ' || *p == '\t' || *p == '\r' || *p == ',')) ++p;
+      if (p >= end) break;
+      const char* tok = p;
+      while (p < end && !(*p == ' ' || *p == '\t' || *p == '\r' || *p == ',')) ++p;
+      const std::string token(tok, p);
+      if (count == 6) throw InputError(where + "expected 6 numbers, got more");
+      const char* first = tok;
+      if (*first == '+') ++first;
+      double v = 0;
+      const auto res = std::from_chars(first, p, v);
+      if (res.ec != std::errc() || res.ptr != p)
+        throw InputError(where + "'" + token + "' is not a number");
+      if (!std::isfinite(v)) throw InputError(where + "'" + token + "' is not a finite number");
+      row[count++] = v;
+    }
+    if (count == 0) continue;  // blank line
+    if (count != 6)
+      throw InputError(where + "expected 6 numbers, got " + std::to_string(count));
+    rows.push_back(row);
+  }
+  if (in.bad()) throw InputError("stdin: read error");
+  return rows;
+}
+
+Vec3 unit_vector(double x, double y, double z, size_t line, const char* name) {
+  // Scale first so that very large or very small components neither overflow nor vanish.
+  const double m = std::max({std::abs(x), std::abs(y), std::abs(z)});
+  if (!(m > 0))
+    throw InputError("stdin line " + std::to_string(line) + ": " + name + " is a zero vector");
+  x /= m;
+  y /= m;
+  z /= m;
+  const double inv = 1 / std::sqrt(x * x + y * y + z * z);
+  return {Float(x * inv), Float(y * inv), Float(z * inv)};
+}
+
+namespace {
+std::string format(const char* fmt, double v) {
+  if (!std::isfinite(v)) throw std::logic_error("a non-finite value reached the output");
+  char buf[64];
+  std::snprintf(buf, sizeof buf, fmt, v + 0.0);  // + 0.0 turns -0 into 0
+  return buf;
+}
+}  // namespace
+
+std::string json_number(float v) { return format("%.9g", double(v)); }
+std::string json_number(double v) { return format("%.17g", v); }
+
+std::string json_color(const Color& c) {
+  std::string s = "[";
+  for (int i = 0; i < Color::size(); ++i) {
+    if (i) s += ",";
+    s += json_number(c[i]);
+  }
+  return s + "]";
+}
+
+}  // namespace gonio::cli

@@ -1,0 +1,79 @@
+// gonio albedo: directional–hemispherical (or hemispherical–hemispherical) reflectance
+// and transmittance (SPEC §3; lecture §4).
+
+#include <cmath>
+#include <iostream>
+#include <memory>
+#include <string>
+
+#include "cli_io.h"
+#include "commands.h"
+#include "gonio/reflectance.h"
+
+namespace gonio::cli {
+
+namespace {
+struct AlbedoArgs {
+  std::string bsdf;
+  double theta = 0, phi = 0;
+  bool hemispherical = false, inside = false;
+  std::uint64_t samples = 1u << 20;
+  std::uint64_t seed = 1;
+};
+
+double checked_degrees(double v, double lo, double hi, const char* name) {
+  if (!std::isfinite(v) || v < lo || v > hi)
+    throw InputError(std::string(name) + " must be in [" + json_number(lo) + ", " + json_number(hi) +
+                     "] degrees, got " + json_number(v));
+  return v * kPiD / 180;
+}
+
+void run_albedo(const AlbedoArgs& a) {
+  const BxDF bxdf = load_bsdf(a.bsdf);
+  if (a.samples == 0) throw InputError("--samples must be > 0");
+  const ReflectanceOptions opt{a.samples, a.seed};
+  AlbedoEstimate e;
+  std::string theta = "null";
+  if (a.hemispherical) {
+    e = hemispherical_albedo(bxdf, a.inside, opt);
+  } else {
+    const double t = checked_degrees(a.theta, 0, 90, "--theta");
+    const double p = checked_degrees(a.phi, -360, 360, "--phi");
+    const double z = std::cos(t);
+    const Vec3 wo{Float(std::sin(t) * std::cos(p)), Float(std::sin(t) * std::sin(p)),
+                  Float(a.inside ? -z : z)};
+    e = directional_albedo(bxdf, wo, opt);
+    theta = json_number(a.theta);
+  }
+  std::cout << "{\"theta\":" << theta << ",\"reflectance\":" << json_color(e.reflectance)
+            << ",\"transmittance\":" << json_color(e.transmittance)
+            << ",\"albedo\":" << json_color(e.albedo) << ",\"stderr\":" << json_color(e.se_albedo)
+            << ",\"stderr_reflectance\":" << json_color(e.se_reflectance)
+            << ",\"stderr_transmittance\":" << json_color(e.se_transmittance)
+            << ",\"exact\":" << (e.exact ? "true" : "false") << "}\n";
+}
+}  // namespace
+
+void register_albedo(CLI::App& app) {
+  auto args = std::make_shared<AlbedoArgs>();
+  auto* cmd = app.add_subcommand(
+      "albedo",
+      "Reflectance, transmittance (importance mode: energy) and albedo for light arriving along "
+      "wo at --theta (and --phi), or their cosine-weighted average with --hemispherical");
+  cmd->add_option("--bsdf", args->bsdf, "material JSON text, or @path to a file holding it")->required();
+  auto* theta = cmd->add_option("--theta", args->theta, "polar angle of wo in degrees, [0, 90]");
+  cmd->add_option("--phi", args->phi, "azimuth of wo in degrees (default 0)")->needs(theta);
+  auto* hemi = cmd->add_flag("--hemispherical", args->hemispherical,
+                             "rho_hh: average over all wo on one side, cosine-weighted (theta ignored)");
+  theta->excludes(hemi);
+  cmd->add_flag("--inside", args->inside, "put wo on the z < 0 side");
+  cmd->add_option("--samples", args->samples, "Monte Carlo samples (default 1048576)");
+  cmd->add_option("--seed", args->seed, "random seed (default 1)");
+  cmd->callback([args, theta, hemi] {
+    if (theta->count() == 0 && hemi->count() == 0)
+      throw InputError("albedo: give --theta DEG or --hemispherical");
+    run_albedo(*args);
+  });
+}
+
+}  // namespace gonio::cli

@@ -1,0 +1,46 @@
+// gonio eval: f and pdf for direction pairs read from stdin (SPEC §3).
+
+#include <iostream>
+#include <memory>
+#include <string>
+
+#include "cli_io.h"
+#include "commands.h"
+
+namespace gonio::cli {
+
+namespace {
+struct EvalArgs {
+  std::string bsdf;
+  std::string mode = "radiance";
+};
+
+void run_eval(const EvalArgs& a) {
+  const BxDF bxdf = load_bsdf(a.bsdf);
+  const TransportMode mode = parse_mode(a.mode);
+  const auto rows = read_six_numbers(std::cin);
+  std::string out;
+  out.reserve(rows.size() * 64);
+  for (size_t i = 0; i < rows.size(); ++i) {
+    const auto& r = rows[i];
+    const Vec3 wo = unit_vector(r[0], r[1], r[2], i + 1, "wo");
+    const Vec3 wi = unit_vector(r[3], r[4], r[5], i + 1, "wi");
+    const BSDFEval e = bxdf.eval(wo, wi, mode);
+    out += "{\"f\":" + json_color(e.f) + ",\"pdf\":" + json_number(e.pdf) + "}\n";
+  }
+  std::cout << out;
+}
+}  // namespace
+
+void register_eval(CLI::App& app) {
+  auto args = std::make_shared<EvalArgs>();
+  auto* cmd = app.add_subcommand(
+      "eval",
+      "Evaluate f (1/sr, no cosine) and pdf for lines 'wo_x wo_y wo_z wi_x wi_y wi_z' on stdin; "
+      "prints {\"f\":[r,g,b],\"pdf\":p} per line");
+  cmd->add_option("--bsdf", args->bsdf, "material JSON text, or @path to a file holding it")->required();
+  add_mode_option(*cmd, args->mode);
+  cmd->callback([args] { run_eval(*args); });
+}
+
+}  // namespace gonio::cli

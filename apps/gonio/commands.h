@@ -1,0 +1,15 @@
+#pragma once
+// Each subcommand registers its options and its action on the main CLI11 app.
+// Actions throw gonio::InputError for bad input (exit 2).
+
+#include <CLI/CLI.hpp>
+
+namespace gonio::cli {
+
+void register_eval(CLI::App& app);
+void register_sample(CLI::App& app);
+void register_albedo(CLI::App& app);
+void register_fresnel(CLI::App& app);
+void register_table(CLI::App& app);
+
+}  // namespace gonio::cli

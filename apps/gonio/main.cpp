@@ -1,0 +1,41 @@
+// gonio: the command-line face of the library (SPEC §3). Results go to stdout as JSON
+// lines; errors go to stderr as one line, with exit status 2 for bad input.
+
+#include <cstdio>
+#include <exception>
+#include <iostream>
+
+#include <CLI/CLI.hpp>
+
+#include "commands.h"
+#include "gonio/error.h"
+
+int main(int argc, char** argv) {
+  CLI::App app{"gonio: physically based reflection models, evaluated, sampled and measured"};
+  app.require_subcommand(1);
+  gonio::cli::register_eval(app);
+  gonio::cli::register_sample(app);
+  gonio::cli::register_albedo(app);
+  gonio::cli::register_fresnel(app);
+  gonio::cli::register_table(app);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    std::cerr << "gonio: " << e.what() << " (see gonio --help)\n";
+    return 2;
+  } catch (const gonio::InputError& e) {
+    std::cerr << "gonio: " << e.what() << "\n";
+    return 2;
+  } catch (const std::exception& e) {
+    std::cerr << "gonio: internal error: " << e.what() << "\n";
+    return 3;
+  }
+  std::cout.flush();
+  return std::cout.good() ? 0 : 3;
+}

@@ -1,0 +1,50 @@
+#pragma once
+// The extension point: a user's own model, written as a class derived from CustomBxDF,
+// goes everywhere a built-in model goes (BxDF, BSDF, reflectance, the validator, the
+// renderer). Built-in models are dispatched without virtual calls; only user models pay
+// for one.
+
+#include <memory>
+#include <optional>
+#include <string>
+#include <utility>
+
+#include "gonio/bxdf/contract.h"
+
+namespace gonio {
+
+class CustomBxDF {
+ public:
+  virtual ~CustomBxDF();
+  virtual BxDFFlags flags() const = 0;
+  virtual Color f(const Vec3& wo, const Vec3& wi, TransportMode mode) const = 0;
+  virtual Float pdf(const Vec3& wo, const Vec3& wi, TransportMode mode) const = 0;
+  virtual std::optional<BSDFSample> sample(const Vec3& wo, Float u_lobe, Float u1, Float u2,
+                                           TransportMode mode) const = 0;
+  // Relative index n_inside / n_outside for models that refract; 1 otherwise.
+  virtual Float relative_eta() const { return 1; }
+  virtual bool is_isotropic() const { return true; }
+  virtual std::string name() const { return "custom"; }
+};
+
+// Value-type holder so a CustomBxDF can sit in the BxDF variant (shared, immutable).
+struct UserBxDF {
+  std::shared_ptr<const CustomBxDF> model;
+
+  BxDFFlags flags() const { return model->flags(); }
+  Color f(const Vec3& wo, const Vec3& wi, TransportMode mode) const { return model->f(wo, wi, mode); }
+  Float pdf(const Vec3& wo, const Vec3& wi, TransportMode mode) const { return model->pdf(wo, wi, mode); }
+  std::optional<BSDFSample> sample(const Vec3& wo, Float u_lobe, Float u1, Float u2,
+                                   TransportMode mode) const {
+    return model->sample(wo, u_lobe, u1, u2, mode);
+  }
+  Float relative_eta() const { return model->relative_eta(); }
+  bool is_isotropic() const { return model->is_isotropic(); }
+};
+
+template <typename M, typename... Args>
+UserBxDF make_user_bxdf(Args&&... args) {
+  return UserBxDF{std::make_shared<const M>(std::forward<Args>(args)...)};
+}
+
+}  // namespace gonio

@@ -1,0 +1,74 @@
+#pragma once
+// Reflectance ρ(Γi → Γr) between solid-angle domains (lecture §4, eq. 12):
+//
+//   ρ = (1/Ψi) ∫Γi ∫Γr f(ωi → ωr) cos θi cos θr dωi dωr,   Ψi = ∫Γi cos θi dωi,
+//
+// the ratio of the power leaving into Γr to the power arriving from Γi under uniform
+// incident radiance. Each domain is a direction dω, a cone Ω or a hemisphere H², on
+// either side of the surface (the exitant side decides between reflection and
+// transmission). ρ is an energy ratio, so transmission into a denser medium is not
+// scaled by η².
+//
+// When Γr is a single direction, ρ is infinitesimal; gonio then reports the reflectance
+// factor π (1/Ψi) ∫Γi f cos θi dωi (Nicodemus et al. 1977, NBS Monograph 160, §5): the
+// ratio to an ideal white diffuser under the same geometry (π f for direction–direction).
+//
+// Estimates are Monte Carlo with the model's own importance sampling (the model is
+// sampled in importance mode from ωi, which yields ωr with weight
+// f(ωi → ωr) |cos θr| / pdf), with per-channel standard errors; closed forms are used
+// where the model provides an exact directional albedo.
+
+#include <cstdint>
+#include <variant>
+
+#include "gonio/bxdf.h"
+
+namespace gonio {
+
+struct DirectionDomain {
+  Vec3 w{0, 0, 1};  // local frame; need not be unit length
+};
+// Directions within `half_angle` (radians, in (0, π/2]) of `axis`. The cone must not
+// cross the tangent plane (polar angle of the axis + half_angle ≤ π/2).
+struct ConeDomain {
+  Vec3 axis{0, 0, 1};
+  double half_angle = 0.5;
+};
+struct HemisphereDomain {
+  bool upper = true;  // z > 0 (outside) or z < 0 (inside)
+};
+using SolidAngleDomain = std::variant<DirectionDomain, ConeDomain, HemisphereDomain>;
+
+struct ReflectanceOptions {
+  std::uint64_t samples = 1u << 20;
+  std::uint64_t seed = 1;
+};
+
+struct ReflectanceEstimate {
+  Color value;
+  Color standard_error;  // 0 where the value is exact
+  bool exact = false;
+};
+
+// Throws InputError for degenerate domains (zero direction, cone out of range).
+ReflectanceEstimate reflectance(const BxDF& bxdf, const SolidAngleDomain& incident,
+                                const SolidAngleDomain& exitant,
+                                const ReflectanceOptions& options = {});
+
+// SPEC §3 `gonio albedo`: for light arriving along wo, the fraction reflected (into wo's
+// hemisphere) and transmitted (into the other), and their sum, with standard errors.
+struct AlbedoEstimate {
+  Color reflectance, transmittance, albedo;
+  Color se_reflectance, se_transmittance, se_albedo;
+  bool exact = false;
+};
+
+// ρ_dh for light arriving along wo (importance mode).
+AlbedoEstimate directional_albedo(const BxDF& bxdf, const Vec3& wo,
+                                  const ReflectanceOptions& options = {});
+
+// ρ_hh: the cosine-weighted average of directional_albedo over every wo on one side.
+AlbedoEstimate hemispherical_albedo(const BxDF& bxdf, bool inside,
+                                    const ReflectanceOptions& options = {});
+
+}  // namespace gonio

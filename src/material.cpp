@@ -1,0 +1,261 @@
+// Material descriptions (SPEC §2) → BxDF, with errors that name the field.
+
+#include "gonio/material.h"
+
+#include <cmath>
+#include <set>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "gonio/metals.h"
+
+namespace gonio {
+namespace {
+
+using nlohmann::json;
+
+std::string format_number(double v) {
+  std::ostringstream os;
+  os.precision(9);
+  os << v;
+  return os.str();
+}
+
+// Short rendering of a JSON value for error messages.
+std::string show(const json& v) {
+  std::string s = v.dump();
+  if (s.size() > 60) s = s.substr(0, 57) + "...";
+  return s;
+}
+
+// Reads the parameters of one material and tracks which ones were used, so that any
+// left over can be reported as unknown.
+class Params {
+ public:
+  Params(const json& obj, std::string prefix) : obj_(obj), prefix_(std::move(prefix)) {}
+
+  [[noreturn]] void fail(const std::string& msg) const { throw InputError(prefix_ + msg); }
+
+  bool has(const char* key) {
+    if (!obj_.contains(key)) return false;
+    used_.insert(key);
+    return true;
+  }
+
+  double number(const char* key) {
+    used_.insert(key);
+    const json& v = obj_.at(key);
+    if (!v.is_number()) fail(std::string(key) + " must be a number, got " + show(v));
+    const double d = v.get<double>();
+    if (!std::isfinite(d)) fail(std::string(key) + " must be finite, got " + show(v));
+    return d;
+  }
+
+  // A colour parameter: a number (grey) or [r, g, b].
+  Color color(const char* key) {
+    used_.insert(key);
+    const json& v = obj_.at(key);
+    Color c;
+    if (v.is_number()) {
+      c = Color(static_cast<Float>(finite(key, v)));
+    } else if (v.is_array() && v.size() == static_cast<size_t>(Color::size())) {
+      for (int i = 0; i < Color::size(); ++i) {
+        const json& e = v[static_cast<size_t>(i)];
+        if (!e.is_number()) fail(std::string(key) + " must be a number or [r, g, b], got " + show(v));
+        c[i] = static_cast<Float>(finite(key, e));
+      }
+    } else {
+      fail(std::string(key) + " must be a number or [r, g, b], got " + show(v));
+    }
+    return c;
+  }
+
+  std::string string(const char* key) {
+    used_.insert(key);
+    const json& v = obj_.at(key);
+    if (!v.is_string()) fail(std::string(key) + " must be a string, got " + show(v));
+    return v.get<std::string>();
+  }
+
+  // Range checks that print the offending value.
+  void check_color_range(const char* key, const Color& c, double lo, double hi) const {
+    for (int i = 0; i < Color::size(); ++i)
+      if (c[i] < lo || c[i] > hi)
+        fail(std::string(key) + " must be in [" + format_number(lo) + ", " + format_number(hi) +
+             "], got " + format_number(c[i]));
+  }
+  void check_color_positive(const char* key, const Color& c) const {
+    for (int i = 0; i < Color::size(); ++i)
+      if (!(c[i] > 0)) fail(std::string(key) + " must be > 0, got " + format_number(c[i]));
+  }
+  void check_color_nonnegative(const char* key, const Color& c) const {
+    for (int i = 0; i < Color::size(); ++i)
+      if (c[i] < 0) fail(std::string(key) + " must be >= 0, got " + format_number(c[i]));
+  }
+
+  void reject_unknown() const {
+    for (const auto& [key, value] : obj_.items()) {
+      if (key == "type") continue;
+      if (!used_.count(key)) fail("unknown parameter '" + key + "'");
+    }
+  }
+
+ private:
+  double finite(const char* key, const json& v) const {
+    const double d = v.get<double>();
+    if (!std::isfinite(d)) fail(std::string(key) + " must be finite, got " + show(v));
+    return d;
+  }
+  const json& obj_;
+  std::string prefix_;
+  std::set<std::string> used_;
+};
+
+BxDF make_diffuse(Params& p) {
+  DiffuseBxDF m;
+  if (p.has("reflectance")) m.reflectance = p.color("reflectance");
+  p.check_color_range("reflectance", m.reflectance, 0, 1);
+  return m;
+}
+
+BxDF make_mirror(Params& p) {
+  MirrorBxDF m;
+  if (p.has("reflectance")) m.reflectance = p.color("reflectance");
+  p.check_color_range("reflectance", m.reflectance, 0, 1);
+  return m;
+}
+
+ConductorFresnel make_conductor_fresnel(Params& p) {
+  ConductorFresnel fr;
+  if (p.has("fresnel")) {
+    const std::string mode = p.string("fresnel");
+    if (mode == "exact") fr.model = FresnelModel::Exact;
+    else if (mode == "schlick") fr.model = FresnelModel::Schlick;
+    else p.fail("fresnel must be \"exact\" or \"schlick\", got \"" + mode + "\"");
+  }
+  const bool has_material = p.has("material");
+  const bool has_eta = p.has("eta");
+  const bool has_k = p.has("k");
+  const bool has_f0 = p.has("f0");
+  if (has_material && (has_eta || has_k))
+    p.fail("give either material or eta/k, not both");
+  if (has_f0 && fr.model != FresnelModel::Schlick)
+    p.fail("f0 needs \"fresnel\": \"schlick\"");
+  if (has_f0 && (has_material || has_eta || has_k))
+    p.fail("give either f0 or the index (material or eta/k), not both");
+  if (has_k && !has_eta) p.fail("k needs eta");
+  if (!has_material && !has_eta && !has_f0)
+    p.fail(fr.model == FresnelModel::Schlick ? "missing parameter: give material, eta (+ k) or f0"
+                                             : "missing parameter: give material or eta (+ k)");
+  if (has_f0) {
+    fr.f0 = p.color("f0");
+    p.check_color_range("f0", fr.f0, 0, 1);
+    return fr;
+  }
+  if (has_material) {
+    const std::string name = p.string("material");
+    const auto metal = named_metal(name);
+    if (!metal) {
+      std::string known;
+      for (auto n : named_metal_names()) known += (known.empty() ? "" : ", ") + std::string(n);
+      p.fail("unknown material \"" + name + "\" (known: " + known + ")");
+    }
+    fr.eta = metal->eta;
+    fr.k = metal->k;
+  } else {
+    fr.eta = p.color("eta");
+    p.check_color_positive("eta", fr.eta);
+    if (has_k) {
+      fr.k = p.color("k");
+      p.check_color_nonnegative("k", fr.k);
+    }
+  }
+  // F0 of the index, for Schlick: ((n−1)² + k²) / ((n+1)² + k²).
+  fr.f0 = map(fr.eta, fr.k, [](Float n, Float k) { return fresnel_f0(n, k); });
+  return fr;
+}
+
+BxDF make_conductor(Params& p) { return ConductorBxDF{make_conductor_fresnel(p)}; }
+
+BxDF make_dielectric(Params& p) {
+  DielectricBxDF m;
+  if (p.has("eta")) {
+    const double eta = p.number("eta");
+    if (!(eta > 0)) p.fail("eta must be > 0, got " + format_number(eta));
+    m.eta = static_cast<Float>(eta);
+  }
+  return m;
+}
+
+struct TypeEntry {
+  std::string_view name;
+  BxDF (*make)(Params&);
+};
+constexpr TypeEntry kTypes[] = {
+    {"diffuse", make_diffuse},
+    {"mirror", make_mirror},
+    {"conductor", make_conductor},
+    {"dielectric", make_dielectric},
+};
+
+}  // namespace
+
+const std::vector<std::string_view>& material_type_names() {
+  static const std::vector<std::string_view> names = [] {
+    std::vector<std::string_view> v;
+    for (const auto& t : kTypes) v.push_back(t.name);
+    return v;
+  }();
+  return names;
+}
+
+BxDF material_from_json(const json& description, const std::string& where) {
+  const std::string at = where.empty() ? "" : where + ": ";
+  if (!description.is_object())
+    throw InputError(at + "material must be a JSON object, got " + show(description));
+  const auto it = description.find("type");
+  if (it == description.end()) throw InputError(at + "material: missing field 'type'");
+  if (!it->is_string()) throw InputError(at + "material: type must be a string, got " + show(*it));
+  const std::string type = it->get<std::string>();
+  for (const auto& t : kTypes) {
+    if (t.name == type) {
+      Params p(description, at + type + ": ");
+      BxDF m = t.make(p);
+      p.reject_unknown();
+      return m;
+    }
+  }
+  std::string known;
+  for (auto n : material_type_names()) known += (known.empty() ? "" : ", ") + std::string(n);
+  throw InputError(at + "material: unknown type \"" + type + "\" (known: " + known + ")");
+}
+
+BxDF parse_material(std::string_view json_text, std::string_view source) {
+  json j;
+  try {
+    j = json::parse(json_text.begin(), json_text.end());
+  } catch (const json::parse_error& e) {
+    // Byte offset → line and column, so the message points into the text.
+    size_t line = 1, col = 1;
+    const size_t end = std::min(e.byte == 0 ? 0 : e.byte - 1, json_text.size());
+    for (size_t i = 0; i < end; ++i) {
+      if (json_text[i] == '\n') {
+        ++line;
+        col = 1;
+      } else {
+        ++col;
+      }
+    }
+    std::string what = e.what();
+    // nlohmann's text is "[json.exception.parse_error.101] parse error at line 1, column 2:
+    // syntax error while parsing value - ..."; keep the part after the last " - ".
+    const auto dash = what.rfind(" - ");
+    if (dash != std::string::npos) what = what.substr(dash + 3);
+    throw InputError(std::string(source) + ": malformed JSON at line " + std::to_string(line) +
+                     ", column " + std::to_string(col) + ": " + what);
+  }
+  return material_from_json(j, std::string(source));
+}
+
+}  // namespace gonio
