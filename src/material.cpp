@@ -254,6 +254,12 @@ BxDF parse_material(std::string_view json_text, std::string_view source) {
     if (dash != std::string::npos) what = what.substr(dash + 3);
     throw InputError(std::string(source) + ": malformed JSON at line " + std::to_string(line) +
                      ", column " + std::to_string(col) + ": " + what);
+  } catch (const json::exception& e) {
+    // e.g. out_of_range.406 "number overflow parsing '1e999'"; drop the "[json.exception...] ".
+    std::string what = e.what();
+    const auto bracket = what.find("] ");
+    if (bracket != std::string::npos) what = what.substr(bracket + 2);
+    throw InputError(std::string(source) + ": malformed JSON: " + what);
   }
   return material_from_json(j, std::string(source));
 }

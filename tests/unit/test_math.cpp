@@ -1,0 +1,154 @@
+// Frames, spherical helpers and sampling warps: orthonormality, round trips, and each
+// warp's distribution against its analytic CDF (Kolmogorov–Smirnov statistic).
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <vector>
+
+#include "gonio/math/frame.h"
+#include "gonio/math/spherical.h"
+#include "gonio/math/warp.h"
+#include "gonio/rng.h"
+#include "test_scale.h"
+
+namespace gonio {
+namespace {
+
+void expect_orthonormal(const Frame& f) {
+  EXPECT_NEAR(length(f.s), 1, 1e-6);
+  EXPECT_NEAR(length(f.t), 1, 1e-6);
+  EXPECT_NEAR(length(f.n), 1, 1e-6);
+  EXPECT_NEAR(dot(f.s, f.t), 0, 1e-6);
+  EXPECT_NEAR(dot(f.s, f.n), 0, 1e-6);
+  EXPECT_NEAR(dot(f.t, f.n), 0, 1e-6);
+  // Right-handed: T = N × S (SPEC §1).
+  EXPECT_NEAR(length(f.t - cross(f.n, f.s)), 0, 1e-6);
+}
+
+TEST(Frame, FromNormalIsOrthonormalForEveryNormal) {
+  Pcg32 rng(11);
+  std::vector<Vec3> normals = {{0, 0, 1}, {0, 0, -1}, {1, 0, 0}, {0, -1, 0},
+                               normalize(Vec3{1e-8f, 0, -1}), normalize(Vec3{0, 1e-8f, 1})};
+  for (int i = 0; i < 1000; ++i) normals.push_back(square_to_uniform_sphere(rng.next_float(), rng.next_float()));
+  for (const Vec3& n : normals) {
+    const Frame f = Frame::from_normal(n);
+    expect_orthonormal(f);
+    const Vec3 v = normalize(Vec3{0.3f, -0.5f, 0.8f});
+    EXPECT_NEAR(length(f.to_world(f.to_local(v)) - v), 0, 1e-6);
+    EXPECT_NEAR(f.to_local(n).z, 1, 1e-6);
+  }
+}
+
+TEST(Frame, TangentSetsTheDirectionOfAnisotropy) {
+  const Frame f = Frame::from_normal_tangent(Vec3{0, 0, 2}, Vec3{1, 1, 0.5f});
+  expect_orthonormal(f);
+  EXPECT_NEAR(length(f.s - normalize(Vec3{1, 1, 0})), 0, 1e-6);
+  // A tangent along the normal, or zero, falls back to some valid frame.
+  expect_orthonormal(Frame::from_normal_tangent(Vec3{0, 0, 1}, Vec3{0, 0, 3}));
+  expect_orthonormal(Frame::from_normal_tangent(Vec3{0, 1, 0}, Vec3{}));
+  // A zero normal gives the canonical frame rather than NaN.
+  expect_orthonormal(Frame::from_normal_tangent(Vec3{}, Vec3{1, 0, 0}));
+}
+
+TEST(Spherical, AnglesRoundTrip) {
+  for (float th = 0.05f; th < 3.1f; th += 0.3f)
+    for (float ph = 0.1f; ph < 6.2f; ph += 0.7f) {
+      const Vec3 w = direction_from_angles(th, ph);
+      EXPECT_NEAR(std::acos(cos_theta(w)), th, 1e-5);
+      EXPECT_NEAR(phi(w), ph, 1e-5);
+      EXPECT_NEAR(cos_phi(w), std::cos(ph), 1e-5);
+      EXPECT_NEAR(sin_phi(w), std::sin(ph), 1e-5);
+    }
+  // At the pole φ is undefined: helpers stay finite.
+  EXPECT_TRUE(std::isfinite(cos_phi(Vec3{0, 0, 1})) && std::isfinite(sin_phi(Vec3{0, 0, 1})));
+  EXPECT_EQ(sin2_theta(Vec3{0, 0, 1.0000001f}), 0.f);
+}
+
+// Largest gap between the empirical CDF of xs and `cdf`.
+double ks_statistic(std::vector<double> xs, const std::function<double(double)>& cdf) {
+  std::sort(xs.begin(), xs.end());
+  double d = 0;
+  const double n = double(xs.size());
+  for (size_t i = 0; i < xs.size(); ++i) {
+    const double c = cdf(xs[i]);
+    d = std::max({d, std::abs(c - i / n), std::abs(c - (i + 1) / n)});
+  }
+  return d;
+}
+
+// Critical value of the KS statistic at significance 1e-4: sqrt(−ln(α/2)/2) / sqrt(n).
+double ks_threshold(size_t n) { return std::sqrt(-std::log(0.5e-4) / 2) / std::sqrt(double(n)); }
+
+template <typename Warp>
+std::vector<Vec3> draw(Warp&& warp, size_t n, std::uint64_t seed) {
+  Pcg32 rng(seed);
+  std::vector<Vec3> v(n);
+  for (auto& w : v) w = warp(rng.next_float(), rng.next_float());
+  return v;
+}
+
+TEST(Warp, CosineHemisphere) {
+  const size_t n = test::scaled(200000);
+  const auto ws = draw(square_to_cosine_hemisphere, n, 1);
+  std::vector<double> z2, ph;
+  for (const auto& w : ws) {
+    ASSERT_NEAR(length(w), 1, 1e-5);
+    ASSERT_GE(w.z, 0);
+    z2.push_back(double(w.z) * w.z);  // cos²θ is uniform for density cos θ / π
+    ph.push_back(phi(w));
+  }
+  EXPECT_LT(ks_statistic(z2, [](double x) { return x; }), ks_threshold(n));
+  EXPECT_LT(ks_statistic(ph, [](double x) { return x / (2 * kPiD); }), ks_threshold(n));
+  EXPECT_FLOAT_EQ(cosine_hemisphere_pdf(0.5f), 0.5f / float(kPiD));
+  EXPECT_EQ(cosine_hemisphere_pdf(-0.5f), 0.f);
+}
+
+TEST(Warp, UniformHemisphereSphereAndCone) {
+  const size_t n = test::scaled(200000);
+  std::vector<double> zh, zs, zc;
+  for (const auto& w : draw(square_to_uniform_hemisphere, n, 2)) zh.push_back(w.z);
+  for (const auto& w : draw(square_to_uniform_sphere, n, 3)) zs.push_back(w.z);
+  const float cmax = 0.8f;
+  for (const auto& w : draw([&](Float a, Float b) { return square_to_uniform_cone(a, b, cmax); }, n, 4))
+    zc.push_back(w.z);
+  // z is uniform on [0,1], [−1,1] and [cos θmax, 1] respectively (Archimedes).
+  EXPECT_LT(ks_statistic(zh, [](double x) { return x; }), ks_threshold(n));
+  EXPECT_LT(ks_statistic(zs, [](double x) { return (x + 1) / 2; }), ks_threshold(n));
+  EXPECT_LT(ks_statistic(zc, [&](double x) { return (x - cmax) / (1 - cmax); }), ks_threshold(n));
+  EXPECT_FLOAT_EQ(uniform_hemisphere_pdf(), 1 / (2 * float(kPiD)));
+  EXPECT_FLOAT_EQ(uniform_sphere_pdf(), 1 / (4 * float(kPiD)));
+  EXPECT_FLOAT_EQ(uniform_cone_pdf(cmax), 1 / (2 * float(kPiD) * (1 - cmax)));
+}
+
+TEST(Warp, ConcentricDiskIsUniform) {
+  const size_t n = test::scaled(200000);
+  Pcg32 rng(5);
+  std::vector<double> r2, ang;
+  for (size_t i = 0; i < n; ++i) {
+    const Vec2 d = square_to_concentric_disk(rng.next_float(), rng.next_float());
+    r2.push_back(double(d.x) * d.x + double(d.y) * d.y);
+    ang.push_back(std::atan2(d.y, d.x));
+  }
+  EXPECT_LT(ks_statistic(r2, [](double x) { return x; }), ks_threshold(n));
+  EXPECT_LT(ks_statistic(ang, [](double x) { return (x + kPiD) / (2 * kPiD); }), ks_threshold(n));
+  EXPECT_LE(*std::max_element(r2.begin(), r2.end()), 1.0 + 1e-6);
+}
+
+TEST(Rng, DeterministicAndInRange) {
+  Pcg32 a(42), b(42), c(43);
+  bool differs = false;
+  for (int i = 0; i < 1000; ++i) {
+    const float x = a.next_float();
+    EXPECT_EQ(x, b.next_float());
+    differs |= x != c.next_float();
+    EXPECT_GE(x, 0.f);
+    EXPECT_LT(x, 1.f);
+  }
+  EXPECT_TRUE(differs);
+}
+
+}  // namespace
+}  // namespace gonio
