@@ -18,6 +18,7 @@ int main(int argc, char** argv) {
   gonio::cli::register_albedo(app);
   gonio::cli::register_fresnel(app);
   gonio::cli::register_table(app);
+  gonio::cli::register_check(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -37,5 +38,10 @@ int main(int argc, char** argv) {
     return 3;
   }
   std::cout.flush();
-  return std::cout.good() ? 0 : 3;
+  return std::cout.good() ? gonio::cli::exit_status() : 3;
+}
+
+int& gonio::cli::exit_status() {
+  static int status = 0;
+  return status;
 }

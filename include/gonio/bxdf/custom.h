@@ -24,6 +24,11 @@ class CustomBxDF {
   // Relative index n_inside / n_outside for models that refract; 1 otherwise.
   virtual Float relative_eta() const { return 1; }
   virtual bool is_isotropic() const { return true; }
+  // The exact directional albedo, if the model has a closed form (the validator then
+  // proves it against the model's sampling, and reflectance() uses it).
+  virtual std::optional<DirectionalAlbedo> albedo(const Vec3& /*wo*/, TransportMode /*mode*/) const {
+    return std::nullopt;
+  }
   virtual std::string name() const { return "custom"; }
 };
 
@@ -40,6 +45,9 @@ struct UserBxDF {
   }
   Float relative_eta() const { return model->relative_eta(); }
   bool is_isotropic() const { return model->is_isotropic(); }
+  std::optional<DirectionalAlbedo> albedo(const Vec3& wo, TransportMode mode) const {
+    return model->albedo(wo, mode);
+  }
 };
 
 template <typename M, typename... Args>

@@ -1,0 +1,66 @@
+#pragma once
+// The validator: proves that a model is physically plausible and that its sampling
+// matches its density (the `gonio check` subcommand; SPEC §3). Properties:
+//
+//   finite        f, pdf and sample weights finite and ≥ 0 over ≥ 10⁶ direction pairs,
+//                 random and adversarial (grazing, normal, below the horizon, critical).
+//   reciprocity   f(wo, wi) = f(wi, wo) for reflection (lecture §3.4); for transmission
+//                 in radiance mode f(wo, wi)/n_wo² = f(wi, wo)/n_wi² (Veach 1997, §5.2).
+//   energy        ρ_dh ≤ 1 + 3σ + 2·10⁻³ over a sweep of θ (and φ when anisotropic), in
+//                 importance mode: light arriving from any direction (lecture §3.4, §4).
+//   chi2          Pearson χ² of sample() against pdf() on a (cos θ, φ) grid of the sphere.
+//   pdf_integral  ∫ pdf dω equals the fraction of sample() calls that return a non-delta
+//                 direction.
+//   consistency   weight = f |cos θi| / pdf and pdf = pdf(wo, wi) for every sample; for
+//                 delta lobes the mean weight equals the lobe's exact albedo.
+//   isotropy      an isotropic model is invariant under rotation about N.
+//   linearity     a blend equals the weighted sum of its parts (no blend model yet).
+//
+// A property that does not apply to a model passes with no figure.
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "gonio/bxdf.h"
+
+namespace gonio {
+
+struct PropertyResult {
+  std::string name;
+  std::optional<double> figure;  // the measured quantity; none if not applicable
+  double threshold = 0;          // the limit the figure is held to
+  bool pass = true;
+  std::string detail;            // where the worst case was, in words
+};
+
+struct ValidationReport {
+  std::vector<PropertyResult> properties;
+  bool pass() const {
+    for (const auto& p : properties)
+      if (!p.pass) return false;
+    return true;
+  }
+};
+
+struct ValidationOptions {
+  std::uint64_t seed = 1;
+  // Multiplies every sample count (the sanitizer pass of the tests uses < 1). The
+  // statistical thresholds account for the counts, so results stay meaningful.
+  double scale = 1;
+};
+
+ValidationReport validate(const BxDF& bxdf, const ValidationOptions& options = {});
+
+// The properties one at a time (for tests that feed deliberately broken models).
+PropertyResult check_finite(const BxDF& bxdf, const ValidationOptions& options = {});
+PropertyResult check_reciprocity(const BxDF& bxdf, const ValidationOptions& options = {});
+PropertyResult check_energy(const BxDF& bxdf, const ValidationOptions& options = {});
+// χ² and the pdf integral come from the same samples and cell integrals.
+std::vector<PropertyResult> check_sampling(const BxDF& bxdf, const ValidationOptions& options = {});
+PropertyResult check_consistency(const BxDF& bxdf, const ValidationOptions& options = {});
+PropertyResult check_isotropy(const BxDF& bxdf, const ValidationOptions& options = {});
+PropertyResult check_linearity(const BxDF& bxdf, const ValidationOptions& options = {});
+
+}  // namespace gonio

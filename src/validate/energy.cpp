@@ -1,0 +1,47 @@
+// Property "energy" (lecture §3.4, §4): for light arriving from any direction, the
+// scattered fraction ρ_dh (importance mode) is at most 1.
+
+#include "common.h"
+#include "gonio/reflectance.h"
+
+namespace gonio {
+
+using namespace validation;
+
+PropertyResult check_energy(const BxDF& bxdf, const ValidationOptions& opt) {
+  PropertyResult r{"energy", 0.0, 1, true, ""};
+  const bool aniso = !bxdf.is_isotropic();
+  const std::uint64_t n = scaled(opt, 100'000, 2000);
+  double worst_margin = -1e300, worst_albedo = 0, worst_threshold = 1;
+  int k = 0;
+  for (int side = 0; side < 2; ++side) {
+    for (int it = 0; it < 16; ++it) {
+      // cos θ from 1 to nearly 0, denser towards grazing where models misbehave.
+      const double mu = 1 - (1 - 1e-3) * std::pow(it / 15.0, 0.7);
+      for (int ip = 0; ip < (aniso ? 8 : 1); ++ip) {
+        const double ph = aniso ? ip * kPiD / 8 : 0.3;
+        const double s = std::sqrt(std::max(0.0, 1 - mu * mu));
+        const Vec3 wo{Float(s * std::cos(ph)), Float(s * std::sin(ph)), Float(side ? -mu : mu)};
+        const AlbedoEstimate e = directional_albedo(bxdf, wo, {n, opt.seed + std::uint64_t(++k)});
+        for (int c = 0; c < Color::size(); ++c) {
+          const double threshold = 1 + 3 * double(e.se_albedo[c]) + 2e-3;
+          const double margin = double(e.albedo[c]) - threshold;
+          if (margin > worst_margin) {
+            worst_margin = margin;
+            worst_albedo = e.albedo[c];
+            worst_threshold = threshold;
+            r.detail = "albedo " + fmt(e.albedo[c]) + " ± " + fmt(e.se_albedo[c]) + " at theta " +
+                       fmt(std::acos(mu) * 180 / kPiD) + " deg" + (aniso ? ", phi " + fmt(ph * 180 / kPiD) : "") +
+                       (side ? " (inside)" : "") + ", channel " + std::to_string(c);
+          }
+        }
+      }
+    }
+  }
+  r.figure = worst_albedo;
+  r.threshold = worst_threshold;
+  r.pass = worst_margin <= 0;
+  return r;
+}
+
+}  // namespace gonio

@@ -1,0 +1,56 @@
+// Property "reciprocity" (lecture §3.4; Veach 1997, §5.2 for transmission).
+
+#include "common.h"
+
+namespace gonio {
+
+using namespace validation;
+
+PropertyResult check_reciprocity(const BxDF& bxdf, const ValidationOptions& opt) {
+  PropertyResult r{"reciprocity", std::nullopt, 1e-3, true, "delta lobes only: nothing to evaluate"};
+  if (is_delta_only(bxdf.flags())) return r;
+  const Float eta = bxdf.relative_eta();
+  Pcg32 rng = rng_for(opt, 2);
+  double worst = 0;
+  auto check = [&](const Vec3& wo, const Vec3& wi) {
+    // Radiance-mode f(wo, wi)/n_wo² = f(wi, wo)/n_wi²; for reflection both n are equal.
+    const Float no = index_on_side(wo, eta), ni = index_on_side(wi, eta);
+    const Color a = bxdf.f(wo, wi, TransportMode::Radiance) / (no * no);
+    const Color b = bxdf.f(wi, wo, TransportMode::Radiance) / (ni * ni);
+    // Values tiny in both directions are round-off, not a failure of the model.
+    const double e = color_relative_error(a, b, 1e-5 * std::max(1.0, double(a.max_component())));
+    if (e > worst) {
+      worst = e;
+      r.detail = "wo " + describe(wo) + ", wi " + describe(wi) + ": " + fmt(a.max_component()) + " vs " +
+                 fmt(b.max_component());
+    }
+    // Importance mode is the adjoint: f_imp(wo, wi) = f_rad(wi, wo) (SPEC §1).
+    const Color imp = bxdf.f(wo, wi, TransportMode::Importance);
+    const Color adj = bxdf.f(wi, wo, TransportMode::Radiance);
+    const double ea = color_relative_error(imp, adj, 1e-5 * std::max(1.0, double(adj.max_component())));
+    if (ea > worst) {
+      worst = ea;
+      r.detail = "importance mode is not the adjoint at wo " + describe(wo) + ", wi " + describe(wi);
+    }
+  };
+  const auto adv = adversarial_directions(eta);
+  for (const auto& wo : adv)
+    for (const auto& wi : adv) check(wo, wi);
+  const std::uint64_t n = scaled(opt, 200'000);
+  for (std::uint64_t i = 0; i < n; ++i) {
+    const Vec3 wo = square_to_uniform_sphere(rng.next_float(), rng.next_float());
+    // Half the pairs from the model's own sampling, so that they land on its lobes.
+    Vec3 wi = square_to_uniform_sphere(rng.next_float(), rng.next_float());
+    if (i & 1) {
+      if (auto s = bxdf.sample(wo, rng.next_float(), rng.next_float(), rng.next_float()); s && !s->delta)
+        wi = s->wi;
+    }
+    check(wo, wi);
+  }
+  r.figure = worst;
+  r.pass = worst <= r.threshold;
+  if (worst == 0) r.detail = std::to_string(n) + " pairs, exact";
+  return r;
+}
+
+}  // namespace gonio

@@ -1,0 +1,215 @@
+// The validator: every built-in model over a sweep of parameters passes every property,
+// and each property catches a model broken on purpose — a check that cannot fail
+// proves nothing.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+
+#include "gonio/material.h"
+#include "gonio/math/warp.h"
+#include "gonio/validate.h"
+#include "test_scale.h"
+
+namespace gonio {
+namespace {
+
+ValidationOptions options() {
+  ValidationOptions o;
+  const std::uint64_t probe = test::scaled(1000000, 1);
+  o.scale = double(probe) / 1e6;
+  return o;
+}
+
+const PropertyResult& find(const ValidationReport& r, const std::string& name) {
+  for (const auto& p : r.properties)
+    if (p.name == name) return p;
+  throw std::runtime_error("no property " + name);
+}
+
+class ValidateBuiltIn : public ::testing::TestWithParam<const char*> {};
+
+TEST_P(ValidateBuiltIn, EveryPropertyHolds) {
+  const char* m = GetParam();
+  const ValidationReport r = validate(parse_material(m), options());
+  ASSERT_EQ(r.properties.size(), 8u);
+  for (const auto& p : r.properties) EXPECT_TRUE(p.pass) << m << ": " << p.name << ": " << p.detail;
+}
+
+// Every built-in model over a sweep of its parameters (η below, at and above 1; every
+// named metal; both Fresnel forms; extreme colours).
+INSTANTIATE_TEST_SUITE_P(
+    Sweep, ValidateBuiltIn,
+    ::testing::Values(
+        R"({"type":"diffuse"})",
+      R"({"type":"diffuse","reflectance":[0,0.5,1]})",
+      R"({"type":"mirror"})",
+      R"({"type":"mirror","reflectance":[0.2,0.9,0.5]})",
+      R"({"type":"conductor","material":"Au"})",
+      R"({"type":"conductor","material":"Ag"})",
+      R"({"type":"conductor","material":"Cu"})",
+      R"({"type":"conductor","material":"Al"})",
+      R"({"type":"conductor","material":"CuZn","fresnel":"schlick"})",
+      R"({"type":"conductor","fresnel":"schlick","f0":1})",
+      R"({"type":"conductor","eta":1,"k":0})",
+      R"({"type":"dielectric"})",
+      R"({"type":"dielectric","eta":0.6666667})",
+      R"({"type":"dielectric","eta":1})",
+      R"({"type":"dielectric","eta":1.0001})",
+      R"({"type":"dielectric","eta":2.4})",
+      R"({"type":"dielectric","eta":1.333})"));
+
+// --- models broken on purpose, each through the extension point -----------------------
+
+// Lambert-shaped base that the broken variants modify: f = k/π, cosine sampling.
+class BaseLambert : public CustomBxDF {
+ public:
+  explicit BaseLambert(Float k = 0.5f) : k_(k) {}
+  BxDFFlags flags() const override { return BxDFFlags::DiffuseReflection; }
+  Color f(const Vec3& wo, const Vec3& wi, TransportMode) const override {
+    return wo.z * wi.z > 0 ? Color(k_ * kInvPi) * shape(wo, wi) : Color{};
+  }
+  Float pdf(const Vec3& wo, const Vec3& wi, TransportMode) const override {
+    return wo.z * wi.z > 0 ? std::abs(wi.z) * kInvPi : 0;
+  }
+  std::optional<BSDFSample> sample(const Vec3& wo, Float, Float u1, Float u2, TransportMode m) const override {
+    Vec3 wi = square_to_cosine_hemisphere(u1, u2);
+    if (wo.z == 0 || wi.z == 0) return std::nullopt;
+    if (wo.z < 0) wi.z = -wi.z;
+    const Float p = pdf(wo, wi, m);
+    return BSDFSample{wi, f(wo, wi, m) * std::abs(wi.z) / p, p, false, Lobe::Reflection, 1};
+  }
+  virtual Float shape(const Vec3&, const Vec3&) const { return 1; }
+
+ protected:
+  Float k_;
+};
+
+class NonReciprocal final : public BaseLambert {
+  // Depends on wo and wi differently: f(wo, wi) ≠ f(wi, wo).
+  Float shape(const Vec3& wo, const Vec3& wi) const override { return 1 + 0.5f * std::abs(wo.z) - 0.5f * std::abs(wi.z); }
+};
+
+class EnergyGaining final : public BaseLambert {
+ public:
+  EnergyGaining() : BaseLambert(1.05f) {}
+};
+
+class PdfNotMatchingSample final : public BaseLambert {
+ public:
+  // Samples cosine-weighted but claims a uniform density (which also integrates to 1).
+  Float pdf(const Vec3& wo, const Vec3& wi, TransportMode) const override {
+    return wo.z * wi.z > 0 ? kInv2Pi : 0;
+  }
+};
+
+class PdfWrongIntegral final : public BaseLambert {
+ public:
+  // The right shape at 80 % of the right size: only the integral reveals it.
+  Float pdf(const Vec3& wo, const Vec3& wi, TransportMode m) const override {
+    return 0.8f * BaseLambert::pdf(wo, wi, m);
+  }
+};
+
+class NanAtGrazing final : public BaseLambert {
+ public:
+  Color f(const Vec3& wo, const Vec3& wi, TransportMode m) const override {
+    // The classic mistake: dividing by cos θ without a guard.
+    return BaseLambert::f(wo, wi, m) * (std::abs(wi.z) / std::abs(wi.z));
+  }
+};
+
+class WeightNotFCosOverPdf final : public BaseLambert {
+ public:
+  std::optional<BSDFSample> sample(const Vec3& wo, Float a, Float b, Float c, TransportMode m) const override {
+    auto s = BaseLambert::sample(wo, a, b, c, m);
+    if (s) s->weight *= 1.1f;
+    return s;
+  }
+};
+
+class Anisotropic final : public BaseLambert {
+  // Brighter along x, yet (by default) declared isotropic.
+  Float shape(const Vec3& wo, const Vec3& wi) const override {
+    return 1 + 0.3f * (wo.x * wo.x + wi.x * wi.x) - 0.3f * (wo.y * wo.y + wi.y * wi.y);
+  }
+};
+
+class WrongClosedFormAlbedo final : public BaseLambert {
+ public:
+  std::optional<DirectionalAlbedo> albedo(const Vec3&, TransportMode) const override {
+    return DirectionalAlbedo{Color(0.45f), Color{}};  // true value 0.5
+  }
+};
+
+TEST(Validate, CatchesANonReciprocalModel) {
+  const auto r = check_reciprocity(make_user_bxdf<NonReciprocal>(), options());
+  EXPECT_FALSE(r.pass) << r.detail;
+  EXPECT_GT(*r.figure, 0.1);
+  EXPECT_TRUE(check_reciprocity(make_user_bxdf<BaseLambert>(), options()).pass);
+}
+
+TEST(Validate, CatchesAnEnergyGainingModel) {
+  const auto r = check_energy(make_user_bxdf<EnergyGaining>(), options());
+  EXPECT_FALSE(r.pass) << r.detail;
+  EXPECT_NEAR(*r.figure, 1.05, 0.01);
+  EXPECT_TRUE(check_energy(make_user_bxdf<BaseLambert>(), options()).pass);
+}
+
+TEST(Validate, CatchesSamplingThatDoesNotMatchThePdf) {
+  const auto r = check_sampling(make_user_bxdf<PdfNotMatchingSample>(), options());
+  EXPECT_EQ(r[0].name, "chi2");
+  EXPECT_FALSE(r[0].pass) << r[0].detail;
+  const auto good = check_sampling(make_user_bxdf<BaseLambert>(), options());
+  EXPECT_TRUE(good[0].pass) << good[0].detail;
+  EXPECT_TRUE(good[1].pass) << good[1].detail;
+}
+
+TEST(Validate, CatchesAPdfThatDoesNotIntegrateToTheSampledFraction) {
+  const auto r = check_sampling(make_user_bxdf<PdfWrongIntegral>(), options());
+  EXPECT_EQ(r[1].name, "pdf_integral");
+  EXPECT_FALSE(r[1].pass) << r[1].detail;
+  EXPECT_NEAR(*r[1].figure, 0.2, 0.01);
+}
+
+TEST(Validate, CatchesNanAtGrazing) {
+  const auto r = check_finite(make_user_bxdf<NanAtGrazing>(), options());
+  EXPECT_FALSE(r.pass) << r.detail;
+  EXPECT_NE(r.detail.find("f not finite"), std::string::npos) << r.detail;
+  EXPECT_TRUE(check_finite(make_user_bxdf<BaseLambert>(), options()).pass);
+}
+
+TEST(Validate, CatchesWeightsThatAreNotFCosOverPdf) {
+  const auto r = check_consistency(make_user_bxdf<WeightNotFCosOverPdf>(), options());
+  EXPECT_FALSE(r.pass) << r.detail;
+  EXPECT_TRUE(check_consistency(make_user_bxdf<BaseLambert>(), options()).pass);
+}
+
+TEST(Validate, CatchesAClosedFormAlbedoTheSamplingDisagreesWith) {
+  const auto r = check_consistency(make_user_bxdf<WrongClosedFormAlbedo>(), options());
+  EXPECT_FALSE(r.pass) << r.detail;
+}
+
+TEST(Validate, CatchesAnAnisotropicModelDeclaredIsotropic) {
+  const auto r = check_isotropy(make_user_bxdf<Anisotropic>(), options());
+  EXPECT_FALSE(r.pass) << r.detail;
+  EXPECT_TRUE(check_isotropy(make_user_bxdf<BaseLambert>(), options()).pass);
+}
+
+TEST(Validate, PropertiesThatDoNotApplyPassWithoutAFigure) {
+  const auto r = validate(parse_material(R"({"type":"mirror"})"), options());
+  EXPECT_FALSE(find(r, "reciprocity").figure.has_value());
+  EXPECT_FALSE(find(r, "chi2").figure.has_value());
+  EXPECT_FALSE(find(r, "linearity").figure.has_value());
+  EXPECT_TRUE(r.pass());
+}
+
+TEST(Validate, DeterministicForAGivenSeed) {
+  const BxDF m = make_user_bxdf<BaseLambert>();
+  const auto a = check_sampling(m, options()), b = check_sampling(m, options());
+  EXPECT_EQ(*a[0].figure, *b[0].figure);
+}
+
+}  // namespace
+}  // namespace gonio
