@@ -15,6 +15,10 @@ namespace {
 
 using nlohmann::json;
 
+// Accepted range of refractive indices (real part and extinction). Far wider than any
+// material (0.01 to ~10); the limits keep every Fresnel term well inside float range.
+constexpr double kMinIndex = 1e-4, kMaxIndex = 1e4;
+
 std::string format_number(double v) {
   std::ostringstream os;
   os.precision(9);
@@ -85,13 +89,18 @@ class Params {
         fail(std::string(key) + " must be in [" + format_number(lo) + ", " + format_number(hi) +
              "], got " + format_number(c[i]));
   }
-  void check_color_positive(const char* key, const Color& c) const {
-    for (int i = 0; i < Color::size(); ++i)
-      if (!(c[i] > 0)) fail(std::string(key) + " must be > 0, got " + format_number(c[i]));
-  }
-  void check_color_nonnegative(const char* key, const Color& c) const {
-    for (int i = 0; i < Color::size(); ++i)
-      if (c[i] < 0) fail(std::string(key) + " must be >= 0, got " + format_number(c[i]));
+  // Raw JSON values, so the message shows what the user wrote even when it does not fit
+  // in a float.
+  void check_color_index(const char* key, double lo, double hi) const {
+    const json& v = obj_.at(key);
+    auto one = [&](const json& e) {
+      const double d = e.get<double>();
+      if (!(d >= lo && d <= hi))
+        fail(std::string(key) + " must be in [" + format_number(lo) + ", " + format_number(hi) +
+             "], got " + format_number(d));
+    };
+    if (v.is_array()) for (const auto& e : v) one(e);
+    else one(v);
   }
 
   void reject_unknown() const {
@@ -165,10 +174,10 @@ ConductorFresnel make_conductor_fresnel(Params& p) {
     fr.k = metal->k;
   } else {
     fr.eta = p.color("eta");
-    p.check_color_positive("eta", fr.eta);
+    p.check_color_index("eta", kMinIndex, kMaxIndex);
     if (has_k) {
       fr.k = p.color("k");
-      p.check_color_nonnegative("k", fr.k);
+      p.check_color_index("k", 0, kMaxIndex);
     }
   }
   // F0 of the index, for Schlick: ((n−1)² + k²) / ((n+1)² + k²).
@@ -182,7 +191,9 @@ BxDF make_dielectric(Params& p) {
   DielectricBxDF m;
   if (p.has("eta")) {
     const double eta = p.number("eta");
-    if (!(eta > 0)) p.fail("eta must be > 0, got " + format_number(eta));
+    if (!(eta >= kMinIndex && eta <= kMaxIndex))
+      p.fail("eta must be in [" + format_number(kMinIndex) + ", " + format_number(kMaxIndex) + "], got " +
+             format_number(eta));
     m.eta = static_cast<Float>(eta);
   }
   return m;

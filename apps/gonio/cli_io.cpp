@@ -91,6 +91,12 @@ std::string format(const char* fmt, double v) {
 }
 }  // namespace
 
+std::string show_number(double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.9g", v);
+  return buf;
+}
+
 std::string json_number(float v) { return format("%.9g", double(v)); }
 std::string json_number(double v) { return format("%.17g", v); }
 

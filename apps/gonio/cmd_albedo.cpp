@@ -17,21 +17,22 @@ struct AlbedoArgs {
   std::string bsdf;
   double theta = 0, phi = 0;
   bool hemispherical = false, inside = false;
-  std::uint64_t samples = 1u << 20;
-  std::uint64_t seed = 1;
+  std::int64_t samples = 1 << 20;
+  std::int64_t seed = 1;
 };
 
 double checked_degrees(double v, double lo, double hi, const char* name) {
   if (!std::isfinite(v) || v < lo || v > hi)
-    throw InputError(std::string(name) + " must be in [" + json_number(lo) + ", " + json_number(hi) +
-                     "] degrees, got " + json_number(v));
+    throw InputError(std::string(name) + " must be in [" + show_number(lo) + ", " + show_number(hi) +
+                     "] degrees, got " + show_number(v));
   return v * kPiD / 180;
 }
 
 void run_albedo(const AlbedoArgs& a) {
   const BxDF bxdf = load_bsdf(a.bsdf);
-  if (a.samples == 0) throw InputError("--samples must be > 0");
-  const ReflectanceOptions opt{a.samples, a.seed};
+  if (a.samples <= 0) throw InputError("--samples must be > 0, got " + std::to_string(a.samples));
+  if (a.seed < 0) throw InputError("--seed must be >= 0, got " + std::to_string(a.seed));
+  const ReflectanceOptions opt{std::uint64_t(a.samples), std::uint64_t(a.seed)};
   AlbedoEstimate e;
   std::string theta = "null";
   if (a.hemispherical) {
@@ -45,12 +46,14 @@ void run_albedo(const AlbedoArgs& a) {
     e = directional_albedo(bxdf, wo, opt);
     theta = json_number(a.theta);
   }
-  std::cout << "{\"theta\":" << theta << ",\"reflectance\":" << json_color(e.reflectance)
-            << ",\"transmittance\":" << json_color(e.transmittance)
-            << ",\"albedo\":" << json_color(e.albedo) << ",\"stderr\":" << json_color(e.se_albedo)
-            << ",\"stderr_reflectance\":" << json_color(e.se_reflectance)
-            << ",\"stderr_transmittance\":" << json_color(e.se_transmittance)
-            << ",\"exact\":" << (e.exact ? "true" : "false") << "}\n";
+  // The whole line is formatted before anything is written.
+  const std::string line = "{\"theta\":" + theta + ",\"reflectance\":" + json_color(e.reflectance) +
+                           ",\"transmittance\":" + json_color(e.transmittance) +
+                           ",\"albedo\":" + json_color(e.albedo) + ",\"stderr\":" + json_color(e.se_albedo) +
+                           ",\"stderr_reflectance\":" + json_color(e.se_reflectance) +
+                           ",\"stderr_transmittance\":" + json_color(e.se_transmittance) +
+                           ",\"exact\":" + (e.exact ? "true" : "false") + "}\n";
+  std::cout << line;
 }
 }  // namespace
 

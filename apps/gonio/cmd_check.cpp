@@ -16,12 +16,13 @@ namespace {
 struct CheckArgs {
   std::string bsdf;
   bool json = false;
-  std::uint64_t seed = 1;
+  std::int64_t seed = 1;
 };
 
 void run_check(const CheckArgs& a) {
   const BxDF bxdf = load_bsdf(a.bsdf);
-  const ValidationReport report = validate(bxdf, {a.seed, 1.0});
+  if (a.seed < 0) throw InputError("--seed must be >= 0, got " + std::to_string(a.seed));
+  const ValidationReport report = validate(bxdf, {std::uint64_t(a.seed), 1.0});
   if (a.json) {
     std::string out = std::string("{\"pass\":") + (report.pass() ? "true" : "false") + ",\"properties\":[";
     for (size_t i = 0; i < report.properties.size(); ++i) {

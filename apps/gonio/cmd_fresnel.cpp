@@ -18,10 +18,13 @@ struct FresnelArgs {
 };
 
 void run_fresnel(const FresnelArgs& a) {
-  if (!std::isfinite(a.eta) || !(a.eta > 0)) throw InputError("--eta must be > 0, got " + json_number(a.eta));
-  if (!std::isfinite(a.k) || a.k < 0) throw InputError("--k must be >= 0, got " + json_number(a.k));
-  if (!std::isfinite(a.theta) || a.theta < 0 || a.theta > 90)
-    throw InputError("--theta must be in [0, 90] degrees, got " + json_number(a.theta));
+  const std::string index_range = "[" + show_number(kMinIndex) + ", " + show_number(kMaxIndex) + "]";
+  if (!(a.eta >= kMinIndex && a.eta <= kMaxIndex))
+    throw InputError("--eta must be in " + index_range + ", got " + show_number(a.eta));
+  if (!(a.k >= 0 && a.k <= kMaxIndex))
+    throw InputError("--k must be in [0, " + show_number(kMaxIndex) + "], got " + show_number(a.k));
+  if (!(a.theta >= 0 && a.theta <= 90))
+    throw InputError("--theta must be in [0, 90] degrees, got " + show_number(a.theta));
   const double cos_i = a.theta == 90 ? 0.0 : std::cos(a.theta * kPiD / 180);
   const bool conductor = a.k > 0;
   FresnelTerms<double> t;

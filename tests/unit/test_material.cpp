@@ -76,7 +76,9 @@ TEST(Material, ErrorsNameTheField) {
   expect_error(R"({"type":"diffuse","reflectance":1e999})", {"1e999"});
   expect_error(R"({"type":"mirror","reflectance":[0.1,2,0.3]})", {"mirror", "reflectance", "2"});
   expect_error(R"({"type":"dielectric","eta":-1})", {"dielectric", "eta", "-1"});
-  expect_error(R"({"type":"dielectric","eta":0})", {"eta", "> 0"});
+  expect_error(R"({"type":"dielectric","eta":0})", {"eta", "0.0001"});
+  expect_error(R"({"type":"dielectric","eta":1e50})", {"eta", "1e+50"});
+  expect_error(R"({"type":"conductor","eta":1,"k":1e50})", {"k", "1e+50"});
   expect_error(R"({"type":"dielectric","eta":[1.5,1.5,1.5]})", {"eta", "number"});
   expect_error(R"({"type":"conductor"})", {"conductor", "missing"});
   expect_error(R"({"type":"conductor","material":"Unobtainium"})", {"Unobtainium", "Au"});
