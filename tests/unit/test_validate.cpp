@@ -58,7 +58,12 @@ INSTANTIATE_TEST_SUITE_P(
       R"({"type":"dielectric","eta":1})",
       R"({"type":"dielectric","eta":1.0001})",
       R"({"type":"dielectric","eta":2.4})",
-      R"({"type":"dielectric","eta":1.333})"));
+      R"({"type":"dielectric","eta":1.333})",
+      // The limits of the accepted index range.
+      R"({"type":"dielectric","eta":0.0001})",
+      R"({"type":"dielectric","eta":10000})",
+      R"({"type":"conductor","eta":10000,"k":10000})",
+      R"({"type":"conductor","eta":0.0001,"k":0})"));
 
 // --- models broken on purpose, each through the extension point -----------------------
 

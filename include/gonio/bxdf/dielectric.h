@@ -35,7 +35,10 @@ struct DielectricBxDF {
       e = 1 / e;
       cos_o = -cos_o;
     }
-    const Float sin2_t = std::max(Float(0), 1 - cos_o * cos_o) / (e * e);
+    // sin²θo from the tangential components rather than 1 − cos²θo: near normal
+    // incidence the latter loses all digits, and with a large η the refracted direction
+    // (built from the tangential part) would then not be unit length.
+    const Float sin2_t = (wo.x * wo.x + wo.y * wo.y) / (e * e);
     Float r = 1, cos_t = 0;
     if (sin2_t < 1) {
       cos_t = std::sqrt(1 - sin2_t);
