@@ -35,10 +35,7 @@ struct DielectricBxDF {
       e = 1 / e;
       cos_o = -cos_o;
     }
-    // sin²θo from the tangential components rather than 1 − cos²θo: near normal
-    // incidence the latter loses all digits, and with a large η the refracted direction
-    // (built from the tangential part) would then not be unit length.
-    const Float sin2_t = (wo.x * wo.x + wo.y * wo.y) / (e * e);
+    const Float sin2_t = std::max(Float(0), 1 - cos_o * cos_o) / (e * e);
     Float r = 1, cos_t = 0;
     if (sin2_t < 1) {
       cos_t = std::sqrt(1 - sin2_t);
@@ -52,7 +49,10 @@ struct DielectricBxDF {
     // with n the normal on wo's side.
     const Float inv_eta = 1 / e;
     const Float nz = wo.z > 0 ? Float(1) : Float(-1);
-    const Vec3 wi{-wo.x * inv_eta, -wo.y * inv_eta, -nz * cos_t};
+    // Normalised because 1 − cos²θo loses digits near normal incidence, which a large η
+    // would magnify into a visibly non-unit vector; the TIR decision stays a function
+    // of cos θo alone, so it is invariant under rotation about N.
+    const Vec3 wi = normalize(Vec3{-wo.x * inv_eta, -wo.y * inv_eta, -nz * cos_t});
     return BSDFSample{wi, Color(transmission_scale(e, mode)), 1 - r, true,
                       Lobe::Transmission, e};
   }
