@@ -18,6 +18,8 @@ using nlohmann::json;
 // Accepted range of refractive indices (real part and extinction). Far wider than any
 // material (0.01 to ~10); the limits keep every Fresnel term well inside float range.
 constexpr double kMinIndex = 1e-4, kMaxIndex = 1e4;
+// Largest microfacet roughness accepted (the energy-compensation tables end at 1).
+constexpr double kMaxAlpha = 10;
 
 std::string format_number(double v) {
   std::ostringstream os;
@@ -73,6 +75,26 @@ class Params {
       fail(std::string(key) + " must be a number or [r, g, b], got " + show(v));
     }
     return c;
+  }
+
+  bool boolean(const char* key) {
+    used_.insert(key);
+    const json& v = obj_.at(key);
+    if (!v.is_boolean()) fail(std::string(key) + " must be true or false, got " + show(v));
+    return v.get<bool>();
+  }
+
+  // A roughness: a number (isotropic) or [alpha_x, alpha_y].
+  std::pair<double, double> alpha(const char* key) {
+    used_.insert(key);
+    const json& v = obj_.at(key);
+    if (v.is_number()) {
+      const double a = finite(key, v);
+      return {a, a};
+    }
+    if (v.is_array() && v.size() == 2 && v[0].is_number() && v[1].is_number())
+      return {finite(key, v[0]), finite(key, v[1])};
+    fail(std::string(key) + " must be a number or [alpha_x, alpha_y], got " + show(v));
   }
 
   std::string string(const char* key) {
@@ -187,6 +209,66 @@ ConductorFresnel make_conductor_fresnel(Params& p) {
 
 BxDF make_conductor(Params& p) { return ConductorBxDF{make_conductor_fresnel(p)}; }
 
+// alpha (number or [alpha_x, alpha_y], required) and distribution (default ggx).
+MicrofacetDistribution make_distribution(Params& p) {
+  MicrofacetDistribution d;
+  if (p.has("distribution")) {
+    const std::string name = p.string("distribution");
+    if (name == "ggx") d.type = MicrofacetType::GGX;
+    else if (name == "beckmann") d.type = MicrofacetType::Beckmann;
+    else p.fail("distribution must be \"ggx\" or \"beckmann\", got \"" + name + "\"");
+  }
+  if (!p.has("alpha")) p.fail("missing parameter 'alpha' (a number, or [alpha_x, alpha_y])");
+  const auto [ax, ay] = p.alpha("alpha");
+  for (double a : {ax, ay})
+    if (!(a > 0 && a <= kMaxAlpha))
+      p.fail("alpha must be > 0 and <= " + format_number(kMaxAlpha) + ", got " + format_number(a));
+  d.alpha_x = static_cast<Float>(ax);
+  d.alpha_y = static_cast<Float>(ay);
+  return d;
+}
+
+bool make_multiscatter_flag(Params& p) {
+  if (!p.has("multiscatter")) return false;
+  return p.boolean("multiscatter");
+}
+
+// Cosine-weighted average 2 ∫ F(μ) μ dμ of a conductor Fresnel, by Simpson's rule.
+Color average_fresnel(const ConductorFresnel& fr) {
+  constexpr int n = 64;
+  Color acc;
+  for (int i = 0; i <= n; ++i) {
+    const Float mu = Float(i) / n;
+    const Float w = (i == 0 || i == n) ? 1 : (i % 2 ? 4 : 2);
+    acc += fr(mu) * (w * 2 * mu);
+  }
+  return acc / Float(3 * n);
+}
+
+BxDF make_roughconductor(Params& p) {
+  RoughConductorBxDF m;
+  m.distribution = make_distribution(p);
+  m.fresnel = make_conductor_fresnel(p);
+  if (make_multiscatter_flag(p) && !m.distribution.effectively_smooth())
+    m.multiscatter = MultiscatterLobe::make(m.distribution, average_fresnel(m.fresnel));
+  return m;
+}
+
+BxDF make_roughdielectric(Params& p) {
+  RoughDielectricBxDF m;
+  m.distribution = make_distribution(p);
+  if (p.has("eta")) {
+    const double eta = p.number("eta");
+    if (!(eta >= kMinIndex && eta <= kMaxIndex))
+      p.fail("eta must be in [" + format_number(kMinIndex) + ", " + format_number(kMaxIndex) + "], got " +
+             format_number(eta));
+    m.eta = static_cast<Float>(eta);
+  }
+  if (make_multiscatter_flag(p))
+    p.fail("multiscatter is not implemented for roughdielectric yet (it is for roughconductor)");
+  return m;
+}
+
 BxDF make_dielectric(Params& p) {
   DielectricBxDF m;
   if (p.has("eta")) {
@@ -208,6 +290,8 @@ constexpr TypeEntry kTypes[] = {
     {"mirror", make_mirror},
     {"conductor", make_conductor},
     {"dielectric", make_dielectric},
+    {"roughconductor", make_roughconductor},
+    {"roughdielectric", make_roughdielectric},
 };
 
 }  // namespace

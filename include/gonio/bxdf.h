@@ -14,12 +14,15 @@
 #include "gonio/bxdf/dielectric.h"
 #include "gonio/bxdf/diffuse.h"
 #include "gonio/bxdf/mirror.h"
+#include "gonio/bxdf/roughconductor.h"
+#include "gonio/bxdf/roughdielectric.h"
 
 namespace gonio {
 
 class BxDF {
  public:
-  using Models = std::variant<DiffuseBxDF, MirrorBxDF, ConductorBxDF, DielectricBxDF, UserBxDF>;
+  using Models = std::variant<DiffuseBxDF, MirrorBxDF, ConductorBxDF, DielectricBxDF,
+                              RoughConductorBxDF, RoughDielectricBxDF, UserBxDF>;
 
   BxDF() = default;
   template <typename M>

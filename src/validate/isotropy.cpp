@@ -1,6 +1,8 @@
 // Property "isotropy" (lecture §3.4, eq. 5): an isotropic model depends on the azimuths
 // only through φi − φo, so rotating both directions about N changes nothing.
 
+#include <algorithm>
+
 #include "common.h"
 
 namespace gonio {
@@ -14,37 +16,61 @@ Vec3 rotate_z(const Vec3& w, Float angle) {
 }
 }  // namespace
 
+// Two kinds of rotation: quarter turns, exact in floating point, must leave the model
+// unchanged to rounding (largest error); arbitrary angles perturb the inputs by rounding,
+// to which narrow lobes are arbitrarily sensitive, so there the 99th percentile of the
+// error is held to the threshold — an anisotropic model fails both by far.
 PropertyResult check_isotropy(const BxDF& bxdf, const ValidationOptions& opt) {
   PropertyResult r{"isotropy", std::nullopt, 1e-3, true, "anisotropic by declaration"};
   if (!bxdf.is_isotropic()) return r;
   Pcg32 rng = rng_for(opt, 6);
-  double worst = 0;
   const std::uint64_t n = scaled(opt, 100'000);
+  std::vector<double> random_errors;
+  random_errors.reserve(n);
+  double worst_quarter = 0;
+  std::string quarter_detail, random_detail;
+  double worst_random = -1;
+  auto error_between = [&](const Vec3& wo, const Vec3& wi, const Vec3& ro, const Vec3& ri, Float u0, Float u1,
+                           Float u2, auto&& rotate) {
+    const Color f = bxdf.f(wo, wi), fr = bxdf.f(ro, ri);
+    double e = color_relative_error(f, fr, 1e-4 * std::max(1.0, double(f.max_component())));
+    const Float p = bxdf.pdf(wo, wi), pr = bxdf.pdf(ro, ri);
+    if (std::max(p, pr) > 1e-4f * std::max(Float(1), p)) e = std::max(e, relative_error(p, pr));
+    // Delta lobes: the same lobe choice gives the same weight, and the direction turns along.
+    const auto s = bxdf.sample(wo, u0, u1, u2), sr = bxdf.sample(ro, u0, u1, u2);
+    if (s && sr && s->delta && sr->delta) {
+      e = std::max(e, color_relative_error(s->weight, sr->weight, 1e-6));
+      e = std::max(e, double(length(rotate(s->wi) - sr->wi)));
+    }
+    return e;
+  };
   for (std::uint64_t i = 0; i < n; ++i) {
     const Vec3 wo = square_to_uniform_sphere(rng.next_float(), rng.next_float());
     Vec3 wi = square_to_uniform_sphere(rng.next_float(), rng.next_float());
     const Float u0 = rng.next_float(), u1 = rng.next_float(), u2 = rng.next_float();
     if (auto s = bxdf.sample(wo, u0, u1, u2); s && (i & 1)) wi = s->wi;
-    const Float angle = 2 * kPi * rng.next_float();
-    const Vec3 ro = rotate_z(wo, angle), ri = rotate_z(wi, angle);
-    const Color f = bxdf.f(wo, wi), fr = bxdf.f(ro, ri);
-    double e = color_relative_error(f, fr, 1e-4 * std::max(1.0, double(f.max_component())));
-    const Float p = bxdf.pdf(wo, wi), pr = bxdf.pdf(ro, ri);
-    if (std::max(p, pr) > 1e-4f * std::max(Float(1), p)) e = std::max(e, relative_error(p, pr));
-    // Delta lobes: the same lobe choice gives the same weight, and the direction rotates along.
-    const auto s = bxdf.sample(wo, u0, u1, u2), sr = bxdf.sample(ro, u0, u1, u2);
-    if (s && sr && s->delta && sr->delta) {
-      e = std::max(e, color_relative_error(s->weight, sr->weight, 1e-6));
-      e = std::max(e, double(length(rotate_z(s->wi, angle) - sr->wi)));
+    auto quarter = [](const Vec3& w) { return Vec3{-w.y, w.x, w.z}; };
+    const double eq = error_between(wo, wi, quarter(wo), quarter(wi), u0, u1, u2, quarter);
+    if (eq > worst_quarter) {
+      worst_quarter = eq;
+      quarter_detail = "quarter turn of wo " + describe(wo) + ", wi " + describe(wi);
     }
-    if (e > worst) {
-      worst = e;
-      r.detail = "wo " + describe(wo) + ", wi " + describe(wi) + " rotated by " + fmt(angle) + " rad";
+    const Float angle = 2 * kPi * rng.next_float();
+    auto turn = [&](const Vec3& w) { return rotate_z(w, angle); };
+    const double er = error_between(wo, wi, turn(wo), turn(wi), u0, u1, u2, turn);
+    random_errors.push_back(er);
+    if (er > worst_random) {
+      worst_random = er;
+      random_detail = "rotation by " + fmt(angle) + " rad of wo " + describe(wo) + ", wi " + describe(wi);
     }
   }
-  r.figure = worst;
-  r.pass = worst <= r.threshold;
-  if (r.pass && r.detail.empty()) r.detail = std::to_string(n) + " rotated pairs";
+  const size_t k = std::min(random_errors.size() - 1, size_t(0.99 * double(random_errors.size())));
+  std::nth_element(random_errors.begin(), random_errors.begin() + std::ptrdiff_t(k), random_errors.end());
+  const double p99 = random_errors[k];
+  r.figure = std::max(worst_quarter, p99);
+  r.pass = *r.figure <= r.threshold;
+  r.detail = worst_quarter >= p99 ? "worst: " + quarter_detail
+                                  : "99th percentile " + fmt(p99) + " over arbitrary angles; worst: " + random_detail;
   return r;
 }
 

@@ -30,7 +30,8 @@ PropertyResult check_reciprocity(const BxDF& bxdf, const ValidationOptions& opt)
     const double ea = color_relative_error(imp, adj, 1e-5 * std::max(1.0, double(adj.max_component())));
     if (ea > worst) {
       worst = ea;
-      r.detail = "importance mode is not the adjoint at wo " + describe(wo) + ", wi " + describe(wi);
+      r.detail = "largest in the adjoint check (importance mode vs radiance mode swapped) at wo " +
+                 describe(wo) + ", wi " + describe(wi);
     }
   };
   const auto adv = adversarial_directions(eta);

@@ -1,0 +1,150 @@
+#pragma once
+// Microfacet normal distributions — GGX (Trowbridge–Reitz) and Beckmann, anisotropic
+// with alpha_x along S and alpha_y along T — with the Smith masking function Λ, the
+// height-correlated masking–shadowing G2 = 1 / (1 + Λ(wo) + Λ(wi)) (Heitz 2014, eq. 99;
+// SPEC §1), the distribution of visible normals and its sampling.
+//
+// All directions in the local shading frame; microfacet normals wm have wm.z > 0.
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+
+#include "gonio/math/special.h"
+#include "gonio/math/vec3.h"
+
+namespace gonio {
+
+enum class MicrofacetType : std::uint8_t { GGX, Beckmann };
+
+struct MicrofacetDistribution {
+  MicrofacetType type = MicrofacetType::GGX;
+  Float alpha_x = 0.1f, alpha_y = 0.1f;
+
+  // Below this roughness the models switch to their smooth (delta) counterparts: the
+  // lobe is then narrower than float precision can sample and evaluate faithfully.
+  static constexpr Float kSmoothAlpha = 1e-3f;
+  bool effectively_smooth() const { return std::max(alpha_x, alpha_y) < kSmoothAlpha; }
+  bool is_isotropic() const { return alpha_x == alpha_y; }
+
+  // D(wm), normalised so that ∫ D(wm) cos θm dωm = 1.
+  //   GGX (Walter et al. 2007, eq. 33; anisotropic form Heitz 2014, eq. 85):
+  //     1 / (π αx αy cos⁴θm (1 + tan²θm (cos²φm/αx² + sin²φm/αy²))²)
+  //   written with cos⁴θ (1 + e)² = (cos²θ + x²/αx² + y²/αy²)² to stay finite at grazing.
+  //   Beckmann (Walter et al. 2007, eq. 25; Heitz 2014, eq. 84):
+  //     exp(−tan²θm (cos²φm/αx² + sin²φm/αy²)) / (π αx αy cos⁴θm)
+  Float D(const Vec3& wm) const {
+    const Float cos2 = wm.z * wm.z;
+    if (!(wm.z > 0)) return 0;
+    const Float sx = wm.x / alpha_x, sy = wm.y / alpha_y;
+    if (type == MicrofacetType::GGX) {
+      const Float d = cos2 + sx * sx + sy * sy;
+      return 1 / (kPi * alpha_x * alpha_y * d * d);
+    }
+    const Float e = (sx * sx + sy * sy) / cos2;
+    if (e > Float(80)) return 0;  // exp(−80) ≈ 2e-35: zero in every sum
+    return std::exp(-e) / (kPi * alpha_x * alpha_y * cos2 * cos2);
+  }
+
+  // Smith Λ(w) (Heitz 2014, eqs. 72 and 86), with a = 1 / (α₀ tan θ), α₀ the roughness
+  // along w's azimuth: α₀² tan²θ = (x² αx² + y² αy²) / z².
+  //   GGX:      Λ = (−1 + sqrt(1 + 1/a²)) / 2
+  //   Beckmann: Λ = (erf(a) − 1)/2 + exp(−a²) / (2 a sqrt(π))
+  // Grazing directions (z = 0) are fully masked: a large finite Λ.
+  Float Lambda(const Vec3& w) const {
+    const Float cos2 = w.z * w.z;
+    const Float t = (w.x * alpha_x) * (w.x * alpha_x) + (w.y * alpha_y) * (w.y * alpha_y);
+    if (cos2 == 0) return t > 0 ? Float(1e30) : Float(0);
+    const Float a2t2 = t / cos2;  // = 1/a²
+    if (type == MicrofacetType::GGX) {
+      // (sqrt(1 + x) − 1)/2 = x / (2 (sqrt(1 + x) + 1)), free of cancellation for small x
+      return a2t2 / (2 * (std::sqrt(1 + a2t2) + 1));
+    }
+    if (a2t2 == 0) return 0;
+    const Float a = 1 / std::sqrt(a2t2);
+    if (a > Float(7)) return 0;  // both terms below 1e-23
+    return (-std::erfc(a) + std::exp(-a * a) / (a * Float(1.7724538509055160273))) / 2;
+  }
+
+  Float G1(const Vec3& w) const { return 1 / (1 + Lambda(w)); }
+  // Height-correlated masking–shadowing (Heitz 2014, eq. 99).
+  Float G2(const Vec3& wo, const Vec3& wi) const { return 1 / (1 + Lambda(wo) + Lambda(wi)); }
+
+  // Distribution of normals visible from w (Heitz & d'Eon 2014, eq. 2):
+  // D_w(wm) = G1(w) max(0, w·wm) D(wm) / cos θw. Either side of the surface for w.
+  Float D_visible(const Vec3& w, const Vec3& wm) const {
+    const Float cos_w = std::abs(w.z);
+    if (cos_w == 0) return 0;
+    return G1(w) / cos_w * D(wm) * std::abs(dot(w, wm));
+  }
+
+  // Samples a normal from D_w for w on the upper side (w.z > 0).
+  Vec3 sample_visible(const Vec3& w, Float u1, Float u2) const {
+    // Stretch w into the configuration of a unit-roughness distribution (both are
+    // stretch-invariant; Heitz & d'Eon 2014, §4), sample there, unstretch the normal.
+    const Vec3 ws = normalize(Vec3{alpha_x * w.x, alpha_y * w.y, w.z});
+    Vec3 h;
+    if (type == MicrofacetType::GGX) {
+      // Dupuy & Benyoub 2023, "Sampling Visible GGX Normals with Spherical Caps": the
+      // visible normals of the unit GGX are ws plus a uniform direction on the cap
+      // z ≥ −ws.z of the unit sphere.
+      const Float ph = 2 * kPi * u1;
+      const Float z = (1 - u2) * (1 + ws.z) - ws.z;
+      const Float s = std::sqrt(std::clamp(1 - z * z, Float(0), Float(1)));
+      h = Vec3{s * std::cos(ph), s * std::sin(ph), z} + ws;
+    } else {
+      h = sample_beckmann_visible_standard(ws, u1, u2);
+    }
+    const Vec3 wm = normalize(Vec3{alpha_x * h.x, alpha_y * h.y, std::max(Float(0), h.z)});
+    return length_squared(wm) > 0 && wm.z > 0 ? wm : Vec3{0, 0, 1};
+  }
+
+  // Classic sampling of wm ∝ D(wm) cos θm (Walter et al. 2007, eqs. 28, 35), kept for
+  // comparison with visible-normal sampling; density pdf_classic().
+  Vec3 sample_classic(Float u1, Float u2) const {
+    // Slopes of the unit distribution, then stretched: r² = u/(1−u) (GGX) or −ln(1−u).
+    const Float u = std::min(u1, kOneMinusEpsilon);
+    const Float r = type == MicrofacetType::GGX ? std::sqrt(u / (1 - u)) : std::sqrt(-std::log(1 - u));
+    const Float ph = 2 * kPi * u2;
+    const Vec3 wm = normalize(Vec3{-alpha_x * r * std::cos(ph), -alpha_y * r * std::sin(ph), 1});
+    return wm;
+  }
+  Float pdf_classic(const Vec3& wm) const { return D(wm) * std::max(Float(0), wm.z); }
+
+ private:
+  // Visible normal of the unit Beckmann distribution seen from ws (ws.z > 0), as an
+  // unnormalised normal (−x̃, −ỹ, 1) from visible slopes (Heitz & d'Eon 2014, §5). With
+  // ws rotated to azimuth 0 and c = cot θ, slope x̃ has density ∝ (c − x̃) exp(−x̃²) on
+  // x̃ < c, whose CDF is [c √π/2 (1 + erf x̃) + exp(−x̃²)/2] / [c √π/2 (1 + erf c) +
+  // exp(−c²)/2]; it is inverted by Newton's method safeguarded with bisection. ỹ is
+  // independent, with density exp(−ỹ²)/√π: ỹ = erf⁻¹(2u − 1).
+  static Vec3 sample_beckmann_visible_standard(const Vec3& ws, Float u1, Float u2) {
+    const double sin_t = std::sqrt(std::max(0.0, double(ws.x) * ws.x + double(ws.y) * ws.y));
+    // Beyond c = 1e8 the weight (c − x̃) is constant over the Gaussian to 1e-7.
+    const double c = sin_t > 0 ? std::min(double(ws.z) / sin_t, 1e8) : 1e8;
+    const double sqrt_pi_2 = 0.88622692545275801365;
+    auto cdf_num = [&](double t) { return c * sqrt_pi_2 * (1 + std::erf(t)) + 0.5 * std::exp(-t * t); };
+    const double target = std::clamp(double(u1), 1e-12, 1 - 1e-12) * cdf_num(c);
+    double lo = -8, hi = c;
+    // Start from the normal-incidence answer erf⁻¹(2u − 1); Newton steps that leave the
+    // bracket are replaced by bisection.
+    double x = std::clamp(double(erf_inv(Float(2 * double(u1) - 1))), lo, hi);
+    for (int it = 0; it < 50; ++it) {
+      const double g = cdf_num(x) - target;
+      if (std::abs(g) <= 2e-7 * target) break;  // beyond float precision of the slope
+      if (g > 0) hi = x;
+      else lo = x;
+      const double dg = (c - x) * std::exp(-x * x);
+      double next = dg > 0 ? x - g / dg : 0.5 * (lo + hi);
+      if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
+      x = next;
+      if (hi - lo < 1e-7 * std::max(1.0, std::abs(x))) break;
+    }
+    const double y = erf_inv(Float(2 * double(u2) - 1));
+    // Rotate the slopes back to ws's azimuth.
+    const double cp = sin_t > 0 ? ws.x / sin_t : 1, sp = sin_t > 0 ? ws.y / sin_t : 0;
+    return {Float(-(cp * x - sp * y)), Float(-(sp * x + cp * y)), 1};
+  }
+};
+
+}  // namespace gonio

@@ -1,0 +1,69 @@
+#pragma once
+// Energy compensation for multiple scattering between microfacets (Kulla & Conty 2017,
+// "Revisiting Physically Based Shading at Imageworks", §"Energy compensation"): a
+// reciprocal lobe added to the single-scattering BRDF,
+//   f_ms(wo, wi) = F_ms (1 − E(μo)) (1 − E(μi)) / (π (1 − E_avg)),
+// where E(μ) is the directional albedo of the single-scattering microfacet BRDF with
+// F = 1, E_avg = 2 ∫ E(μ) μ dμ its cosine-weighted average, and
+// F_ms = F_avg² E_avg / (1 − F_avg (1 − E_avg)) the colour of the light that escapes
+// after bouncing (F_avg = 2 ∫ F(μ) μ dμ). With F = 1 the added lobe returns exactly the
+// energy 1 − E(μo) the single-scattering lobe loses, for every wo.
+//
+// E(μ, α) and E_avg(α) come from tables that gonio computes itself at build time
+// (tools/make_albedo_tables.cpp). They are indexed by the isotropic roughness; an
+// anisotropic distribution uses sqrt(αx αy), and α > 1 uses the α = 1 entries.
+
+#include <algorithm>
+
+#include "gonio/color.h"
+#include "gonio/math/warp.h"
+#include "gonio/microfacet.h"
+
+namespace gonio {
+
+// Directional albedo E(μ) of the F = 1 single-scattering microfacet BRDF (one bilinear
+// lookup) and its cosine-weighted average E_avg (one linear lookup).
+Float microfacet_albedo(MicrofacetType type, Float alpha, Float mu);
+Float microfacet_average_albedo(MicrofacetType type, Float alpha);
+
+struct MultiscatterLobe {
+  MicrofacetType type = MicrofacetType::GGX;
+  Float alpha = 0.1f;
+  Float e_avg = 1;
+  Color f_ms;             // F_ms times 1/(π (1 − E_avg))
+  Float energy_ratio = 0; // avg(F_ms) / avg(F_avg): sets how often the lobe is sampled
+
+  // `f_avg`: the cosine-weighted average Fresnel reflectance 2 ∫ F(μ) μ dμ.
+  static MultiscatterLobe make(const MicrofacetDistribution& d, const Color& f_avg) {
+    MultiscatterLobe m;
+    m.type = d.type;
+    m.alpha = std::sqrt(d.alpha_x * d.alpha_y);
+    m.e_avg = microfacet_average_albedo(m.type, m.alpha);
+    const Float e = m.e_avg;
+    // The lobe vanishes for a perfectly smooth (E_avg = 1) or black surface.
+    const Float denom = kPi * std::max(Float(1e-6), 1 - e);
+    const Color fms = map(f_avg, [&](Float fa) { return fa * fa * e / (1 - fa * (1 - e)); });
+    m.f_ms = fms / denom;
+    m.energy_ratio = f_avg.average() > 0 ? fms.average() / f_avg.average() : Float(0);
+    return m;
+  }
+
+  Float E(Float mu) const { return microfacet_albedo(type, alpha, mu); }
+
+  Color f(Float cos_o, Float cos_i) const { return f_ms * ((1 - E(cos_o)) * (1 - E(cos_i))); }
+
+  // Probability of sampling this lobe rather than the single-scattering one: its share
+  // of the expected energy, F_ms (1 − E(μo)) against F_avg E(μo).
+  Float probability(Float cos_o) const {
+    const Float e = E(cos_o);
+    const Float ms = energy_ratio * (1 - e);
+    return ms + e > 0 ? std::clamp(ms / (ms + e), Float(0), Float(0.9)) : Float(0);
+  }
+  Float mix_pdf(Float cos_o, Float pdf_single, Float cos_i) const {
+    const Float p = probability(cos_o);
+    return (1 - p) * pdf_single + p * cosine_hemisphere_pdf(cos_i);
+  }
+  Vec3 sample(Float u1, Float u2) const { return square_to_cosine_hemisphere(u1, u2); }
+};
+
+}  // namespace gonio
