@@ -7,6 +7,9 @@
 #include <vector>
 
 #include "run_gonio.h"
+#include "gonio/material.h"
+
+#include <algorithm>
 
 namespace gonio_cli_test {
 namespace {
@@ -71,8 +74,11 @@ TEST(CliBsdfErrors, UnimplementedSpecTypesRejected) {
       R"({"type":"blend","weight":0.5,"bsdfs":[{"type":"diffuse"},{"type":"mirror"}]})",
       R"({"type":"measured","file":"x.binary"})",
   };
+  const auto& known = gonio::material_type_names();
   for (const auto& t : types) {
     const std::string name = json::parse(t)["type"].get<std::string>();
+    // Types this build implements are covered elsewhere; the rest must be rejected.
+    if (std::find(known.begin(), known.end(), name) != known.end()) continue;
     SCOPED_TRACE(name);
     const RunResult r = run_gonio({"eval", "--bsdf", t}, kGoodEvalLine);
     expect_bad_input(r, {name});
