@@ -25,36 +25,43 @@ struct DielectricBxDF {
   Float pdf(const Vec3&, const Vec3&, TransportMode = TransportMode::Radiance) const { return 0; }
 
   // u_lobe < F chooses reflection; each lobe's weight is its share divided by its
-  // probability: 1 for reflection, (n_wo/n_wi)² (radiance) or 1 (importance) for refraction.
+  // probability: 1 for reflection, (n_wo/n_wi)² (radiance) or 1 (importance) for
+  // refraction.
   std::optional<BSDFSample> sample(const Vec3& wo, Float u_lobe, Float, Float,
                                    TransportMode mode = TransportMode::Radiance) const {
     if (wo.z == 0) return std::nullopt;
-    // Inlined fresnel_dielectric + refract, sharing cos θt between them.
-    Float e = eta, cos_o = wo.z;
-    if (cos_o < 0) {
-      e = 1 / e;
-      cos_o = -cos_o;
+    const bool inside = wo.z < 0;
+    const Float inv = 1 / eta;
+    const Float e = inside ? inv : eta;  // n(far side) / n(wo's side)
+    const Float inv_e = inside ? eta : inv;
+    const Float cos_o = std::abs(wo.z);
+    // Fresnel (Hecht §4.6.2) with both amplitude ratios over one division:
+    // rs = (c − e ct)/(c + e ct), rp = (e c − ct)/(e c + ct).
+    const Float sin2_t = std::max(Float(0), 1 - cos_o * cos_o) * (inv_e * inv_e);
+    const bool tir = sin2_t >= 1;
+    const Float cos_t = std::sqrt(std::max(Float(0), 1 - sin2_t));
+    const Float a = cos_o - e * cos_t, b = cos_o + e * cos_t;
+    const Float c = e * cos_o - cos_t, d = e * cos_o + cos_t;
+    const Float bd = b * d;
+    const Float r = tir || !(bd > 0) ? Float(1) : (a * a * d * d + c * c * b * b) / (2 * bd * bd);
+    const bool reflect = u_lobe < r;
+    // Refraction (lecture §5.3) in the local frame: wt = −wo/η + (cos θo/η − cos θt) n, n on
+    // wo's side. Its z is taken from the tangential part, sqrt(1 − |wt_xy|²), rather than
+    // from cos θt: 1 − cos²θo loses digits near normal incidence, which a large η
+    // magnifies into a visibly non-unit vector. The decision for total internal
+    // reflection above stays a function of cos θo alone.
+    Float tx = -wo.x * inv_e, ty = -wo.y * inv_e;
+    const Float t2 = tx * tx + ty * ty;
+    if (t2 > 1 && !reflect) {  // rounding at the edge of total internal reflection
+      const Float sc = 1 / std::sqrt(t2);
+      tx *= sc;
+      ty *= sc;
     }
-    const Float sin2_t = std::max(Float(0), 1 - cos_o * cos_o) / (e * e);
-    Float r = 1, cos_t = 0;
-    if (sin2_t < 1) {
-      cos_t = std::sqrt(1 - sin2_t);
-      const Float rs = (cos_o - e * cos_t) / (cos_o + e * cos_t);
-      const Float rp = (e * cos_o - cos_t) / (e * cos_o + cos_t);
-      r = (rs * rs + rp * rp) / 2;
-    }
-    if (u_lobe < r)
-      return BSDFSample{{-wo.x, -wo.y, wo.z}, Color(1.0f), r, true, Lobe::Reflection, 1};
-    // Refraction (lecture §5.3), written in the local frame: wt = −wo/η + (cos θo/η − cos θt) n,
-    // with n the normal on wo's side.
-    const Float inv_eta = 1 / e;
-    const Float nz = wo.z > 0 ? Float(1) : Float(-1);
-    // Normalised because 1 − cos²θo loses digits near normal incidence, which a large η
-    // would magnify into a visibly non-unit vector; the TIR decision stays a function
-    // of cos θo alone, so it is invariant under rotation about N.
-    const Vec3 wi = normalize(Vec3{-wo.x * inv_eta, -wo.y * inv_eta, -nz * cos_t});
-    return BSDFSample{wi, Color(transmission_scale(e, mode)), 1 - r, true,
-                      Lobe::Transmission, e};
+    const Float tz = std::sqrt(std::max(Float(0), 1 - tx * tx - ty * ty));
+    const Vec3 wi = reflect ? Vec3{-wo.x, -wo.y, wo.z} : Vec3{tx, ty, std::copysign(tz, -wo.z)};
+    const Float weight = reflect ? Float(1) : transmission_scale(e, mode);
+    return BSDFSample{wi, Color(weight), reflect ? r : 1 - r, true,
+                      reflect ? Lobe::Reflection : Lobe::Transmission, reflect ? Float(1) : e};
   }
 
   DirectionalAlbedo albedo(const Vec3& wo, TransportMode mode = TransportMode::Radiance) const {

@@ -5,6 +5,7 @@
 #include <string_view>
 
 #include "gonio/bxdf/contract.h"
+#include "gonio/math/select.h"
 #include "gonio/math/warp.h"
 
 namespace gonio {
@@ -15,22 +16,25 @@ struct DiffuseBxDF {
 
   static constexpr BxDFFlags flags() { return BxDFFlags::DiffuseReflection; }
 
+  // Branch-free: which side wi lies on is data, and a mispredicted branch costs more
+  // than the model (docs/benchmarks.md).
   Color f(const Vec3& wo, const Vec3& wi, TransportMode = TransportMode::Radiance) const {
-    return wo.z * wi.z > 0 ? reflectance * kInvPi : Color{};
+    return reflectance * keep_if(wo.z * wi.z > 0, kInvPi);
   }
 
   Float pdf(const Vec3& wo, const Vec3& wi, TransportMode = TransportMode::Radiance) const {
-    return wo.z * wi.z > 0 ? std::abs(wi.z) * kInvPi : Float(0);
+    return keep_if(wo.z * wi.z > 0, std::abs(wi.z) * kInvPi);
   }
 
   // Cosine-weighted hemisphere on wo's side; weight = (ρ/π) cos θ / (cos θ/π) = ρ.
   std::optional<BSDFSample> sample(const Vec3& wo, Float /*u_lobe*/, Float u1, Float u2,
                                    TransportMode = TransportMode::Radiance) const {
-    if (wo.z == 0) return std::nullopt;
     Vec3 wi = square_to_cosine_hemisphere(u1, u2);
-    if (wi.z == 0) return std::nullopt;  // boundary of the disk: zero density
-    if (wo.z < 0) wi.z = -wi.z;
-    return BSDFSample{wi, reflectance, std::abs(wi.z) * kInvPi, false, Lobe::Reflection, 1};
+    // No direction for a grazing wo, nor at the rim of the disk (zero density).
+    if (wo.z == 0 || wi.z == 0) return std::nullopt;
+    const Float pdf = wi.z * kInvPi;
+    wi.z = std::copysign(wi.z, wo.z);
+    return BSDFSample{wi, reflectance, pdf, false, Lobe::Reflection, 1};
   }
 
   DirectionalAlbedo albedo(const Vec3& wo, TransportMode = TransportMode::Radiance) const {

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "gonio/math/select.h"
 #include "gonio/math/vec3.h"
 
 namespace gonio {
@@ -14,27 +15,27 @@ struct Vec2 {
 };
 
 // Concentric map of the square onto the unit disk; preserves stratification and has low
-// distortion (Shirley & Chiu 1997, "A Low Distortion Map Between Disk and Square").
+// distortion (Shirley & Chiu 1997, "A Low Distortion Map Between Disk and Square"):
+// in the wedge |a| > |b| the point is at radius a and angle (π/4)(b/a), else at radius b
+// and angle π/2 − (π/4)(a/b). Written without branches: the wedge is a select, and both
+// wedges need sin and cos of (π/4)·t with t in [−1, 1], a short polynomial.
 inline Vec2 square_to_concentric_disk(Float u1, Float u2) {
   const Float a = 2 * u1 - 1, b = 2 * u2 - 1;
-  if (a == 0 && b == 0) return {0, 0};
-  Float r, theta;
-  if (std::abs(a) > std::abs(b)) {
-    r = a;
-    theta = kPiOver4 * (b / a);
-  } else {
-    r = b;
-    theta = kPiOver2 - kPiOver4 * (a / b);
-  }
-  return {r * std::cos(theta), r * std::sin(theta)};
+  const bool first = std::abs(a) > std::abs(b);
+  const Float r = first ? a : b;
+  const Float t = r != 0 ? (first ? b : a) / r : Float(0);
+  const SinCos sc = sincos_quarter(kPiOver4 * t);
+  // cos(π/2 − x) = sin x, sin(π/2 − x) = cos x
+  return {r * (first ? sc.cos : sc.sin), r * (first ? sc.sin : sc.cos)};
 }
 
 // Cosine-weighted hemisphere (z ≥ 0) by projecting the concentric disk up (Malley's
-// method); density cos θ / π.
+// method); density cos θ / π. The disk radius is |a| or |b|, so z = sqrt(1 − r²).
 inline Vec3 square_to_cosine_hemisphere(Float u1, Float u2) {
+  const Float a = 2 * u1 - 1, b = 2 * u2 - 1;
+  const Float r = std::max(std::abs(a), std::abs(b));
   const Vec2 d = square_to_concentric_disk(u1, u2);
-  const Float z = std::sqrt(std::max(Float(0), 1 - d.x * d.x - d.y * d.y));
-  return {d.x, d.y, z};
+  return {d.x, d.y, std::sqrt(std::max(Float(0), 1 - r * r))};
 }
 inline Float cosine_hemisphere_pdf(Float cos_theta) {
   return cos_theta > 0 ? cos_theta * kInvPi : Float(0);
