@@ -71,11 +71,14 @@ struct MicrofacetDistribution {
   Float G2(const Vec3& wo, const Vec3& wi) const { return 1 / (1 + Lambda(wo) + Lambda(wi)); }
 
   // Distribution of normals visible from w (Heitz & d'Eon 2014, eq. 2):
-  // D_w(wm) = G1(w) max(0, w·wm) D(wm) / cos θw. Either side of the surface for w.
+  // D_w(wm) = G1(w) max(0, w·wm) D(wm) / cos θw. For w below the surface (seen from
+  // inside a dielectric) it is the distribution visible from −w, which sample_visible
+  // draws from: the same normals, facing the other way.
   Float D_visible(const Vec3& w, const Vec3& wm) const {
     const Float cos_w = std::abs(w.z);
     if (cos_w == 0) return 0;
-    return G1(w) / cos_w * D(wm) * std::abs(dot(w, wm));
+    const Float facing = std::copysign(Float(1), w.z) * dot(w, wm);
+    return facing > 0 ? G1(w) / cos_w * D(wm) * facing : Float(0);
   }
 
   // Samples a normal from D_w for w on the upper side (w.z > 0).

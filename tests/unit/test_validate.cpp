@@ -63,7 +63,27 @@ INSTANTIATE_TEST_SUITE_P(
       R"({"type":"dielectric","eta":0.0001})",
       R"({"type":"dielectric","eta":10000})",
       R"({"type":"conductor","eta":10000,"k":10000})",
-      R"({"type":"conductor","eta":0.0001,"k":0})"));
+      R"({"type":"conductor","eta":0.0001,"k":0})",
+      // Microfacet models: roughness from 0.01 to 1, both distributions, anisotropy,
+      // η below and above 1, energy compensation.
+      R"({"type":"roughconductor","alpha":0.01,"material":"Au"})",
+      R"({"type":"roughconductor","alpha":0.2,"material":"Cu"})",
+      R"({"type":"roughconductor","alpha":1,"material":"Al"})",
+      R"({"type":"roughconductor","alpha":[0.05,0.5],"material":"Ag"})",
+      R"({"type":"roughconductor","alpha":0.3,"distribution":"beckmann","eta":1.5,"k":3})",
+      R"({"type":"roughconductor","alpha":[0.6,0.1],"distribution":"beckmann","fresnel":"schlick","f0":0.9})",
+      R"({"type":"roughconductor","alpha":0.5,"fresnel":"schlick","f0":1,"multiscatter":true})",
+      R"({"type":"roughconductor","alpha":0.1,"distribution":"beckmann","material":"Au","multiscatter":true})",
+      R"({"type":"roughdielectric","alpha":0.01})",
+      R"({"type":"roughdielectric","alpha":0.2,"eta":1.33})",
+      R"({"type":"roughdielectric","alpha":1,"eta":1.5})",
+      R"({"type":"roughdielectric","alpha":0.3,"eta":0.7})",
+      R"({"type":"roughdielectric","alpha":[0.05,0.4],"eta":2.4})",
+      R"({"type":"roughdielectric","alpha":0.2,"distribution":"beckmann","eta":1.5})",
+      R"({"type":"roughdielectric","alpha":[0.5,0.1],"distribution":"beckmann","eta":0.7})",
+      R"({"type":"roughdielectric","alpha":0.3,"eta":1})",
+      R"({"type":"roughdielectric","alpha":0.3,"eta":1.0001})",
+      R"({"type":"roughdielectric","alpha":0.3,"eta":1.004})"));
 
 // --- models broken on purpose, each through the extension point -----------------------
 

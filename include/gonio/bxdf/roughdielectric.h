@@ -24,8 +24,18 @@ struct RoughDielectricBxDF {
   MicrofacetDistribution distribution;
   Float eta = 1.5f;  // n_inside / n_outside
 
+  // An index-matched interface (η = 1) refracts nothing: light goes straight through,
+  // a delta lobe whatever the roughness; near η = 1 the transmitted lobe is about
+  // α |η − 1| wide. Once that is below the smoothness threshold the model is the smooth
+  // dielectric (its reflection, F ≈ ((η−1)/(η+1))², is then negligible), as is a surface
+  // below the threshold.
+  bool specular() const {
+    const Float alpha = std::max(distribution.alpha_x, distribution.alpha_y);
+    return distribution.effectively_smooth() || alpha * std::abs(eta - 1) < MicrofacetDistribution::kSmoothAlpha;
+  }
+
   BxDFFlags flags() const {
-    return distribution.effectively_smooth()
+    return specular()
                ? BxDFFlags::SpecularReflection | BxDFFlags::SpecularTransmission
                : BxDFFlags::GlossyReflection | BxDFFlags::GlossyTransmission;
   }
@@ -37,7 +47,7 @@ struct RoughDielectricBxDF {
   bool is_isotropic() const { return distribution.is_isotropic(); }
 
   BSDFEval eval(const Vec3& wo, const Vec3& wi, TransportMode mode = TransportMode::Radiance) const {
-    if (distribution.effectively_smooth() || grazing(wo) || grazing(wi)) return {};
+    if (specular() || grazing(wo) || grazing(wi)) return {};
     const bool reflection = (wo.z > 0) == (wi.z > 0);
     // The half vector and every dot product are computed from the pair in a fixed order
     // (for transmission: the outside direction, then the inside one), so that f(wo, wi)
@@ -91,8 +101,8 @@ struct RoughDielectricBxDF {
 
   std::optional<BSDFSample> sample(const Vec3& wo, Float u_lobe, Float u1, Float u2,
                                    TransportMode mode = TransportMode::Radiance) const {
+    if (specular()) return DielectricBxDF{eta}.sample(wo, u_lobe, u1, u2, mode);
     if (grazing(wo)) return std::nullopt;
-    if (distribution.effectively_smooth()) return DielectricBxDF{eta}.sample(wo, u_lobe, u1, u2, mode);
     // Normals visible from wo; from inside, those visible from −wo (the same
     // distribution, as D_w uses |w·wm|).
     const Vec3 wm = distribution.sample_visible(wo.z > 0 ? wo : -wo, u1, u2);
