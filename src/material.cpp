@@ -3,6 +3,8 @@
 #include "gonio/material.h"
 
 #include <cmath>
+#include <array>
+#include <memory>
 #include <set>
 #include <sstream>
 
@@ -95,6 +97,11 @@ class Params {
     if (v.is_array() && v.size() == 2 && v[0].is_number() && v[1].is_number())
       return {finite(key, v[0]), finite(key, v[1])};
     fail(std::string(key) + " must be a number or [alpha_x, alpha_y], got " + show(v));
+  }
+
+  const json& raw(const char* key) {
+    used_.insert(key);
+    return obj_.at(key);
   }
 
   std::string string(const char* key) {
@@ -281,6 +288,94 @@ BxDF make_dielectric(Params& p) {
   return m;
 }
 
+// A colour parameter that must be given, in [0, 1].
+Color required_unit_color(Params& p, const char* key) {
+  if (!p.has(key)) p.fail(std::string("missing parameter '") + key + "'");
+  const Color c = p.color(key);
+  p.check_color_range(key, c, 0, 1);
+  return c;
+}
+
+// kd + ks ≤ 1 per channel, the energy bound of the two-lobe models (SPEC §2).
+void check_sum_at_most_one(Params& p, const char* a, const Color& ca, const char* b, const Color& cb) {
+  for (int i = 0; i < Color::size(); ++i)
+    if (ca[i] + cb[i] > 1 + 1e-6)
+      p.fail(std::string(a) + " + " + b + " must be <= 1 per channel, got " + format_number(ca[i] + cb[i]));
+}
+
+double required_number(Params& p, const char* key, double lo, double hi, bool open_lo = true) {
+  if (!p.has(key)) p.fail(std::string("missing parameter '") + key + "'");
+  const double v = p.number(key);
+  const bool ok = (open_lo ? v > lo : v >= lo) && v <= hi;
+  if (!ok)
+    p.fail(std::string(key) + " must be in " + (open_lo ? "(" : "[") + format_number(lo) + ", " + format_number(hi) +
+           "], got " + format_number(v));
+  return v;
+}
+
+BxDF make_orennayar(Params& p) {
+  OrenNayarBxDF m;
+  if (p.has("reflectance")) m.reflectance = p.color("reflectance");
+  p.check_color_range("reflectance", m.reflectance, 0, 1);
+  if (!p.has("sigma")) p.fail("missing parameter 'sigma' (degrees in [0, 90))");
+  const double sigma = p.number("sigma");
+  if (!(sigma >= 0 && sigma < 90)) p.fail("sigma must be in [0, 90) degrees, got " + format_number(sigma));
+  m.sigma = Float(sigma * kPiD / 180);
+  if (p.has("model")) {
+    const std::string model = p.string("model");
+    if (model == "full") m.full = true;
+    else if (model != "qualitative") p.fail("model must be \"qualitative\" or \"full\", got \"" + model + "\"");
+  }
+  return m;
+}
+
+template <typename M>
+BxDF make_phong_like(Params& p) {
+  M m;
+  m.kd = required_unit_color(p, "kd");
+  m.ks = required_unit_color(p, "ks");
+  check_sum_at_most_one(p, "kd", m.kd, "ks", m.ks);
+  m.exponent = Float(required_number(p, "exponent", 0, 1e6, false));
+  return m;
+}
+
+BxDF make_ward(Params& p) {
+  WardBxDF m;
+  m.kd = required_unit_color(p, "kd");
+  m.ks = required_unit_color(p, "ks");
+  check_sum_at_most_one(p, "kd", m.kd, "ks", m.ks);
+  if (!p.has("alpha")) p.fail("missing parameter 'alpha' (a number, or [alpha_x, alpha_y])");
+  const auto [ax, ay] = p.alpha("alpha");
+  for (double a : {ax, ay})
+    if (!(a > 0 && a <= 1)) p.fail("alpha must be > 0 and <= 1, got " + format_number(a));
+  m.alpha_x = Float(ax);
+  m.alpha_y = Float(ay);
+  return m;
+}
+
+BxDF make_ashikhminshirley(Params& p) {
+  AshikhminShirleyBxDF m;
+  m.rd = required_unit_color(p, "rd");
+  m.rs = required_unit_color(p, "rs");
+  m.nu = Float(required_number(p, "nu", 0, 1e6));
+  m.nv = Float(required_number(p, "nv", 0, 1e6));
+  return m;
+}
+
+BxDF make_plastic(Params& p) {
+  Color reflectance(0.5f);
+  if (p.has("reflectance")) reflectance = p.color("reflectance");
+  p.check_color_range("reflectance", reflectance, 0, 1);
+  Float eta = 1.5f;
+  if (p.has("eta")) eta = Float(required_number(p, "eta", 1, kMaxIndex, false));
+  std::optional<MicrofacetDistribution> coat;
+  if (p.has("alpha")) coat = make_distribution(p);
+  else if (p.has("distribution")) p.fail("distribution needs alpha (a rough coat)");
+  return PlasticBxDF::make(reflectance, eta, coat);
+}
+
+BxDF make_blend(Params& p, const std::string& where);
+
 struct TypeEntry {
   std::string_view name;
   BxDF (*make)(Params&);
@@ -292,6 +387,12 @@ constexpr TypeEntry kTypes[] = {
     {"dielectric", make_dielectric},
     {"roughconductor", make_roughconductor},
     {"roughdielectric", make_roughdielectric},
+    {"orennayar", make_orennayar},
+    {"phong", make_phong_like<PhongBxDF>},
+    {"blinnphong", make_phong_like<BlinnPhongBxDF>},
+    {"ward", make_ward},
+    {"ashikhminshirley", make_ashikhminshirley},
+    {"plastic", make_plastic},
 };
 
 }  // namespace
@@ -300,10 +401,26 @@ const std::vector<std::string_view>& material_type_names() {
   static const std::vector<std::string_view> names = [] {
     std::vector<std::string_view> v;
     for (const auto& t : kTypes) v.push_back(t.name);
+    v.push_back("blend");
     return v;
   }();
   return names;
 }
+
+namespace {
+BxDF make_blend(Params& p, const std::string& where) {
+  const double w = required_number(p, "weight", 0, 1, false);
+  if (!p.has("bsdfs")) p.fail("missing parameter 'bsdfs' (an array of 2 materials)");
+  const json& arr = p.raw("bsdfs");
+  if (!arr.is_array() || arr.size() != 2) p.fail("bsdfs must be an array of 2 materials, got " + show(arr));
+  auto parts = std::make_shared<std::array<BxDF, 2>>();
+  for (size_t i = 0; i < 2; ++i) (*parts)[i] = material_from_json(arr[i], where + ".bsdfs[" + std::to_string(i) + "]");
+  const Float e0 = (*parts)[0].relative_eta(), e1 = (*parts)[1].relative_eta();
+  if (is_transmissive((*parts)[0].flags()) && is_transmissive((*parts)[1].flags()) && e0 != e1)
+    p.fail("both parts refract, with different eta (" + format_number(e0) + " and " + format_number(e1) + ")");
+  return BlendBxDF{Float(w), std::move(parts)};
+}
+}  // namespace
 
 BxDF material_from_json(const json& description, const std::string& where) {
   const std::string at = where.empty() ? "" : where + ": ";
@@ -313,6 +430,12 @@ BxDF material_from_json(const json& description, const std::string& where) {
   if (it == description.end()) throw InputError(at + "material: missing field 'type'");
   if (!it->is_string()) throw InputError(at + "material: type must be a string, got " + show(*it));
   const std::string type = it->get<std::string>();
+  if (type == "blend") {
+    Params p(description, at + "blend: ");
+    BxDF m = make_blend(p, where.empty() ? "blend" : where + ": blend");
+    p.reject_unknown();
+    return m;
+  }
   for (const auto& t : kTypes) {
     if (t.name == type) {
       Params p(description, at + type + ": ");

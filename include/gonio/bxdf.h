@@ -8,21 +8,30 @@
 #include <type_traits>
 #include <variant>
 
+#include "gonio/bxdf/ashikhminshirley.h"
+#include "gonio/bxdf/blend.h"
+#include "gonio/bxdf/blinnphong.h"
 #include "gonio/bxdf/conductor.h"
 #include "gonio/bxdf/contract.h"
 #include "gonio/bxdf/custom.h"
 #include "gonio/bxdf/dielectric.h"
 #include "gonio/bxdf/diffuse.h"
 #include "gonio/bxdf/mirror.h"
+#include "gonio/bxdf/orennayar.h"
+#include "gonio/bxdf/phong.h"
+#include "gonio/bxdf/plastic.h"
 #include "gonio/bxdf/roughconductor.h"
 #include "gonio/bxdf/roughdielectric.h"
+#include "gonio/bxdf/ward.h"
 
 namespace gonio {
 
 class BxDF {
  public:
   using Models = std::variant<DiffuseBxDF, MirrorBxDF, ConductorBxDF, DielectricBxDF,
-                              RoughConductorBxDF, RoughDielectricBxDF, UserBxDF>;
+                              RoughConductorBxDF, RoughDielectricBxDF, OrenNayarBxDF, PhongBxDF,
+                              BlinnPhongBxDF, WardBxDF, AshikhminShirleyBxDF, PlasticBxDF, BlendBxDF,
+                              UserBxDF>;
 
   BxDF() = default;
   template <typename M>
@@ -91,5 +100,49 @@ class BxDF {
  private:
   Models m_;
 };
+
+// --- BlendBxDF, now that BxDF is complete ------------------------------------------
+
+inline BxDFFlags BlendBxDF::flags() const { return (*parts)[0].flags() | (*parts)[1].flags(); }
+inline Float BlendBxDF::relative_eta() const {
+  // Parts that refract share one index (the material loader insists); else 1.
+  const Float a = (*parts)[0].relative_eta();
+  return a != 1 ? a : (*parts)[1].relative_eta();
+}
+inline bool BlendBxDF::is_isotropic() const { return (*parts)[0].is_isotropic() && (*parts)[1].is_isotropic(); }
+inline BSDFEval BlendBxDF::eval(const Vec3& wo, const Vec3& wi, TransportMode mode) const {
+  const BSDFEval a = (*parts)[0].eval(wo, wi, mode), b = (*parts)[1].eval(wo, wi, mode);
+  return {a.f * (1 - weight) + b.f * weight, (1 - weight) * a.pdf + weight * b.pdf};
+}
+inline Color BlendBxDF::f(const Vec3& wo, const Vec3& wi, TransportMode mode) const {
+  return (*parts)[0].f(wo, wi, mode) * (1 - weight) + (*parts)[1].f(wo, wi, mode) * weight;
+}
+inline Float BlendBxDF::pdf(const Vec3& wo, const Vec3& wi, TransportMode mode) const {
+  return (1 - weight) * (*parts)[0].pdf(wo, wi, mode) + weight * (*parts)[1].pdf(wo, wi, mode);
+}
+inline std::optional<BSDFSample> BlendBxDF::sample(const Vec3& wo, Float u_lobe, Float u1, Float u2,
+                                                   TransportMode mode) const {
+  const bool second = u_lobe >= 1 - weight;
+  // Reuse u_lobe, rescaled to [0, 1) within the chosen part.
+  const Float u = second ? (u_lobe - (1 - weight)) / weight : u_lobe / (1 - weight);
+  const Float p_part = second ? weight : 1 - weight;
+  auto s = (*parts)[second ? 1 : 0].sample(wo, std::min(u, kOneMinusEpsilon), u1, u2, mode);
+  if (!s) return std::nullopt;
+  if (s->delta) {
+    s->pdf *= p_part;  // the discrete probability of this delta direction
+    return s;
+  }
+  const BSDFEval e = eval(wo, s->wi, mode);
+  if (!(e.pdf > 0)) return std::nullopt;
+  s->weight = e.f * (std::abs(s->wi.z) / e.pdf);
+  s->pdf = e.pdf;
+  return s;
+}
+inline std::optional<DirectionalAlbedo> BlendBxDF::albedo(const Vec3& wo, TransportMode mode) const {
+  const auto a = (*parts)[0].exact_albedo(wo, mode), b = (*parts)[1].exact_albedo(wo, mode);
+  if (!a || !b) return std::nullopt;
+  return DirectionalAlbedo{a->reflectance * (1 - weight) + b->reflectance * weight,
+                           a->transmittance * (1 - weight) + b->transmittance * weight};
+}
 
 }  // namespace gonio

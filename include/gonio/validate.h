@@ -14,7 +14,8 @@
 //   consistency   weight = f |cos θi| / pdf and pdf = pdf(wo, wi) for every sample; for
 //                 delta lobes the mean weight equals the lobe's exact albedo.
 //   isotropy      an isotropic model is invariant under rotation about N.
-//   linearity     a blend equals the weighted sum of its parts (no blend model yet).
+//   linearity     a blend equals the weighted sum of its parts, in f, pdf and the mean
+//                 weight of its samples.
 //
 // A property that does not apply to a model passes with no figure.
 
@@ -62,5 +63,8 @@ std::vector<PropertyResult> check_sampling(const BxDF& bxdf, const ValidationOpt
 PropertyResult check_consistency(const BxDF& bxdf, const ValidationOptions& options = {});
 PropertyResult check_isotropy(const BxDF& bxdf, const ValidationOptions& options = {});
 PropertyResult check_linearity(const BxDF& bxdf, const ValidationOptions& options = {});
+// Linearity of any model claimed to be (1 − w) a + w b.
+PropertyResult check_linearity(const BxDF& blend, const BxDF& a, const BxDF& b, Float w,
+                               const ValidationOptions& options = {});
 
 }  // namespace gonio

@@ -74,7 +74,9 @@ class CellIntegrator {
     const Rect ph_lo{r.mu0, r.mu1, r.ph0, pm}, ph_hi{r.mu0, r.mu1, pm, r.ph1};
     const double a0 = simpson(mu_lo), a1 = simpson(mu_hi), b0 = simpson(ph_lo), b1 = simpson(ph_hi);
     const double err_mu = std::abs(a0 + a1 - whole), err_ph = std::abs(b0 + b1 - whole);
-    const bool split_mu = err_mu >= err_ph;
+    // On a tie (typically both 0: a lobe that no quadrature point touches, found only
+    // through its samples) alternate the direction, so both dimensions get resolved.
+    const bool split_mu = err_mu == err_ph ? depth % 2 == 0 : err_mu > err_ph;
     const double halves = split_mu ? a0 + a1 : b0 + b1;
     const double err = std::max(err_mu, err_ph);
     const bool converged = err <= 15 * std::max(tol, 1e-5 * std::abs(halves));

@@ -83,7 +83,25 @@ INSTANTIATE_TEST_SUITE_P(
       R"({"type":"roughdielectric","alpha":[0.5,0.1],"distribution":"beckmann","eta":0.7})",
       R"({"type":"roughdielectric","alpha":0.3,"eta":1})",
       R"({"type":"roughdielectric","alpha":0.3,"eta":1.0001})",
-      R"({"type":"roughdielectric","alpha":0.3,"eta":1.004})"));
+      R"({"type":"roughdielectric","alpha":0.3,"eta":1.004})",
+      // The classic models and the layered and blended ones.
+      R"({"type":"orennayar","sigma":20})",
+      R"({"type":"orennayar","reflectance":[1,0.5,0],"sigma":60,"model":"full"})",
+      R"({"type":"phong","kd":0.5,"ks":0.5,"exponent":1})",
+      R"({"type":"phong","kd":0,"ks":1,"exponent":1000})",
+      R"({"type":"blinnphong","kd":0.3,"ks":0.7,"exponent":0})",
+      R"({"type":"blinnphong","kd":0,"ks":1,"exponent":2000})",
+      R"({"type":"ward","kd":0.2,"ks":0.8,"alpha":[0.05,0.4]})",
+      R"({"type":"ward","kd":0,"ks":1,"alpha":0.01})",
+      R"({"type":"ward","kd":0,"ks":1,"alpha":1})",
+      R"({"type":"ashikhminshirley","rd":0.5,"rs":0.3,"nu":1000,"nv":10})",
+      R"({"type":"ashikhminshirley","rd":1,"rs":0,"nu":1,"nv":1})",
+      R"({"type":"plastic","reflectance":0.8})",
+      R"({"type":"plastic","reflectance":1,"eta":2.4})",
+      R"({"type":"plastic","reflectance":[0.9,0.5,0.1],"alpha":0.2})",
+      R"({"type":"plastic","reflectance":0.5,"alpha":[0.02,0.3],"distribution":"beckmann"})",
+      R"({"type":"blend","weight":0.3,"bsdfs":[{"type":"diffuse"},{"type":"dielectric"}]})",
+      R"({"type":"blend","weight":0.7,"bsdfs":[{"type":"roughconductor","alpha":0.2,"material":"Au"},{"type":"plastic"}]})"));
 
 // --- models broken on purpose, each through the extension point -----------------------
 
@@ -220,6 +238,18 @@ TEST(Validate, CatchesAnAnisotropicModelDeclaredIsotropic) {
   const auto r = check_isotropy(make_user_bxdf<Anisotropic>(), options());
   EXPECT_FALSE(r.pass) << r.detail;
   EXPECT_TRUE(check_isotropy(make_user_bxdf<BaseLambert>(), options()).pass);
+}
+
+TEST(Validate, CatchesAModelThatIsNotTheBlendItClaims) {
+  // A blend with weight 0.4, claimed to be the 0.3 blend of the same parts.
+  const BxDF a = parse_material(R"({"type":"diffuse","reflectance":0.9})");
+  const BxDF b = parse_material(R"({"type":"mirror","reflectance":0.2})");
+  const BxDF real = parse_material(
+      R"({"type":"blend","weight":0.4,"bsdfs":[{"type":"diffuse","reflectance":0.9},{"type":"mirror","reflectance":0.2}]})");
+  const auto r = check_linearity(real, a, b, 0.3f, options());
+  EXPECT_FALSE(r.pass) << r.detail;
+  EXPECT_TRUE(check_linearity(real, a, b, 0.4f, options()).pass);
+  EXPECT_TRUE(check_linearity(real, options()).pass);
 }
 
 TEST(Validate, PropertiesThatDoNotApplyPassWithoutAFigure) {

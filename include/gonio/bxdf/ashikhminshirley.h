@@ -1,0 +1,86 @@
+#pragma once
+// Anisotropic Phong BRDF of Ashikhmin & Shirley 2000, "An Anisotropic Phong BRDF Model":
+//   specular (eq. 4): ρs = sqrt((nu+1)(nv+1))/(8π) · (n·h)^((nu hx² + nv hy²)/(1 − hz²))
+//                          / ((h·k) max(cos θi, cos θo)) · F(h·k),  F Schlick with Rs
+//   diffuse (eq. 5):  ρd = 28 Rd/(23π) (1 − Rs) (1 − (1 − cos θi/2)⁵)(1 − (1 − cos θo/2)⁵)
+// with k = wo (h·wo = h·wi). Reciprocal. The half vector is sampled by their eq. 9,
+// density sqrt((nu+1)(nv+1))/(2π) (n·h)^(nu cos²φ + nv sin²φ), then reflected
+// (pdf(wi) = p(h)/(4 k·h)); the diffuse term cosine-weighted.
+
+#include <cmath>
+#include <optional>
+#include <string_view>
+
+#include "gonio/bxdf/diffuse_glossy.h"
+#include "gonio/fresnel.h"
+
+namespace gonio {
+
+struct AshikhminShirleyBxDF {
+  static constexpr std::string_view kName = "ashikhminshirley";
+  Color rd{0.5f}, rs{0.05f};
+  Float nu = 100, nv = 100;
+
+  static constexpr BxDFFlags flags() { return BxDFFlags::DiffuseReflection | BxDFFlags::GlossyReflection; }
+  bool is_isotropic() const { return nu == nv; }
+
+  // Exponent of n·h for a unit half vector: nu cos²φh + nv sin²φh.
+  Float exponent(const Vec3& h) const {
+    const Float t = h.x * h.x + h.y * h.y;
+    return t > 0 ? (nu * h.x * h.x + nv * h.y * h.y) / t : (nu + nv) / 2;
+  }
+  Color f_upper(const Vec3& wo, const Vec3& wi) const {
+    const Vec3 h = normalize(wo + wi);
+    // h·wo = h·wi; their mean keeps f exactly symmetric in rounding too.
+    const Float hk = (dot(h, wo) + dot(h, wi)) / 2;
+    const Float a = 1 - wi.z / 2, b = 1 - wo.z / 2;
+    const Float a5 = a * a * a * a * a, b5 = b * b * b * b * b;
+    Color value = rd * (Float(28) / (23 * kPi)) * (Color(1.f) - rs) * ((1 - a5) * (1 - b5));
+    if (hk > 0 && h.z > 0) {
+      const Float m = 1 - hk;
+      const Float m5 = m * m * m * m * m;
+      const Color F = rs + (Color(1.f) - rs) * m5;
+      const Float lobe = std::sqrt((nu + 1) * (nv + 1)) / (8 * kPi) * std::pow(h.z, exponent(h)) /
+                         (hk * std::max(wi.z, wo.z));
+      value += F * lobe;
+    }
+    return value;
+  }
+  Vec3 sample_lobe(const Vec3& wo, Float u1, Float u2) const {
+    // Eq. 9: φ = atan(sqrt((nu+1)/(nv+1)) tan(π u/2)) in the first quadrant, mapped to
+    // the four quadrants by 4 u1; cos θh = (1 − u2)^(1/(nu cos²φ + nv sin²φ + 1)).
+    const Float q = 4 * u1;
+    const int quadrant = std::min(3, int(q));
+    const Float u = q - Float(quadrant);
+    Float ph = std::atan(std::sqrt((nu + 1) / (nv + 1)) * std::tan(kPiOver2 * u));
+    if (quadrant == 1) ph = kPi - ph;
+    else if (quadrant == 2) ph = kPi + ph;
+    else if (quadrant == 3) ph = 2 * kPi - ph;
+    const Float cp = std::cos(ph), sp = std::sin(ph);
+    // sin² = 1 − c² through expm1, exact for narrow lobes.
+    const Float lu = std::log(std::max(1 - u2, Float(1e-30))) / (nu * cp * cp + nv * sp * sp + 1);
+    const Float c = std::exp(lu);
+    const Float s = std::sqrt(std::max(Float(0), -std::expm1(2 * lu)));
+    return reflect(wo, Vec3{s * cp, s * sp, c});
+  }
+  Float lobe_pdf(const Vec3& wo, const Vec3& wi) const {
+    const Vec3 h = normalize(wo + wi);
+    const Float hk = dot(wo, h);
+    if (!(hk > 0) || !(h.z > 0)) return 0;
+    return std::sqrt((nu + 1) * (nv + 1)) * kInv2Pi * std::pow(h.z, exponent(h)) / (4 * hk);
+  }
+  Float diffuse_probability() const { return diffuse_glossy::diffuse_share(rd, rs); }
+
+  Color f(const Vec3& wo, const Vec3& wi, TransportMode = TransportMode::Radiance) const {
+    return diffuse_glossy::f(*this, wo, wi);
+  }
+  Float pdf(const Vec3& wo, const Vec3& wi, TransportMode = TransportMode::Radiance) const {
+    return diffuse_glossy::pdf(*this, wo, wi);
+  }
+  std::optional<BSDFSample> sample(const Vec3& wo, Float u_lobe, Float u1, Float u2,
+                                   TransportMode = TransportMode::Radiance) const {
+    return diffuse_glossy::sample(*this, wo, u_lobe, u1, u2);
+  }
+};
+
+}  // namespace gonio
