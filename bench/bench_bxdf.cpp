@@ -290,6 +290,21 @@ int main(int argc, char** argv) {
   register_model("conductor_exact_Au", ConductorBxDF{gold(FresnelModel::Exact)});
   register_model("conductor_schlick_Au", ConductorBxDF{gold(FresnelModel::Schlick)});
   register_model("dielectric_1.5", DielectricBxDF{1.5f});
+  // The glossy models; the targets are for the first three.
+  register_model("roughconductor_ggx_Au_0.2",
+                 RoughConductorBxDF{{MicrofacetType::GGX, 0.2f, 0.2f}, gold(FresnelModel::Exact), std::nullopt});
+  register_model("roughdielectric_ggx_1.5_0.2", RoughDielectricBxDF{{MicrofacetType::GGX, 0.2f, 0.2f}, 1.5f});
+  register_model("orennayar_qualitative_20deg", OrenNayarBxDF{Color(0.5f), 20 * kPi / 180, false});
+  register_model("roughconductor_beckmann_Au_0.2",
+                 RoughConductorBxDF{{MicrofacetType::Beckmann, 0.2f, 0.2f}, gold(FresnelModel::Exact), std::nullopt});
+  {
+    RoughConductorBxDF ms{{MicrofacetType::GGX, 0.2f, 0.2f}, gold(FresnelModel::Exact), std::nullopt};
+    ms.multiscatter = MultiscatterLobe::make(ms.distribution, Color(0.9f));
+    register_model("roughconductor_ggx_Au_0.2_multiscatter", ms);
+  }
+  register_model("phong_20", PhongBxDF{Color(0.5f), Color(0.3f), 20});
+  register_model("ward_0.1_0.3", WardBxDF{Color(0.3f), Color(0.5f), 0.1f, 0.3f});
+  register_model("plastic_smooth", PlasticBxDF::make(Color(0.5f), 1.5f, std::nullopt));
 
   static const DiffuseBxDF lambert{Color(0.5f)};
   add("method/copy_baseline", bench_copy);

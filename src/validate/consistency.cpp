@@ -22,6 +22,7 @@ PropertyResult check_consistency(const BxDF& bxdf, const ValidationOptions& opt)
       // Weights summed by lobe, compared with the exact albedo below where there is one.
       double sum_r[kColorChannels] = {}, sum_t[kColorChannels] = {};
       double sum_r2[kColorChannels] = {}, sum_t2[kColorChannels] = {};
+      double max_r[kColorChannels] = {}, max_t[kColorChannels] = {};
       for (std::uint64_t i = 0; i < n; ++i) {
         const auto s = bxdf.sample(wo, rng.next_float(), rng.next_float(), rng.next_float(), mode);
         if (!s) continue;
@@ -29,6 +30,8 @@ PropertyResult check_consistency(const BxDF& bxdf, const ValidationOptions& opt)
           const double w = s->weight[c];
           (s->lobe == Lobe::Reflection ? sum_r : sum_t)[c] += w;
           (s->lobe == Lobe::Reflection ? sum_r2 : sum_t2)[c] += w * w;
+          double& mx = (s->lobe == Lobe::Reflection ? max_r : max_t)[c];
+          mx = std::max(mx, w);
         }
         if (s->delta) continue;
         const Float pdf = bxdf.pdf(wo, s->wi, mode);
@@ -62,8 +65,13 @@ PropertyResult check_consistency(const BxDF& bxdf, const ValidationOptions& opt)
           for (int lobe = 0; lobe < 2; ++lobe) {
             const double sum = lobe ? sum_t[c] : sum_r[c], sum2 = lobe ? sum_t2[c] : sum_r2[c];
             const double mean = sum / double(n);
-            const double se = std::sqrt(std::max(0.0, sum2 / double(n) - mean * mean) / double(n));
             const double want = lobe ? exact->transmittance[c] : exact->reflectance[c];
+            // The sample's standard error, but no less than the bound want (W − want)
+            // on the variance of a contribution in [0, W]: a rare lobe that no sample
+            // happened to hit must not make the estimate look exact.
+            const double w_max = std::max(lobe ? max_t[c] : max_r[c], want);
+            const double var = std::max(sum2 / double(n) - mean * mean, want * (w_max - want));
+            const double se = std::sqrt(std::max(0.0, var) / double(n));
             // Deviation in units of the allowed error (4 standard errors + float round-off).
             const double allowed = 4 * se + 1e-5;
             const double e = std::abs(mean - want) / allowed;
