@@ -17,7 +17,7 @@ using namespace gonio;
 
 namespace {
 
-constexpr int kSamples = 1 << 20;
+constexpr int kSamples = 1 << 18;
 
 struct Stats {
   double mean = 0, variance = 0;
@@ -111,7 +111,7 @@ void furnace_table(const char* dist) {
         const std::string json = std::string(R"({"type":"roughconductor","fresnel":"schlick","f0":1,"alpha":)") +
                                  std::to_string(alpha) + R"(,"distribution":")" + dist + R"(","multiscatter":)" +
                                  (ms ? "true" : "false") + "}";
-        a[ms] = directional_albedo(parse_material(json), at_theta(th), {1u << 20, 3}).albedo[0];
+        a[ms] = directional_albedo(parse_material(json), at_theta(th), {1u << 18, 3}).albedo[0];
       }
       std::printf(" %.4f / %.4f |", a[0], a[1]);
     }

@@ -73,7 +73,9 @@ inline FresnelTerms<T> fresnel_conductor_terms(T cos_i, T eta, T k) {
   const T b = 2 * eta * k;
   // w = sqrt((a − sin²θ) + i b), principal branch (Re w ≥ 0, Im w ≥ 0 since b ≥ 0).
   const T zr = a - sin2;
-  const T mod = std::hypot(zr, b);
+  // |η² − sin²θ|; a plain sqrt, not std::hypot (which guards against overflow at a
+  // large cost): indices are bounded to 10⁴, so the squares stay far inside range.
+  const T mod = std::sqrt(zr * zr + b * b);
   const T wr = std::sqrt(std::max(T(0), (mod + zr) / 2));
   const T wi = std::copysign(std::sqrt(std::max(T(0), (mod - zr) / 2)), b);
   const T s_den = (c + wr) * (c + wr) + wi * wi;

@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdint>
 
+#include "gonio/math/select.h"
 #include "gonio/math/special.h"
 #include "gonio/math/vec3.h"
 
@@ -91,10 +92,10 @@ struct MicrofacetDistribution {
       // Dupuy & Benyoub 2023, "Sampling Visible GGX Normals with Spherical Caps": the
       // visible normals of the unit GGX are ws plus a uniform direction on the cap
       // z ≥ −ws.z of the unit sphere.
-      const Float ph = 2 * kPi * u1;
+      const SinCos ph = sincos_2pi(u1);
       const Float z = (1 - u2) * (1 + ws.z) - ws.z;
       const Float s = std::sqrt(std::clamp(1 - z * z, Float(0), Float(1)));
-      h = Vec3{s * std::cos(ph), s * std::sin(ph), z} + ws;
+      h = Vec3{s * ph.cos, s * ph.sin, z} + ws;
     } else {
       h = sample_beckmann_visible_standard(ws, u1, u2);
     }

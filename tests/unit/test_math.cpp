@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "gonio/math/frame.h"
+#include "gonio/math/select.h"
 #include "gonio/math/spherical.h"
 #include "gonio/math/warp.h"
 #include "gonio/rng.h"
@@ -150,5 +151,23 @@ TEST(Rng, DeterministicAndInRange) {
   EXPECT_TRUE(differs);
 }
 
+}  // namespace
+}  // namespace gonio
+
+namespace gonio {
+namespace {
+TEST(Select, SinCosPolynomialsMatchLibm) {
+  double worst = 0;
+  for (int i = 0; i <= 100000; ++i) {
+    const Float u = Float(i) / 100000;
+    const SinCos sc = sincos_2pi(u);
+    worst = std::max({worst, std::abs(double(sc.cos) - std::cos(2 * kPiD * u)),
+                      std::abs(double(sc.sin) - std::sin(2 * kPiD * u))});
+  }
+  EXPECT_LT(worst, 2e-7);
+  EXPECT_EQ(select(true, 1.f, 2.f), 1.f);
+  EXPECT_EQ(select(false, 1.f, 2.f), 2.f);
+  EXPECT_EQ(keep_if(false, 3.f), 0.f);
+}
 }  // namespace
 }  // namespace gonio
