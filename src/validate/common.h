@@ -88,8 +88,9 @@ inline std::vector<Vec3> test_outgoing_directions(const BxDF& bxdf) {
   const Float deg = Float(kPiD / 180);
   for (Float th : {Float(0.5), Float(30), Float(60), Float(80), Float(89)})
     v.push_back(direction_from_angles(th * deg, Float(0.7) + th * deg));
-  v.push_back(-direction_from_angles(45 * deg, 2.1f));
-  if (is_transmissive(bxdf.flags())) {
+  if (!is_transmissive(bxdf.flags())) {
+    v.push_back(-direction_from_angles(45 * deg, 2.1f));  // the mirrored side of a BRDF
+  } else {
     for (Float th : {Float(10), Float(40), Float(70), Float(88)})
       v.push_back(-direction_from_angles(th * deg, 4.0f - th * deg));
   }
