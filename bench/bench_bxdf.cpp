@@ -302,8 +302,8 @@ int main(int argc, char** argv) {
     ms.multiscatter = MultiscatterLobe::make(ms.distribution, Color(0.9f));
     register_model("roughconductor_ggx_Au_0.2_multiscatter", ms);
   }
-  register_model("phong_20", PhongBxDF{Color(0.5f), Color(0.3f), 20});
-  register_model("ward_0.1_0.3", WardBxDF{Color(0.3f), Color(0.5f), 0.1f, 0.3f});
+  register_model("phong_20", PhongBxDF{{}, Color(0.5f), Color(0.3f), 20});
+  register_model("ward_0.1_0.3", WardBxDF{{}, Color(0.3f), Color(0.5f), 0.1f, 0.3f});
   register_model("plastic_smooth", PlasticBxDF::make(Color(0.5f), 1.5f, std::nullopt));
 
   static const DiffuseBxDF lambert{Color(0.5f)};

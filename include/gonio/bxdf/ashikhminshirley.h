@@ -16,7 +16,7 @@
 
 namespace gonio {
 
-struct AshikhminShirleyBxDF {
+struct AshikhminShirleyBxDF : diffuse_glossy::Model<AshikhminShirleyBxDF> {
   static constexpr std::string_view kName = "ashikhminshirley";
   Color rd{0.5f}, rs{0.05f};
   Float nu = 100, nv = 100;
@@ -71,16 +71,6 @@ struct AshikhminShirleyBxDF {
   }
   Float diffuse_probability() const { return diffuse_glossy::diffuse_share(rd, rs); }
 
-  Color f(const Vec3& wo, const Vec3& wi, TransportMode = TransportMode::Radiance) const {
-    return diffuse_glossy::f(*this, wo, wi);
-  }
-  Float pdf(const Vec3& wo, const Vec3& wi, TransportMode = TransportMode::Radiance) const {
-    return diffuse_glossy::pdf(*this, wo, wi);
-  }
-  std::optional<BSDFSample> sample(const Vec3& wo, Float u_lobe, Float u1, Float u2,
-                                   TransportMode = TransportMode::Radiance) const {
-    return diffuse_glossy::sample(*this, wo, u_lobe, u1, u2);
-  }
 };
 
 }  // namespace gonio

@@ -57,6 +57,25 @@ std::optional<BSDFSample> sample(const M& m, Vec3 wo, Float u_lobe, Float u1, Fl
   return BSDFSample{wi, value, p, false, Lobe::Reflection, 1};
 }
 
+// The contract's f, pdf and sample for a model M that supplies the pieces above
+// (curiously recurring template: no virtual call).
+template <typename M>
+struct Model {
+  Color f(const Vec3& wo, const Vec3& wi, TransportMode = TransportMode::Radiance) const {
+    return diffuse_glossy::f(self(), wo, wi);
+  }
+  Float pdf(const Vec3& wo, const Vec3& wi, TransportMode = TransportMode::Radiance) const {
+    return diffuse_glossy::pdf(self(), wo, wi);
+  }
+  std::optional<BSDFSample> sample(const Vec3& wo, Float u_lobe, Float u1, Float u2,
+                                   TransportMode = TransportMode::Radiance) const {
+    return diffuse_glossy::sample(self(), wo, u_lobe, u1, u2);
+  }
+
+ private:
+  const M& self() const { return static_cast<const M&>(*this); }
+};
+
 // Probability of the diffuse lobe from the lobes' average reflectances.
 inline Float diffuse_share(const Color& kd, const Color& ks) {
   const Float d = kd.average(), s = ks.average();

@@ -14,7 +14,7 @@
 
 namespace gonio {
 
-struct PhongBxDF {
+struct PhongBxDF : diffuse_glossy::Model<PhongBxDF> {
   static constexpr std::string_view kName = "phong";
   Color kd{0.5f}, ks{0.2f};
   Float exponent = 20;
@@ -42,16 +42,6 @@ struct PhongBxDF {
   }
   Float diffuse_probability() const { return diffuse_glossy::diffuse_share(kd, ks); }
 
-  Color f(const Vec3& wo, const Vec3& wi, TransportMode = TransportMode::Radiance) const {
-    return diffuse_glossy::f(*this, wo, wi);
-  }
-  Float pdf(const Vec3& wo, const Vec3& wi, TransportMode = TransportMode::Radiance) const {
-    return diffuse_glossy::pdf(*this, wo, wi);
-  }
-  std::optional<BSDFSample> sample(const Vec3& wo, Float u_lobe, Float u1, Float u2,
-                                   TransportMode = TransportMode::Radiance) const {
-    return diffuse_glossy::sample(*this, wo, u_lobe, u1, u2);
-  }
 };
 
 }  // namespace gonio
