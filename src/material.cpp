@@ -261,16 +261,20 @@ BxDF make_roughconductor(Params& p) {
   return m;
 }
 
+// The relative index of a dielectric interface: `eta`, default 1.5, within the index range.
+Float dielectric_eta(Params& p) {
+  if (!p.has("eta")) return 1.5f;
+  const double eta = p.number("eta");
+  if (!(eta >= kMinIndex && eta <= kMaxIndex))
+    p.fail("eta must be in [" + format_number(kMinIndex) + ", " + format_number(kMaxIndex) + "], got " +
+           format_number(eta));
+  return static_cast<Float>(eta);
+}
+
 BxDF make_roughdielectric(Params& p) {
   RoughDielectricBxDF m;
   m.distribution = make_distribution(p);
-  if (p.has("eta")) {
-    const double eta = p.number("eta");
-    if (!(eta >= kMinIndex && eta <= kMaxIndex))
-      p.fail("eta must be in [" + format_number(kMinIndex) + ", " + format_number(kMaxIndex) + "], got " +
-             format_number(eta));
-    m.eta = static_cast<Float>(eta);
-  }
+  m.eta = dielectric_eta(p);
   if (make_multiscatter_flag(p))
     p.fail("multiscatter is not implemented for roughdielectric yet (it is for roughconductor)");
   return m;
@@ -278,13 +282,7 @@ BxDF make_roughdielectric(Params& p) {
 
 BxDF make_dielectric(Params& p) {
   DielectricBxDF m;
-  if (p.has("eta")) {
-    const double eta = p.number("eta");
-    if (!(eta >= kMinIndex && eta <= kMaxIndex))
-      p.fail("eta must be in [" + format_number(kMinIndex) + ", " + format_number(kMaxIndex) + "], got " +
-             format_number(eta));
-    m.eta = static_cast<Float>(eta);
-  }
+  m.eta = dielectric_eta(p);
   return m;
 }
 
