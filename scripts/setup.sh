@@ -7,6 +7,7 @@ packages=(
   cmake g++ make pkg-config
   libgtest-dev libgmock-dev libbenchmark-dev
   nlohmann-json3-dev libcli11-dev
+  libembree-dev libtbb-dev libopenexr-dev libpng-dev libtinyobjloader-dev
 )
 
 missing=()

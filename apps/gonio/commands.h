@@ -12,6 +12,7 @@ void register_albedo(CLI::App& app);
 void register_fresnel(CLI::App& app);
 void register_table(CLI::App& app);
 void register_check(CLI::App& app);
+void register_render(CLI::App& app);
 
 // Exit status of a run that completed without an error (1 when a check failed).
 int& exit_status();

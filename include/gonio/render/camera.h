@@ -1,0 +1,38 @@
+#pragma once
+// Pinhole camera: the eye at `position` looking at `look_at`, vertical field of view
+// `fov_deg`. Pixel (0, 0) is the top-left corner of the image.
+
+#include <cmath>
+
+#include "gonio/math/vec3.h"
+#include "gonio/render/ray.h"
+
+namespace gonio::render {
+
+struct Camera {
+  Vec3 position{0, 1, 5}, look_at{0, 1, 0}, up{0, 1, 0};
+  Float fov_deg = 40;
+  int width = 640, height = 360;
+
+  // The basis, computed once before rendering.
+  void prepare() {
+    forward_ = normalize(look_at - position);
+    right_ = normalize(cross(forward_, up));
+    up_ = cross(right_, forward_);
+    tan_half_ = std::tan(fov_deg * kPi / 360);
+  }
+
+  // The ray through the film point (px, py) in pixel units (pixel centres at +0.5).
+  Ray generate(Float px, Float py) const {
+    const Float aspect = Float(width) / Float(height);
+    const Float x = (2 * px / Float(width) - 1) * tan_half_ * aspect;
+    const Float y = (1 - 2 * py / Float(height)) * tan_half_;
+    return {position, normalize(forward_ + right_ * x + up_ * y)};
+  }
+
+ private:
+  Vec3 forward_{0, 0, -1}, right_{1, 0, 0}, up_{0, 1, 0};
+  Float tan_half_ = 0.36f;
+};
+
+}  // namespace gonio::render

@@ -1,0 +1,146 @@
+// Path tracing of the reflection equation (lecture eqs. 1 and 2), with next-event
+// estimation and multiple importance sampling (Veach 1997, §9.2, power heuristic β = 2).
+
+#include "gonio/render/path_tracer.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace gonio::render {
+namespace {
+
+// Power heuristic of Veach 1997, eq. 9.13 with β = 2, for one sample of each strategy.
+Float power_heuristic(Float pdf_a, Float pdf_b) {
+  const Float a = pdf_a * pdf_a, b = pdf_b * pdf_b;
+  return a + b > 0 ? a / (a + b) : Float(0);
+}
+
+// Shading normals are an approximation: a direction can lie above the shading surface and
+// below the geometric one. Light must not pass through the geometric surface (a leak), so
+// a pair of directions counts only when the geometric sides agree with the lobe the
+// shading frame assigns (Veach 1997, §5.3).
+bool sides_agree(const Vec3& wo_world, const Vec3& wi_world, const Vec3& ng, const Vec3& wo, const Vec3& wi) {
+  const bool geometric_reflection = dot(wo_world, ng) * dot(wi_world, ng) > 0;
+  const bool shading_reflection = wo.z * wi.z > 0;
+  return geometric_reflection == shading_reflection;
+}
+
+}  // namespace
+
+PathTracer::PathTracer(const Scene& scene, const Accel& accel) : scene_(scene), accel_(accel) {
+  sampled_lights_ = static_cast<int>(scene.area_lights.size()) + (scene.environment.is_black() ? 0 : 1);
+  light_select_pdf_ = sampled_lights_ > 0 ? 1 / Float(sampled_lights_) : Float(0);
+}
+
+bool PathTracer::occluded(const Vec3& p, const Vec3& ng, const Vec3& dir, Float dist, PathStats& stats) const {
+  ++stats.rays;
+  const Vec3 o = offset_ray_origin(p, ng, dir);
+  if (std::isinf(dist)) return accel_.occluded(o, dir, dist);
+  // Aim from the offset origin at the light point itself, and stop just short of it, so
+  // that the light's own surface does not count as a blocker.
+  const Vec3 d = p + dir * dist - o;
+  const Float len = length(d);
+  return accel_.occluded(o, d / len, len * Float(0.9999));
+}
+
+Color PathTracer::direct_light(const SurfaceHit& hit, const Frame& frame, const BxDF& bxdf, const Vec3& wo,
+                               const Vec3& wo_world, Pcg32& rng, PathStats& stats) const {
+  Color sum(0);
+  // Eq. 2: every point light contributes f · I / r² · |cos θi|.
+  for (const PointLight& light : scene_.point_lights) {
+    const Vec3 d = light.position - hit.p;
+    const Float dist2 = length_squared(d);
+    if (!(dist2 > 0)) continue;
+    const Float dist = std::sqrt(dist2);
+    const Vec3 wi_world = d / dist;
+    const Vec3 wi = normalize(frame.to_local(wi_world));
+    if (!sides_agree(wo_world, wi_world, hit.ng, wo, wi)) continue;
+    const Color f = bxdf.f(wo, wi);
+    if (f.is_black() || occluded(hit.p, hit.ng, wi_world, dist, stats)) continue;
+    sum += f * light.intensity * (std::abs(wi.z) / dist2);
+  }
+  // Eq. 1 by sampling one of the other lights, chosen uniformly.
+  if (sampled_lights_ == 0) return sum;
+  const Float u_pick = rng.next_float(), u1 = rng.next_float(), u2 = rng.next_float();
+  const int pick = std::min(static_cast<int>(u_pick * Float(sampled_lights_)), sampled_lights_ - 1);
+  const bool env = pick == static_cast<int>(scene_.area_lights.size());
+  const LightSample ls = env ? scene_.environment.sample(u1, u2)
+                             : sample_area_light(scene_.area_lights[static_cast<size_t>(pick)], hit.p, u1, u2);
+  if (!(ls.pdf > 0) || ls.radiance.is_black()) return sum;
+  const Vec3 wi = normalize(frame.to_local(ls.wi));
+  if (!sides_agree(wo_world, ls.wi, hit.ng, wo, wi)) return sum;
+  const BSDFEval e = bxdf.eval(wo, wi);
+  if (e.f.is_black() || occluded(hit.p, hit.ng, ls.wi, ls.distance, stats)) return sum;
+  const Float light_pdf = light_select_pdf_ * ls.pdf;
+  const Float w = power_heuristic(light_pdf, e.pdf);
+  sum += e.f * ls.radiance * (std::abs(wi.z) * w / light_pdf);
+  return sum;
+}
+
+Color PathTracer::radiance(Ray ray, Pcg32& rng, PathStats& stats) const {
+  Color L(0), beta(1);
+  bool specular = true;  // the previous vertex was a delta lobe (or is the camera)
+  Float prev_pdf = 0;    // solid-angle density of the BSDF sample that made `ray`
+  Vec3 prev_p = ray.o;
+  Float eta_scale = 1;   // undoes the (n_wo/n_wi)² of refraction for Russian roulette
+  const int max_depth = scene_.settings.max_depth;
+  for (int depth = 0;; ++depth) {
+    SurfaceHit hit;
+    ++stats.rays;
+    if (!accel_.intersect(ray, hit)) {
+      if (!scene_.environment.is_black()) {
+        const Color Le = scene_.environment.radiance(ray.d);
+        const Float w = specular ? 1 : power_heuristic(prev_pdf, light_select_pdf_ * scene_.environment.pdf(ray.d));
+        L += beta * Le * w;
+      }
+      break;
+    }
+    if (hit.area_light >= 0) {
+      // Emitters are black bodies apart from their emission: the path ends here.
+      const AreaLight& light = scene_.area_lights[static_cast<size_t>(hit.area_light)];
+      const auto* quad = std::get_if<QuadLight>(&light);
+      const Vec3 n = quad ? quad->normal() : hit.ng;
+      const Color Le = area_light_radiance(light, n, -ray.d);
+      if (!Le.is_black()) {
+        const Float w = specular ? 1 : power_heuristic(prev_pdf, light_select_pdf_ * area_light_pdf(light, prev_p, hit.p, n));
+        L += beta * Le * w;
+      }
+      break;
+    }
+    if (depth >= max_depth) break;
+
+    const BxDF& bxdf = scene_.materials[static_cast<size_t>(hit.material)].bxdf;
+    const Vec3 wo_world = -ray.d;
+    // Where the shading and geometric normals disagree about the side of wo, shading
+    // with the interpolated normal would give black or leak: fall back to the geometric.
+    const bool consistent = dot(wo_world, hit.ns) * dot(wo_world, hit.ng) > 0;
+    const Frame frame = Frame::from_normal_tangent(consistent ? hit.ns : hit.ng, hit.tangent);
+    const Vec3 wo = normalize(frame.to_local(wo_world));
+
+    if (!is_delta_only(bxdf.flags())) L += beta * direct_light(hit, frame, bxdf, wo, wo_world, rng, stats);
+
+    const Float u_lobe = rng.next_float(), u1 = rng.next_float(), u2 = rng.next_float();
+    const auto s = bxdf.sample(wo, u_lobe, u1, u2);
+    if (!s) break;
+    const Vec3 wi_world = normalize(frame.to_world(s->wi));
+    if (!sides_agree(wo_world, wi_world, hit.ng, wo, s->wi)) break;
+    beta *= s->weight;
+    if (!(beta.max_component() > 0)) break;
+    specular = s->delta;
+    prev_pdf = s->pdf;
+    prev_p = hit.p;
+    if (s->lobe == Lobe::Transmission) eta_scale *= s->eta * s->eta;
+
+    // Russian roulette (Arvo & Kirk 1990): continue with probability ~ the throughput.
+    if (depth + 1 >= scene_.settings.rr_depth) {
+      const Float q = std::min(Float(0.95), beta.max_component() * eta_scale);
+      if (rng.next_float() >= q) break;
+      beta /= q;
+    }
+    ray = Ray{offset_ray_origin(hit.p, hit.ng, wi_world), wi_world};
+  }
+  // A path with a NaN anywhere contributes nothing rather than poisoning the pixel.
+  return L.is_finite() ? L : Color(0);
+}
+
+}  // namespace gonio::render

@@ -1,0 +1,365 @@
+// Scene JSON → Scene. Each reader checks types, ranges and unknown keys, and names the
+// JSON path of the offending value.
+
+#include "gonio/render/scene_loader.h"
+
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <initializer_list>
+#include <map>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "gonio/error.h"
+#include "gonio/material.h"
+#include "gonio/render/mesh_loader.h"
+
+namespace gonio::render {
+namespace {
+
+using nlohmann::json;
+
+std::string show(const json& v) {
+  std::string s = v.dump();
+  if (s.size() > 60) s = s.substr(0, 57) + "...";
+  return s;
+}
+
+std::string format_number(double v) {
+  std::ostringstream os;
+  os.precision(9);
+  os << v;
+  return os.str();
+}
+
+// A JSON value together with where it is, for messages.
+class Node {
+ public:
+  Node(const json& value, const std::string* source, std::string path)
+      : v_(&value), source_(source), path_(std::move(path)) {}
+
+  const json& value() const { return *v_; }
+  const std::string& path() const { return path_; }
+  std::string where() const { return *source_ + ": " + (path_.empty() ? "/" : path_); }
+  [[noreturn]] void fail(const std::string& msg) const { throw InputError(where() + ": " + msg); }
+
+  Node at(const std::string& key) const { return {(*v_)[key], source_, path_ + "/" + key}; }
+  Node at(size_t i) const { return {(*v_)[i], source_, path_ + "/" + std::to_string(i)}; }
+  bool has(const char* key) const { return v_->contains(key); }
+  size_t size() const { return v_->size(); }
+
+  const Node& object(std::initializer_list<const char*> allowed) const {
+    if (!v_->is_object()) fail("must be a JSON object, got " + show(*v_));
+    for (auto it = v_->begin(); it != v_->end(); ++it) {
+      bool ok = it.key() == "comment";
+      for (const char* a : allowed) ok |= it.key() == a;
+      if (!ok) {
+        std::string names;
+        for (const char* a : allowed) names += (names.empty() ? "" : ", ") + std::string(a);
+        fail("unknown field \"" + it.key() + "\" (known: " + names + ")");
+      }
+    }
+    return *this;
+  }
+  Node required(const char* key) const {
+    if (!has(key)) fail(std::string("missing field \"") + key + "\"");
+    return at(key);
+  }
+  const Node& array() const {
+    if (!v_->is_array()) fail("must be an array, got " + show(*v_));
+    return *this;
+  }
+
+  double number() const {
+    if (!v_->is_number()) fail("must be a number, got " + show(*v_));
+    const double d = v_->get<double>();
+    if (!std::isfinite(d)) fail("must be finite, got " + show(*v_));
+    return d;
+  }
+  double number(double lo, double hi, bool open_lo = false) const {
+    const double d = number();
+    if (open_lo ? !(d > lo) : !(d >= lo)) fail("must be " + std::string(open_lo ? "> " : ">= ") + format_number(lo) + ", got " + show(*v_));
+    if (!(d <= hi)) fail("must be <= " + format_number(hi) + ", got " + show(*v_));
+    return d;
+  }
+  int integer(int lo, int hi) const {
+    if (!v_->is_number_integer() && !v_->is_number_unsigned()) fail("must be an integer, got " + show(*v_));
+    const double d = v_->get<double>();
+    if (d < lo || d > hi) fail("must be in [" + std::to_string(lo) + ", " + std::to_string(hi) + "], got " + show(*v_));
+    return static_cast<int>(d);
+  }
+  bool boolean() const {
+    if (!v_->is_boolean()) fail("must be true or false, got " + show(*v_));
+    return v_->get<bool>();
+  }
+  std::string string() const {
+    if (!v_->is_string()) fail("must be a string, got " + show(*v_));
+    return v_->get<std::string>();
+  }
+  Vec3 vec3() const {
+    if (!v_->is_array() || v_->size() != 3) fail("must be [x, y, z], got " + show(*v_));
+    return {static_cast<Float>(at(0).number()), static_cast<Float>(at(1).number()), static_cast<Float>(at(2).number())};
+  }
+  Vec3 direction() const {
+    const Vec3 v = vec3();
+    if (!(length_squared(v) > 0)) fail("must be a non-zero vector, got " + show(*v_));
+    return v;
+  }
+  // A colour: a number (grey) or [r, g, b], each >= 0.
+  Color color() const {
+    Color c;
+    if (v_->is_number()) {
+      c = Color(static_cast<Float>(number(0, 1e30)));
+    } else if (v_->is_array() && v_->size() == static_cast<size_t>(Color::size())) {
+      for (int i = 0; i < Color::size(); ++i) c[i] = static_cast<Float>(at(static_cast<size_t>(i)).number(0, 1e30));
+    } else {
+      fail("must be a number or [r, g, b], got " + show(*v_));
+    }
+    return c;
+  }
+
+ private:
+  const json* v_;
+  const std::string* source_;
+  std::string path_;
+};
+
+struct Loader {
+  std::string source, base_dir;
+  Scene scene;
+  std::map<std::string, int> named_materials;
+
+  std::string resolve(const std::string& file) const {
+    const std::filesystem::path p(file);
+    return p.is_absolute() || base_dir.empty() ? file : (std::filesystem::path(base_dir) / p).string();
+  }
+
+  int add_material(const std::string& name, const Node& desc) {
+    BxDF bxdf = material_from_json(desc.value(), desc.where());
+    scene.materials.push_back({name, std::move(bxdf)});
+    return static_cast<int>(scene.materials.size()) - 1;
+  }
+
+  // A shape's material: the name of an entry of "materials", or a material object.
+  int material_of(const Node& shape) {
+    const Node m = shape.required("material");
+    if (m.value().is_string()) {
+      const auto it = named_materials.find(m.string());
+      if (it == named_materials.end()) m.fail("no material named \"" + m.string() + "\" in /materials");
+      return it->second;
+    }
+    return add_material("", m);
+  }
+
+  void camera(const Node& n) {
+    n.object({"position", "look_at", "up", "fov", "width", "height"});
+    Camera& c = scene.camera;
+    if (n.has("position")) c.position = n.at("position").vec3();
+    if (n.has("look_at")) c.look_at = n.at("look_at").vec3();
+    if (n.has("up")) c.up = n.at("up").direction();
+    if (n.has("fov")) c.fov_deg = static_cast<Float>(n.at("fov").number(0, 179, true));
+    if (n.has("width")) c.width = n.at("width").integer(1, 16384);
+    if (n.has("height")) c.height = n.at("height").integer(1, 16384);
+    const Vec3 forward = c.look_at - c.position;
+    if (!(length_squared(forward) > 0)) n.fail("position and look_at must differ");
+    if (!(length_squared(cross(normalize(forward), normalize(c.up))) > 1e-8f)) n.fail("up must not be parallel to the viewing direction");
+  }
+
+  void render_settings(const Node& n) {
+    n.object({"spp", "max_depth", "rr_depth", "seed", "exposure", "tonemap"});
+    RenderSettings& s = scene.settings;
+    if (n.has("spp")) s.spp = n.at("spp").integer(1, 1 << 20);
+    if (n.has("max_depth")) s.max_depth = n.at("max_depth").integer(0, 1024);
+    if (n.has("rr_depth")) s.rr_depth = n.at("rr_depth").integer(1, 1024);
+    if (n.has("seed")) s.seed = static_cast<std::uint64_t>(n.at("seed").integer(0, 2147483647));
+    if (n.has("exposure")) s.exposure = static_cast<Float>(n.at("exposure").number(-64, 64));
+    if (n.has("tonemap")) {
+      const std::string t = n.at("tonemap").string();
+      if (t != "filmic" && t != "clamp") n.at("tonemap").fail("must be \"filmic\" or \"clamp\", got \"" + t + "\"");
+      s.filmic = t == "filmic";
+    }
+  }
+
+  // The three corners of a parallelogram; its edges must span an area.
+  void quad_geometry(const Node& n, Vec3& corner, Vec3& e1, Vec3& e2) {
+    corner = n.required("corner").vec3();
+    e1 = n.required("edge1").vec3();
+    e2 = n.required("edge2").vec3();
+    if (!(length(cross(e1, e2)) > 1e-12f * std::max(Float(1), length_squared(e1) + length_squared(e2))))
+      n.fail("edge1 and edge2 must span a parallelogram (non-zero, not parallel)");
+  }
+
+  void add_quad_mesh(const Vec3& corner, const Vec3& e1, const Vec3& e2, int material, int light) {
+    Mesh m;
+    m.positions = {corner, corner + e1, corner + e1 + e2, corner + e2};
+    m.uvs = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+    m.tangents.assign(4, normalize(e1));
+    m.indices = {0, 1, 2, 0, 2, 3};
+    m.material = material;
+    m.area_light = light;
+    scene.meshes.push_back(std::move(m));
+  }
+
+  void shape(const Node& n) {
+    if (!n.value().is_object()) n.fail("must be a JSON object, got " + show(n.value()));
+    const std::string type = n.required("type").string();
+    if (type == "sphere") {
+      n.object({"type", "center", "radius", "material"});
+      Sphere s;
+      s.center = n.required("center").vec3();
+      s.radius = static_cast<Float>(n.required("radius").number(0, 1e30, true));
+      s.material = material_of(n);
+      scene.spheres.push_back(s);
+    } else if (type == "quad") {
+      n.object({"type", "corner", "edge1", "edge2", "material"});
+      Vec3 c, e1, e2;
+      quad_geometry(n, c, e1, e2);
+      add_quad_mesh(c, e1, e2, material_of(n), -1);
+    } else if (type == "mesh") {
+      n.object({"type", "file", "material", "translate", "scale", "rotate"});
+      const Node file = n.required("file");
+      MeshTransform t;
+      if (n.has("translate")) t.translate = n.at("translate").vec3();
+      if (n.has("scale")) {
+        const Node s = n.at("scale");
+        if (s.value().is_number()) {
+          const Float k = static_cast<Float>(s.number(0, 1e30, true));
+          t.scale = {k, k, k};
+        } else {
+          t.scale = s.vec3();
+          if (!(t.scale.x > 0 && t.scale.y > 0 && t.scale.z > 0)) s.fail("scale factors must be > 0, got " + show(s.value()));
+        }
+      }
+      if (n.has("rotate")) {
+        const Node r = n.at("rotate").object({"axis", "degrees"});
+        t.rotate_axis = r.required("axis").direction();
+        t.rotate_degrees = static_cast<Float>(r.required("degrees").number());
+      }
+      Mesh m = load_obj_mesh(resolve(file.string()), t, file.where());
+      m.material = material_of(n);
+      scene.meshes.push_back(std::move(m));
+    } else {
+      n.at("type").fail("unknown shape type \"" + type + "\" (known: sphere, quad, mesh)");
+    }
+  }
+
+  void light(const Node& n) {
+    if (!n.value().is_object()) n.fail("must be a JSON object, got " + show(n.value()));
+    const std::string type = n.required("type").string();
+    if (type == "point") {
+      n.object({"type", "position", "intensity"});
+      scene.point_lights.push_back({n.required("position").vec3(), n.required("intensity").color()});
+    } else if (type == "quad") {
+      n.object({"type", "corner", "edge1", "edge2", "radiance", "two_sided"});
+      QuadLight q;
+      quad_geometry(n, q.corner, q.edge1, q.edge2);
+      q.radiance = n.required("radiance").color();
+      if (n.has("two_sided")) q.two_sided = n.at("two_sided").boolean();
+      scene.area_lights.emplace_back(q);
+      add_quad_mesh(q.corner, q.edge1, q.edge2, emitter_material(), static_cast<int>(scene.area_lights.size()) - 1);
+    } else if (type == "sphere") {
+      n.object({"type", "center", "radius", "radiance"});
+      SphereLight s;
+      s.center = n.required("center").vec3();
+      s.radius = static_cast<Float>(n.required("radius").number(0, 1e30, true));
+      s.radiance = n.required("radiance").color();
+      scene.area_lights.emplace_back(s);
+      scene.spheres.push_back({s.center, s.radius, emitter_material(), static_cast<int>(scene.area_lights.size()) - 1});
+    } else {
+      n.at("type").fail("unknown light type \"" + type + "\" (known: point, quad, sphere)");
+    }
+  }
+
+  // Emitters absorb everything they do not emit; they still need a material slot.
+  int emitter_material() {
+    for (size_t i = 0; i < scene.materials.size(); ++i)
+      if (scene.materials[i].name == "<emitter>") return static_cast<int>(i);
+    scene.materials.push_back({"<emitter>", DiffuseBxDF{Color(0)}});
+    return static_cast<int>(scene.materials.size()) - 1;
+  }
+
+  void environment(const Node& n) {
+    n.object({"radiance", "file", "scale", "rotation"});
+    if (n.has("radiance") == n.has("file")) n.fail("give exactly one of \"radiance\" or \"file\"");
+    if (n.has("radiance")) {
+      if (n.has("scale") || n.has("rotation")) n.fail("\"scale\" and \"rotation\" apply to an environment \"file\"");
+      scene.environment = Environment(n.at("radiance").color());
+      return;
+    }
+    const Node file = n.at("file");
+    const Float scale = n.has("scale") ? static_cast<Float>(n.at("scale").number(0, 1e30)) : Float(1);
+    const Float rotation = n.has("rotation") ? static_cast<Float>(n.at("rotation").number()) : Float(0);
+    Image map;
+    try {
+      map = read_image(resolve(file.string()), true);
+    } catch (const InputError& e) {
+      file.fail(e.what());
+    }
+    for (const Color& c : map.pixels())
+      if (!c.is_finite() || c.min_component() < 0) file.fail(file.string() + ": pixels must be finite and >= 0");
+    scene.environment = Environment(std::move(map), scale, rotation);
+  }
+
+  void load(const json& root) {
+    const Node r(root, &source, "");
+    r.object({"camera", "render", "materials", "shapes", "lights", "environment"});
+    if (r.has("camera")) camera(r.at("camera"));
+    if (r.has("render")) render_settings(r.at("render"));
+    if (r.has("materials")) {
+      const Node ms = r.at("materials");
+      if (!ms.value().is_object()) ms.fail("must be an object of named materials, got " + show(ms.value()));
+      for (auto it = ms.value().begin(); it != ms.value().end(); ++it)
+        named_materials[it.key()] = add_material(it.key(), ms.at(it.key()));
+    }
+    if (r.has("shapes")) {
+      const Node shapes = r.at("shapes").array();
+      for (size_t i = 0; i < shapes.size(); ++i) shape(shapes.at(i));
+    }
+    if (r.has("lights")) {
+      const Node lights = r.at("lights").array();
+      for (size_t i = 0; i < lights.size(); ++i) light(lights.at(i));
+    }
+    if (r.has("environment")) environment(r.at("environment"));
+  }
+};
+
+}  // namespace
+
+Scene parse_scene(std::string_view text, const std::string& source, const std::string& base_dir) {
+  json root;
+  try {
+    root = json::parse(text.begin(), text.end());
+  } catch (const json::parse_error& e) {
+    size_t line = 1, col = 1;
+    const size_t end = std::min(e.byte == 0 ? 0 : e.byte - 1, text.size());
+    for (size_t i = 0; i < end; ++i) {
+      if (text[i] == '\n') { ++line; col = 1; } else { ++col; }
+    }
+    std::string what = e.what();
+    // nlohmann's message starts with "[json.exception.parse_error.101] parse error at ...: ".
+    const auto colon = what.find(": ");
+    if (colon != std::string::npos) what = what.substr(colon + 2);
+    throw InputError(source + ":" + std::to_string(line) + ":" + std::to_string(col) + ": JSON syntax error: " + what);
+  }
+  Loader loader{source, base_dir, {}, {}};
+  loader.load(root);
+  return std::move(loader.scene);
+}
+
+Scene load_scene_file(const std::string& path) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) throw InputError(path + ": is a directory, not a scene file");
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path + ": cannot open the scene file: " + std::strerror(errno));
+  std::ostringstream text;
+  text << in.rdbuf();
+  if (in.bad()) throw InputError(path + ": cannot read the scene file");
+  const std::string dir = std::filesystem::path(path).parent_path().string();
+  return parse_scene(text.str(), path, dir);
+}
+
+}  // namespace gonio::render

@@ -1,0 +1,179 @@
+// The renderer against what must hold: the lecture's linearity experiment, the white
+// furnace, closed forms for a point light and a rectangular area light, and determinism.
+
+#include <cmath>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "render_test_util.h"
+
+namespace gonio::render::test {
+namespace {
+
+std::string camera_down(int size, double height) {
+  // Looking straight down at the plane y = 0 from `height`, 40° field of view.
+  return R"("camera": {"position": [0, )" + std::to_string(height) +
+         R"(, 0], "look_at": [0, 0, 0], "up": [0, 0, -1], "fov": 40, "width": )" + std::to_string(size) +
+         R"(, "height": )" + std::to_string(size) + "}";
+}
+
+// Lecture §2: radiance is linear in the light sources. Each light alone (the others
+// switched off, their bodies still in place) summed over the lights must equal all lights
+// together, within the noise measured by rendering with two seeds.
+TEST(Render, LinearityInTheLights) {
+  const std::string on[] = {
+      R"({"type": "point", "position": [1, 2, 1], "intensity": [3, 2, 1]})",
+      R"({"type": "quad", "corner": [-2.5, 2, -0.5], "edge1": [1, 0, 0], "edge2": [0, 0, 1], "radiance": [1, 2, 3]})",
+      R"({"type": "sphere", "center": [-1.5, 1.5, 0.5], "radius": 0.3, "radiance": 4})",
+      R"(0.2, 0.3, 0.4)",
+  };
+  const std::string off[] = {
+      R"({"type": "point", "position": [1, 2, 1], "intensity": 0})",
+      R"({"type": "quad", "corner": [-2.5, 2, -0.5], "edge1": [1, 0, 0], "edge2": [0, 0, 1], "radiance": 0})",
+      R"({"type": "sphere", "center": [-1.5, 1.5, 0.5], "radius": 0.3, "radiance": 0})",
+      R"(0, 0, 0)",
+  };
+  // Light k switched on (k = -1: all of them); the environment is light 3.
+  auto scene = [&](int k, int seed) {
+    auto pick = [&](int i) { return k == -1 || k == i ? on[i] : off[i]; };
+    return "{" + camera_down(32, 3) + R"(, "render": {"spp": 64, "seed": )" + std::to_string(seed) +
+           R"(}, "shapes": [
+      {"type": "quad", "corner": [-5, 0, -5], "edge1": [0, 0, 10], "edge2": [10, 0, 0], "material": {"type": "roughconductor", "material": "Cu", "alpha": 0.3}},
+      {"type": "sphere", "center": [0.3, 0.5, 0], "radius": 0.5, "material": {"type": "plastic", "reflectance": [0.6, 0.3, 0.2], "alpha": 0.2}}],
+      "lights": [)" + pick(0) + "," + pick(1) + "," + pick(2) + R"(], "environment": {"radiance": [)" + pick(3) + "]}}";
+  };
+  const Image all = render_text(scene(-1, 1));
+  const Image all2 = render_text(scene(-1, 2));
+  Image sum(32, 32);
+  for (int k = 0; k < 4; ++k) {
+    const Image part = render_text(scene(k, 10 + k));
+    for (int y = 0; y < 32; ++y)
+      for (int x = 0; x < 32; ++x) sum.at(x, y) += part.at(x, y);
+  }
+  // The lights lie outside the camera's view: only their light differs between images.
+  // Compare 8×8 blocks; the noise of a block is estimated from the two seeds of `all`.
+  for (int by = 0; by < 32; by += 8) {
+    for (int bx = 0; bx < 32; bx += 8) {
+      for (int c = 0; c < 3; ++c) {
+        const double a = block_mean(all, bx, by, 8, c), a2 = block_mean(all2, bx, by, 8, c);
+        const double s = block_mean(sum, bx, by, 8, c);
+        // |a − a2| estimates √2·σ; sum has up to four independent parts (≈ 2σ).
+        const double sigma = std::abs(a - a2) / std::sqrt(2.0) + 0.01 * a;
+        EXPECT_NEAR(s, a, 6 * sigma + 1e-6) << "block " << bx << "," << by << " channel " << c;
+      }
+    }
+  }
+}
+
+// White furnace: a white Lambertian sphere inside a uniform environment of radiance 1.
+// Every path ends in the environment with throughput 1, so every pixel is 1.
+TEST(Render, WhiteFurnaceDiffuse) {
+  const Image img = render_text(R"({"camera": {"position": [0, 0, 3], "look_at": [0, 0, 0], "fov": 45, "width": 24, "height": 24},
+    "render": {"spp": 128, "max_depth": 64},
+    "shapes": [{"type": "sphere", "center": [0, 0, 0], "radius": 1, "material": {"type": "diffuse", "reflectance": 1}}],
+    "environment": {"radiance": 1}})");
+  // The sphere covers the central ±10 pixels; the 12×12 block in the middle is all sphere
+  // (4608 samples of standard deviation ≈ 0.5: σ of the mean ≈ 0.0075).
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(block_mean(img, 6, 6, 12, c), 1.0, 0.03);
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(block_mean(img, 0, 0, 24, c), 1.0, 0.02);
+}
+
+// The same with an F = 1 rough conductor with multiple-scattering compensation: its
+// albedo is within [0.998, 1] (docs/microfacet.md), so the sphere renders to ~1.
+TEST(Render, WhiteFurnaceRoughConductorMultiscatter) {
+  const Image img = render_text(R"({"camera": {"position": [0, 0, 3], "look_at": [0, 0, 0], "fov": 40, "width": 24, "height": 24},
+    "render": {"spp": 128, "max_depth": 64},
+    "shapes": [{"type": "sphere", "center": [0, 0, 0], "radius": 1, "material": {"type": "roughconductor", "fresnel": "schlick", "f0": 1, "alpha": 1, "multiscatter": true}}],
+    "environment": {"radiance": 1}})");
+  // The central 12×12 pixels all see the sphere.
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(block_mean(img, 6, 6, 12, c), 1.0, 0.03);
+}
+
+// Lecture eq. 2 with one point light over a Lambertian plane:
+// L = ρ/π · I · cos θ / r², no noise apart from the pixel's footprint.
+TEST(Render, PointLightOverDiffusePlaneMatchesClosedForm) {
+  const double rho = 0.6, I = 5, h = 1.5, lx = 0.4, lz = -0.3, cam = 3;
+  const Image img = render_text("{" + camera_down(64, cam) + R"(, "render": {"spp": 256},
+    "shapes": [{"type": "quad", "corner": [-5, 0, -5], "edge1": [0, 0, 10], "edge2": [10, 0, 0], "material": {"type": "diffuse", "reflectance": 0.6}}],
+    "lights": [{"type": "point", "position": [0.4, 1.5, -0.3], "intensity": 5}]})");
+  const double tan_half = std::tan(20 * kPiD / 180);
+  // The closed form at a film point (fx, fy) in pixel units; up = −z, so image x → +x
+  // and image y → +z on the plane.
+  auto radiance_at = [&](double fx, double fy) {
+    const double sx = (2 * fx / 64 - 1) * tan_half, sy = (1 - 2 * fy / 64) * tan_half;
+    const double x = sx * cam, z = -sy * cam;
+    const double dx = lx - x, dz = lz - z, r2 = dx * dx + h * h + dz * dz;
+    return rho / kPiD * I * (h / std::sqrt(r2)) / r2;
+  };
+  for (int py : {5, 20, 32, 50}) {
+    for (int px : {3, 31, 47, 60}) {
+      // A pixel is the mean over its square of film (uniform jitter): integrate the
+      // closed form over it with the midpoint rule on a 32×32 grid.
+      double expected = 0, square = 0;
+      for (int j = 0; j < 32; ++j) {
+        for (int i = 0; i < 32; ++i) {
+          const double v = radiance_at(px + (i + 0.5) / 32, py + (j + 0.5) / 32);
+          expected += v;
+          square += v * v;
+        }
+      }
+      expected /= 32 * 32;
+      // Only the jitter is random: the pixel is a mean of 256 values of the closed form
+      // at uniform points of the pixel, with this standard deviation.
+      const double sigma = std::sqrt(std::max(0.0, square / (32 * 32) - expected * expected) / 256);
+      EXPECT_NEAR(img.at(px, py)[0], expected, 4 * sigma + 1e-5 * expected) << px << "," << py;
+    }
+  }
+}
+
+// A Lambertian plane under a parallel rectangular light of radiance L: at the point below
+// the rectangle's centre, L_out = ρ · L · F, with F the form factor of the rectangle,
+// summed over its four quarters, each with a corner above the point (Howell, "A Catalog
+// of Radiation Heat Transfer Configuration Factors", C-11):
+//   F = 1/(2π) [X/√(1+X²) atan(Y/√(1+X²)) + Y/√(1+Y²) atan(X/√(1+Y²))], X = a/h, Y = b/h.
+TEST(Render, RectangleLightOverDiffusePlaneMatchesFormFactor) {
+  const double a = 0.6, b = 0.9, h = 1.0, L = 3, rho = 0.5;
+  const double X = a / h, Y = b / h;
+  const double F = 4 / (2 * kPiD) *
+                   (X / std::sqrt(1 + X * X) * std::atan(Y / std::sqrt(1 + X * X)) +
+                    Y / std::sqrt(1 + Y * Y) * std::atan(X / std::sqrt(1 + Y * Y)));
+  const Image img = render_text("{" + camera_down(16, 0.5) + R"(, "render": {"spp": 1024},
+    "shapes": [{"type": "quad", "corner": [-5, 0, -5], "edge1": [0, 0, 10], "edge2": [10, 0, 0], "material": {"type": "diffuse", "reflectance": 0.5}}],
+    "lights": [{"type": "quad", "corner": [-0.6, 1, -0.9], "edge1": [1.2, 0, 0], "edge2": [0, 0, 1.8], "radiance": 3}]})");
+  // The camera sits below the light, above the plane: the central 2×2 pixels see the
+  // plane within ±0.02 of the centre, where the irradiance is flat to 1e-3.
+  const double got = block_mean(img, 7, 7, 2, 1);
+  EXPECT_NEAR(got, rho * L * F, 0.02 * rho * L * F);
+}
+
+TEST(Render, SameImageWhateverTheThreadCount) {
+  const std::string scene = std::string(default_scene_json());
+  Scene s = parse_scene(scene, "default", "");
+  s.camera.width = 48;
+  s.camera.height = 27;
+  s.settings.spp = 4;
+  RenderOptions one, two;
+  one.threads = 1;
+  two.threads = 2;
+  const Image a = render(s, one), b = render(s, two);
+  for (int y = 0; y < 27; ++y)
+    for (int x = 0; x < 48; ++x)
+      for (int c = 0; c < 3; ++c) ASSERT_EQ(a.at(x, y)[c], b.at(x, y)[c]) << x << "," << y;
+}
+
+TEST(Render, DefaultSceneHasEveryModelFamilyAndFinitePixels) {
+  Scene s = parse_scene(default_scene_json(), "default", "");
+  EXPECT_EQ(s.spheres.size(), 8u);
+  s.camera.width = 32;
+  s.camera.height = 18;
+  s.settings.spp = 2;
+  const Image img = render(s, {});
+  for (const Color& c : img.pixels()) {
+    ASSERT_TRUE(c.is_finite());
+    ASSERT_GE(c.min_component(), 0);
+  }
+}
+
+}  // namespace
+}  // namespace gonio::render::test
