@@ -53,17 +53,19 @@ Environment::Environment(Image map, Float scale, Float rotation_deg)
   total_ = static_cast<Float>(total / (static_cast<double>(w) * h));
 }
 
+// The centre column (u = 0.5) looks along −z, the default camera's view, and u grows
+// towards +x, so that the map seen from inside is not mirrored; row 0 looks along +y.
 Vec2 Environment::direction_to_uv(const Vec3& d) const {
   const Float theta = std::acos(std::clamp(d.y, Float(-1), Float(1)));
-  Float u = (std::atan2(-d.z, d.x) + rotation_) * kInv2Pi;
+  Float u = Float(0.5) + (std::atan2(d.x, -d.z) + rotation_) * kInv2Pi;
   u -= std::floor(u);
   return {u, theta * kInvPi};
 }
 
 Vec3 Environment::uv_to_direction(Float u, Float v) const {
-  const Float theta = v * kPi, phi = 2 * kPi * u - rotation_;
+  const Float theta = v * kPi, phi = 2 * kPi * (u - Float(0.5)) - rotation_;
   const Float st = std::sin(theta);
-  return {st * std::cos(phi), std::cos(theta), -st * std::sin(phi)};
+  return {st * std::sin(phi), std::cos(theta), -st * std::cos(phi)};
 }
 
 Color Environment::radiance(const Vec3& dir) const {

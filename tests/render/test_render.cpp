@@ -2,6 +2,7 @@
 // furnace, closed forms for a point light and a rectangular area light, and determinism.
 
 #include <cmath>
+#include <filesystem>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -145,6 +146,34 @@ TEST(Render, RectangleLightOverDiffusePlaneMatchesFormFactor) {
   // plane within ±0.02 of the centre, where the irradiance is flat to 1e-3.
   const double got = block_mean(img, 7, 7, 2, 1);
   EXPECT_NEAR(got, rho * L * F, 0.02 * rho * L * F);
+}
+
+// A Lambertian plane under a lat-long environment map: the irradiance is the sum over the
+// map's pixels of L · ∫ cos θ dω over the part of each pixel above the plane, in closed
+// form (2π/W) · (sin²θ1 − sin²θ0)/2 per pixel of rows θ0..θ1. Exercises the map's
+// importance sampling and its MIS with BSDF sampling.
+TEST(Render, EnvironmentMapOverDiffusePlaneMatchesIrradiance) {
+  const int W = 16, H = 8;
+  Image map(W, H);
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x) map.at(x, y) = Color(Float(0.2 + 0.1 * x), Float(0.5), Float(0.05 * y));
+  map.at(5, 1) = Color(40, 30, 20);  // a small bright "sun"
+  map.at(12, 3) = Color(0, 0, 0);
+  const std::string path = (std::filesystem::temp_directory_path() / "gonio_test_env.exr").string();
+  write_exr(map, path);
+  const double rho = 0.5;
+  double expected[3] = {0, 0, 0};
+  for (int y = 0; y < H / 2; ++y) {  // rows below the horizon do not reach the plane
+    const double s0 = std::sin(kPiD * y / H), s1 = std::sin(kPiD * (y + 1) / H);
+    const double cos_integral = 2 * kPiD / W * (s1 * s1 - s0 * s0) / 2;
+    for (int x = 0; x < W; ++x)
+      for (int c = 0; c < 3; ++c) expected[c] += rho / kPiD * map.at(x, y)[c] * cos_integral;
+  }
+  const Image img = render_text("{" + camera_down(8, 1) + R"(, "render": {"spp": 512},
+    "shapes": [{"type": "quad", "corner": [-50, 0, -50], "edge1": [0, 0, 100], "edge2": [100, 0, 0], "material": {"type": "diffuse", "reflectance": 0.5}}],
+    "environment": {"file": ")" + path + R"("}})");
+  std::filesystem::remove(path);
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(block_mean(img, 0, 0, 8, c), expected[c], 0.01 * expected[c] + 1e-4) << c;
 }
 
 TEST(Render, SameImageWhateverTheThreadCount) {
