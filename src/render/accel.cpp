@@ -1,5 +1,6 @@
 // Embree scene construction and the hit record. Triangles use Embree's triangle
-// geometry, spheres its analytic sphere primitive (RTC_GEOMETRY_TYPE_SPHERE_POINT).
+// geometry; spheres are one Embree user geometry whose callbacks intersect them
+// analytically (cheaper per ray than Embree's ray-oriented point primitives, and exact).
 
 #include "gonio/render/accel.h"
 
@@ -7,6 +8,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <stdexcept>
 #include <string>
 
@@ -21,13 +23,68 @@ void embree_error(void* user, RTCError code, const char* message) {
     *last = "embree error " + std::to_string(static_cast<int>(code)) + ": " + (message ? message : "");
 }
 
+// Nearest root in (tnear, tfar) of |o + t·d − c|² = r², d unit length, in the stable form
+// of Haines et al., "Precision Improvements for Ray/Sphere Intersection" (Ray Tracing
+// Gems, 2019, ch. 7): the discriminant from the distance of c to the ray's line, and the
+// small root from the product of the roots, both without cancellation.
+bool hit_sphere(const Sphere& s, const Vec3& o, const Vec3& d, float tnear, float tfar, float& t) {
+  const Vec3 f = o - s.center;
+  const Float b = -dot(f, d);
+  const Vec3 perp = f + d * b;
+  const Float r2 = s.radius * s.radius;
+  const Float disc = r2 - length_squared(perp);
+  if (!(disc >= 0)) return false;
+  const Float c = length_squared(f) - r2;
+  const Float q = b + std::copysign(std::sqrt(disc), b);
+  const Float t0 = q != 0 ? c / q : Float(0), t1 = q;
+  const Float lo = std::min(t0, t1), hi = std::max(t0, t1);
+  t = lo > tnear ? lo : hi;
+  return t > tnear && t < tfar;
+}
+
+void sphere_bounds(const RTCBoundsFunctionArguments* args) {
+  const Sphere& s = static_cast<const Sphere*>(args->geometryUserPtr)[args->primID];
+  args->bounds_o->lower_x = s.center.x - s.radius;
+  args->bounds_o->lower_y = s.center.y - s.radius;
+  args->bounds_o->lower_z = s.center.z - s.radius;
+  args->bounds_o->upper_x = s.center.x + s.radius;
+  args->bounds_o->upper_y = s.center.y + s.radius;
+  args->bounds_o->upper_z = s.center.z + s.radius;
+}
+
+// Single rays only (rtcIntersect1 / rtcOccluded1): N is 1.
+void sphere_intersect(const RTCIntersectFunctionNArguments* args) {
+  if (!args->valid[0]) return;
+  const Sphere& s = static_cast<const Sphere*>(args->geometryUserPtr)[args->primID];
+  auto* rh = reinterpret_cast<RTCRayHit*>(args->rayhit);
+  float t;
+  if (!hit_sphere(s, {rh->ray.org_x, rh->ray.org_y, rh->ray.org_z}, {rh->ray.dir_x, rh->ray.dir_y, rh->ray.dir_z},
+                  rh->ray.tnear, rh->ray.tfar, t))
+    return;
+  rh->ray.tfar = t;
+  rh->hit.u = rh->hit.v = 0;
+  rh->hit.Ng_x = rh->hit.Ng_y = rh->hit.Ng_z = 0;  // computed by Accel::intersect
+  rh->hit.primID = args->primID;
+  rh->hit.geomID = args->geomID;
+  rh->hit.instID[0] = args->context->instID[0];
+}
+
+void sphere_occluded(const RTCOccludedFunctionNArguments* args) {
+  if (!args->valid[0]) return;
+  const Sphere& s = static_cast<const Sphere*>(args->geometryUserPtr)[args->primID];
+  auto* r = reinterpret_cast<RTCRay*>(args->ray);
+  float t;
+  if (hit_sphere(s, {r->org_x, r->org_y, r->org_z}, {r->dir_x, r->dir_y, r->dir_z}, r->tnear, r->tfar, t))
+    r->tfar = -std::numeric_limits<float>::infinity();
+}
+
 }  // namespace
 
 struct Accel::Impl {
   const Scene& scene;
   RTCDevice device = nullptr;
   RTCScene rtc = nullptr;
-  // geomID → shape: meshes first, then spheres.
+  // geomID → shape: one per mesh, then one user geometry holding every sphere.
   unsigned sphere_base = 0;
   std::string error;
 
@@ -64,14 +121,13 @@ Accel::Accel(const Scene& scene) : impl_(std::make_unique<Impl>(scene)) {
     rtcReleaseGeometry(g);
   }
   im.sphere_base = id;
-  for (const Sphere& s : scene.spheres) {
-    RTCGeometry g = rtcNewGeometry(im.device, RTC_GEOMETRY_TYPE_SPHERE_POINT);
-    auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4,
-                                                          4 * sizeof(float), 1));
-    v[0] = s.center.x;
-    v[1] = s.center.y;
-    v[2] = s.center.z;
-    v[3] = s.radius;
+  if (!scene.spheres.empty()) {
+    RTCGeometry g = rtcNewGeometry(im.device, RTC_GEOMETRY_TYPE_USER);
+    rtcSetGeometryUserPrimitiveCount(g, static_cast<unsigned>(scene.spheres.size()));
+    rtcSetGeometryUserData(g, const_cast<Sphere*>(scene.spheres.data()));
+    rtcSetGeometryBoundsFunction(g, sphere_bounds, nullptr);
+    rtcSetGeometryIntersectFunction(g, sphere_intersect);
+    rtcSetGeometryOccludedFunction(g, sphere_occluded);
     rtcCommitGeometry(g);
     rtcAttachGeometryByID(im.rtc, g, id++);
     rtcReleaseGeometry(g);
@@ -105,8 +161,8 @@ bool Accel::intersect(const Ray& ray, SurfaceHit& hit) const {
 
   const Scene& scene = impl_->scene;
   hit.t = rh.ray.tfar;
-  if (rh.hit.geomID >= impl_->sphere_base) {
-    const Sphere& s = scene.spheres[rh.hit.geomID - impl_->sphere_base];
+  if (rh.hit.geomID == impl_->sphere_base) {
+    const Sphere& s = scene.spheres[rh.hit.primID];
     // Re-project onto the sphere: o + t·d carries the float error of t.
     const Vec3 r = normalize(ray.o + ray.d * hit.t - s.center);
     hit.p = s.center + r * s.radius;

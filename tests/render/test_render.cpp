@@ -3,6 +3,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -174,6 +175,41 @@ TEST(Render, EnvironmentMapOverDiffusePlaneMatchesIrradiance) {
     "environment": {"file": ")" + path + R"("}})");
   std::filesystem::remove(path);
   for (int c = 0; c < 3; ++c) EXPECT_NEAR(block_mean(img, 0, 0, 8, c), expected[c], 0.01 * expected[c] + 1e-4) << c;
+}
+
+// Shading normals far from the geometric one (lecture §3.2: N comes from the mesh, not
+// the facet) must neither let light through an opaque surface nor blacken pixels.
+TEST(Render, ShadingNormalsNeitherLeakNorBlacken) {
+  const auto dir = std::filesystem::temp_directory_path() / "gonio_test_normals";
+  std::filesystem::create_directories(dir);
+  {
+    // A square in the plane y = 0 whose vertex normals lean 70° away from +y, in
+    // different directions, so that the interpolated normal swings across the facet.
+    std::ofstream obj(dir / "tilted.obj");
+    obj << "v -2 0 -2\nv 2 0 -2\nv 2 0 2\nv -2 0 2\n"
+           "vn 0.94 0.342 0\nvn 0 0.342 0.94\nvn -0.94 0.342 0\nvn 0 0.342 -0.94\n"
+           "f 1//1 4//4 3//3\nf 1//1 3//3 2//2\n";
+  }
+  const std::string obj = (dir / "tilted.obj").string();
+  // (1) A point light under the surface, the camera above it: nothing may arrive.
+  for (const char* material : {R"({"type": "diffuse", "reflectance": 1})",
+                               R"({"type": "roughconductor", "material": "Ag", "alpha": 0.3})",
+                               R"({"type": "plastic", "reflectance": 0.8})"}) {
+    const Image dark = render_text("{" + camera_down(16, 1) + R"(, "render": {"spp": 16},
+      "shapes": [{"type": "mesh", "file": ")" + obj + R"(", "material": )" + material + R"(}],
+      "lights": [{"type": "point", "position": [0.2, -0.5, 0.1], "intensity": 100}]})");
+    for (const Color& c : dark.pixels()) ASSERT_EQ(c.max_component(), 0) << material;
+  }
+  // (2) A white diffuse surface under a uniform sky: every pixel sees light. With
+  // shading normals it need not be exactly 1, but no pixel may be black or far off.
+  const Image lit = render_text("{" + camera_down(16, 1) + R"(, "render": {"spp": 64},
+      "shapes": [{"type": "mesh", "file": ")" + obj + R"(", "material": {"type": "diffuse", "reflectance": 1}}],
+      "environment": {"radiance": 1}})");
+  for (const Color& c : lit.pixels()) {
+    ASSERT_GT(c.min_component(), 0.3);
+    ASSERT_LT(c.max_component(), 2.0);
+  }
+  std::filesystem::remove_all(dir);
 }
 
 TEST(Render, SameImageWhateverTheThreadCount) {
