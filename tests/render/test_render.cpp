@@ -149,6 +149,18 @@ TEST(Render, RectangleLightOverDiffusePlaneMatchesFormFactor) {
   EXPECT_NEAR(got, rho * L * F, 0.02 * rho * L * F);
 }
 
+// A Lambertian plane under a sphere of radiance L whose centre is at height d above the
+// point: a uniform sphere acts like a point of intensity L·πr², so E = π L r²/d² as long
+// as the sphere is wholly above the horizon (Howell, factor B-5), and L_out = ρ L r²/d².
+TEST(Render, SphereLightOverDiffusePlaneMatchesClosedForm) {
+  const double rho = 0.5, L = 5, r = 0.4, d = 1.2;
+  const Image img = render_text("{" + camera_down(16, 0.6) + R"(, "render": {"spp": 512},
+    "shapes": [{"type": "quad", "corner": [-5, 0, -5], "edge1": [0, 0, 10], "edge2": [10, 0, 0], "material": {"type": "diffuse", "reflectance": 0.5}}],
+    "lights": [{"type": "sphere", "center": [0, 1.2, 0], "radius": 0.4, "radiance": 5}]})");
+  const double expected = rho * L * r * r / (d * d);
+  EXPECT_NEAR(block_mean(img, 7, 7, 2, 0), expected, 0.02 * expected);
+}
+
 // A Lambertian plane under a lat-long environment map: the irradiance is the sum over the
 // map's pixels of L · ∫ cos θ dω over the part of each pixel above the plane, in closed
 // form (2π/W) · (sin²θ1 − sin²θ0)/2 per pixel of rows θ0..θ1. Exercises the map's
