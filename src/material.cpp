@@ -4,6 +4,9 @@
 
 #include <cmath>
 #include <array>
+#include <iterator>
+#include <type_traits>
+#include <variant>
 #include <memory>
 #include <set>
 #include <sstream>
@@ -164,6 +167,11 @@ BxDF make_mirror(Params& p) {
   return m;
 }
 
+// F0 of the index, for Schlick: ((n−1)² + k²) / ((n+1)² + k²).
+void set_f0_from_index(ConductorFresnel& fr) {
+  fr.f0 = map(fr.eta, fr.k, [](Float n, Float k) { return fresnel_f0(n, k); });
+}
+
 ConductorFresnel make_conductor_fresnel(Params& p) {
   ConductorFresnel fr;
   if (p.has("fresnel")) {
@@ -209,8 +217,7 @@ ConductorFresnel make_conductor_fresnel(Params& p) {
       p.check_color_index("k", 0, kMaxIndex);
     }
   }
-  // F0 of the index, for Schlick: ((n−1)² + k²) / ((n+1)² + k²).
-  fr.f0 = map(fr.eta, fr.k, [](Float n, Float k) { return fresnel_f0(n, k); });
+  set_f0_from_index(fr);
   return fr;
 }
 
@@ -311,6 +318,9 @@ double required_number(Params& p, const char* key, double lo, double hi, bool op
   return v;
 }
 
+// Oren–Nayar's σ is given in degrees and kept in radians.
+Float sigma_radians(double degrees) { return Float(degrees * kPiD / 180); }
+
 BxDF make_orennayar(Params& p) {
   OrenNayarBxDF m;
   if (p.has("reflectance")) m.reflectance = p.color("reflectance");
@@ -318,7 +328,7 @@ BxDF make_orennayar(Params& p) {
   if (!p.has("sigma")) p.fail("missing parameter 'sigma' (degrees in [0, 90))");
   const double sigma = p.number("sigma");
   if (!(sigma >= 0 && sigma < 90)) p.fail("sigma must be in [0, 90) degrees, got " + format_number(sigma));
-  m.sigma = Float(sigma * kPiD / 180);
+  m.sigma = sigma_radians(sigma);
   if (p.has("model")) {
     const std::string model = p.string("model");
     if (model == "full") m.full = true;
@@ -445,6 +455,162 @@ BxDF material_from_json(const json& description, const std::string& where) {
   std::string known;
   for (auto n : material_type_names()) known += (known.empty() ? "" : ", ") + std::string(n);
   throw InputError(at + "material: unknown type \"" + type + "\" (known: " + known + ")");
+}
+
+// --- Spatially varying parameters (material.h) -----------------------------------
+
+namespace {
+
+using MP = MaterialParam;
+
+// Indexed by MaterialParam. Probes: each passes the parser's checks on its own and keeps
+// the combined ones (kd + ks <= 1) whatever the other value.
+constexpr MaterialParamInfo kParamInfo[] = {
+    {"reflectance", false, 0.5}, {"kd", false, 0}, {"ks", false, 0}, {"rd", false, 0},
+    {"rs", false, 0},            {"f0", false, 0.5}, {"eta", false, 1}, {"k", false, 0},
+    {"alpha", true, 0.5},        {"alpha", true, 0.5}, {"alpha", true, 0.5}, {"sigma", true, 0},
+    {"exponent", true, 1},       {"nu", true, 1},    {"nv", true, 1},
+};
+static_assert(std::size(kParamInfo) == size_t(MP::Nv) + 1);
+
+// Which parameters of which type may vary. Not: the index of a dielectric or plastic (a
+// medium whose index changed along its surface would not be one medium, and plastic
+// precomputes its internal reflectance from it), Fresnel and distribution choices, flags.
+struct VaryingKey {
+  std::string_view type;
+  MaterialParam param;
+};
+constexpr VaryingKey kVarying[] = {
+    {"diffuse", MP::Reflectance},
+    {"mirror", MP::Reflectance},
+    {"conductor", MP::Eta}, {"conductor", MP::K}, {"conductor", MP::F0},
+    {"roughconductor", MP::Alpha}, {"roughconductor", MP::Eta}, {"roughconductor", MP::K}, {"roughconductor", MP::F0},
+    {"roughdielectric", MP::Alpha},
+    {"orennayar", MP::Reflectance}, {"orennayar", MP::Sigma},
+    {"phong", MP::Kd}, {"phong", MP::Ks}, {"phong", MP::Exponent},
+    {"blinnphong", MP::Kd}, {"blinnphong", MP::Ks}, {"blinnphong", MP::Exponent},
+    {"ward", MP::Kd}, {"ward", MP::Ks}, {"ward", MP::Alpha},
+    {"ashikhminshirley", MP::Rd}, {"ashikhminshirley", MP::Rs}, {"ashikhminshirley", MP::Nu}, {"ashikhminshirley", MP::Nv},
+    {"plastic", MP::Reflectance}, {"plastic", MP::Alpha},
+};
+
+// What a set of new values touched, for recomputing what depends on it.
+struct Changed {
+  bool alpha = false, index = false, fresnel = false;
+};
+
+void set_alpha(Float& ax, Float& ay, const ParamValue& v, Changed& c) {
+  const Float a = v.value[0];
+  switch (v.param) {
+    case MP::Alpha: ax = ay = a; break;
+    case MP::AlphaX: ax = a; break;
+    case MP::AlphaY: ay = a; break;
+    default: return;
+  }
+  c.alpha = true;
+}
+void set_alpha(MicrofacetDistribution& d, const ParamValue& v, Changed& c) { set_alpha(d.alpha_x, d.alpha_y, v, c); }
+
+void set_fresnel(ConductorFresnel& fr, const ParamValue& v, Changed& c) {
+  switch (v.param) {
+    case MP::F0: fr.f0 = v.value; break;
+    case MP::Eta: fr.eta = v.value; c.index = true; break;
+    case MP::K: fr.k = v.value; c.index = true; break;
+    default: return;
+  }
+  c.fresnel = true;
+}
+
+void set_color(Color& field, MaterialParam which, const ParamValue& v) {
+  if (v.param == which) field = v.value;
+}
+void set_scalar(Float& field, MaterialParam which, const ParamValue& v) {
+  if (v.param == which) field = v.value[0];
+}
+
+void apply(DiffuseBxDF& m, const ParamValue& v, Changed&) { set_color(m.reflectance, MP::Reflectance, v); }
+void apply(MirrorBxDF& m, const ParamValue& v, Changed&) { set_color(m.reflectance, MP::Reflectance, v); }
+void apply(ConductorBxDF& m, const ParamValue& v, Changed& c) { set_fresnel(m.fresnel, v, c); }
+void apply(RoughConductorBxDF& m, const ParamValue& v, Changed& c) {
+  set_alpha(m.distribution, v, c);
+  set_fresnel(m.fresnel, v, c);
+}
+void apply(RoughDielectricBxDF& m, const ParamValue& v, Changed& c) { set_alpha(m.distribution, v, c); }
+void apply(OrenNayarBxDF& m, const ParamValue& v, Changed&) {
+  set_color(m.reflectance, MP::Reflectance, v);
+  if (v.param == MP::Sigma) m.sigma = sigma_radians(v.value[0]);
+}
+template <typename M>
+  requires std::is_same_v<M, PhongBxDF> || std::is_same_v<M, BlinnPhongBxDF>
+void apply(M& m, const ParamValue& v, Changed&) {
+  set_color(m.kd, MP::Kd, v);
+  set_color(m.ks, MP::Ks, v);
+  set_scalar(m.exponent, MP::Exponent, v);
+}
+void apply(WardBxDF& m, const ParamValue& v, Changed& c) {
+  set_color(m.kd, MP::Kd, v);
+  set_color(m.ks, MP::Ks, v);
+  set_alpha(m.alpha_x, m.alpha_y, v, c);
+}
+void apply(AshikhminShirleyBxDF& m, const ParamValue& v, Changed&) {
+  set_color(m.rd, MP::Rd, v);
+  set_color(m.rs, MP::Rs, v);
+  set_scalar(m.nu, MP::Nu, v);
+  set_scalar(m.nv, MP::Nv, v);
+}
+void apply(PlasticBxDF& m, const ParamValue& v, Changed& c) {
+  set_color(m.reflectance, MP::Reflectance, v);
+  if (m.coat) set_alpha(*m.coat, v, c);
+}
+void apply(DielectricBxDF&, const ParamValue&, Changed&) {}
+
+template <typename M>
+void finish(M&, const Changed&) {}
+void finish(ConductorBxDF& m, const Changed& c) {
+  if (c.index) set_f0_from_index(m.fresnel);
+}
+void finish(RoughConductorBxDF& m, const Changed& c) {
+  if (c.index) set_f0_from_index(m.fresnel);
+  if (!m.multiscatter || !(c.alpha || c.fresnel)) return;
+  if (m.distribution.effectively_smooth()) {
+    m.multiscatter.reset();  // as material_from_json does for a smooth distribution
+    return;
+  }
+  m.multiscatter = MultiscatterLobe::make(m.distribution, c.fresnel ? average_fresnel(m.fresnel) : m.multiscatter->f_avg);
+}
+
+}  // namespace
+
+const MaterialParamInfo& material_param_info(MaterialParam p) { return kParamInfo[static_cast<size_t>(p)]; }
+
+std::optional<MaterialParam> varying_param(std::string_view type, std::string_view key) {
+  for (const auto& v : kVarying)
+    if (v.type == type && material_param_info(v.param).key == key) return v.param;
+  return std::nullopt;
+}
+
+std::string varying_param_keys(std::string_view type) {
+  std::string keys;
+  for (const auto& v : kVarying)
+    if (v.type == type) keys += (keys.empty() ? "" : ", ") + std::string(material_param_info(v.param).key);
+  return keys;
+}
+
+BxDF with_params(const BxDF& model, std::span<const ParamValue> values) noexcept {
+  return std::visit(
+      [&](const auto& base) -> BxDF {
+        using M = std::decay_t<decltype(base)>;
+        if constexpr (std::is_same_v<M, BlendBxDF> || std::is_same_v<M, UserBxDF>) {
+          return base;  // nothing of theirs varies
+        } else {
+          M m = base;
+          Changed changed;
+          for (const ParamValue& v : values) apply(m, v, changed);
+          finish(m, changed);
+          return m;
+        }
+      },
+      model.models());
 }
 
 BxDF parse_material(std::string_view json_text, std::string_view source) {

@@ -4,6 +4,9 @@
 // out-of-range values throw InputError with a message naming the field, e.g.
 // "conductor: eta must be > 0, got -1".
 
+#include <cstdint>
+#include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -25,5 +28,47 @@ BxDF material_from_json(const nlohmann::json& description, const std::string& wh
 
 // The material types this build knows, in SPEC §2's order.
 const std::vector<std::string_view>& material_type_names();
+
+// --- Spatially varying parameters ---------------------------------------------------
+// Lecture §3.2: a spatially varying BRDF, six-dimensional, is written as a 4-D model
+// whose parameters are functions of the surface position (textures). The core knows
+// nothing of textures; it names the parameters that may vary and rebuilds a model with
+// new values of them. The ranges stay in material_from_json, the one place that checks
+// them: a caller validates the values a texture takes by substituting them into a
+// description and parsing it (each parameter's `probe` is a value that passes alone).
+
+enum class MaterialParam : std::uint8_t {
+  Reflectance, Kd, Ks, Rd, Rs, F0, Eta, K,
+  Alpha,            // both alpha_x and alpha_y (an isotropic roughness)
+  AlphaX, AlphaY,   // the entries of "alpha": [alpha_x, alpha_y]
+  Sigma, Exponent, Nu, Nv,
+};
+
+struct MaterialParamInfo {
+  std::string_view key;  // the JSON key of SPEC §2 ("alpha" for Alpha, AlphaX and AlphaY)
+  bool scalar;           // a number; else a colour (a number or [r, g, b])
+  double probe;          // a value material_from_json accepts whatever the other values
+};
+const MaterialParamInfo& material_param_info(MaterialParam p);
+
+// The parameter of material `type` that JSON key `key` names, when it may vary over a
+// surface: "alpha" gives Alpha (callers map the entries of [alpha_x, alpha_y] to AlphaX
+// and AlphaY). nullopt for any other key, an unknown type, and "blend".
+std::optional<MaterialParam> varying_param(std::string_view type, std::string_view key);
+// The keys of `type` that may vary, for messages ("alpha, eta, k, f0").
+std::string varying_param_keys(std::string_view type);
+
+// A value in the units of SPEC §2 (sigma in degrees); a scalar parameter reads channel 0.
+struct ParamValue {
+  MaterialParam param = MaterialParam::Reflectance;
+  Color value;
+};
+
+// `model` with the given parameters replaced and what depends on them recomputed (a
+// conductor's F0 from eta and k; the multiple-scattering lobe of a rough conductor, kept
+// when `model` has one and the new roughness is not smooth). Parameters the model does
+// not have are ignored. No allocation and no exception, for use at every shading point
+// of a textured surface; the values must lie in the ranges material_from_json accepts.
+BxDF with_params(const BxDF& model, std::span<const ParamValue> values) noexcept;
 
 }  // namespace gonio

@@ -32,6 +32,7 @@ struct MultiscatterLobe {
   Float e_avg = 1;
   Color f_ms;             // F_ms times 1/(π (1 − E_avg))
   Float energy_ratio = 0; // avg(F_ms) / avg(F_avg): sets how often the lobe is sampled
+  Color f_avg;            // the F_avg it was made with, to remake it for another roughness
 
   // `f_avg`: the cosine-weighted average Fresnel reflectance 2 ∫ F(μ) μ dμ.
   static MultiscatterLobe make(const MicrofacetDistribution& d, const Color& f_avg) {
@@ -39,6 +40,7 @@ struct MultiscatterLobe {
     m.type = d.type;
     m.alpha = std::sqrt(d.alpha_x * d.alpha_y);
     m.e_avg = microfacet_average_albedo(m.type, m.alpha);
+    m.f_avg = f_avg;
     const Float e = m.e_avg;
     // The lobe vanishes for a perfectly smooth (E_avg = 1) or black surface.
     const Float denom = kPi * std::max(Float(1e-6), 1 - e);

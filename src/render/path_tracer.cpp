@@ -109,7 +109,8 @@ Color PathTracer::radiance(Ray ray, Pcg32& rng, PathStats& stats) const {
     }
     if (depth >= max_depth) break;
 
-    const BxDF& bxdf = scene_.materials[static_cast<size_t>(hit.material)].bxdf;
+    std::optional<BxDF> textured;  // the model at hit.uv when the material has textures
+    const BxDF& bxdf = scene_.materials[static_cast<size_t>(hit.material)].at(hit.uv, textured);
     const Vec3 wo_world = -ray.d;
     // Where the shading and geometric normals disagree about the side of wo, shading
     // with the interpolated normal would give black or leak: fall back to the geometric.

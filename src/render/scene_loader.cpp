@@ -3,6 +3,7 @@
 
 #include "gonio/render/scene_loader.h"
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstring>
@@ -10,6 +11,8 @@
 #include <fstream>
 #include <initializer_list>
 #include <map>
+#include <memory>
+#include <optional>
 #include <sstream>
 
 #include <nlohmann/json.hpp>
@@ -17,6 +20,7 @@
 #include "gonio/error.h"
 #include "gonio/material.h"
 #include "gonio/render/mesh_loader.h"
+#include "gonio/render/texture.h"
 
 namespace gonio::render {
 namespace {
@@ -139,9 +143,253 @@ struct Loader {
   }
 
   int add_material(const std::string& name, const Node& desc) {
-    BxDF bxdf = material_from_json(desc.value(), desc.where());
-    scene.materials.push_back({name, std::move(bxdf)});
+    if (has_texture(desc.value())) {
+      Material m = textured_material(desc);
+      m.name = name;
+      scene.materials.push_back(std::move(m));
+    } else {
+      scene.materials.push_back({name, material_from_json(desc.value(), desc.where()), {}});
+    }
     return static_cast<int>(scene.materials.size()) - 1;
+  }
+
+  // --- Textures (docs/scene-format.md, "Textures") ---------------------------------
+
+  static bool is_texture(const json& v) { return v.is_object() && (v.contains("texture") || v.contains("checker")); }
+
+  // The first texture object among a material's parameters (alpha's entries and a
+  // blend's parts included).
+  static std::optional<Node> find_texture(const Node& desc) {
+    if (!desc.value().is_object()) return std::nullopt;
+    for (auto it = desc.value().begin(); it != desc.value().end(); ++it) {
+      const Node v = desc.at(it.key());
+      if (is_texture(v.value())) return v;
+      if ((it.key() == "alpha" || it.key() == "bsdfs") && v.value().is_array()) {
+        for (size_t i = 0; i < v.size(); ++i) {
+          if (is_texture(v.value()[i])) return v.at(i);
+          if (auto t = find_texture(v.at(i))) return t;
+        }
+      }
+    }
+    return std::nullopt;
+  }
+  static bool has_texture(const json& desc) {
+    const std::string none;
+    return find_texture(Node(desc, &none, "")).has_value();
+  }
+
+  // A textured parameter while the material is checked: where it is, its texture, and
+  // where (texel index, or checker entry) its smallest and largest values occur.
+  struct Slot {
+    Node node;        // the parameter's value: the texture object
+    std::string key;  // JSON key
+    int entry;        // index into "alpha": [alpha_x, alpha_y], else -1
+    MaterialParam param;
+    bool scalar;
+    std::string file;  // image file as written; empty for a checker
+    Texture texture;
+    std::array<size_t, kColorChannels> lo_at{}, hi_at{};
+
+    int channels() const { return scalar ? 1 : Color::size(); }
+    Color value(size_t i) const {
+      if (texture.image) return texture.image->pixels()[i];
+      return i == 0 ? texture.a : texture.b;
+    }
+    json to_json(const Color& c) const {
+      if (scalar) return double(c[0]);
+      json a = json::array();
+      for (int i = 0; i < Color::size(); ++i) a.push_back(double(c[i]));
+      return a;
+    }
+    // Float digits: a texel 0.7 shows as 0.7. A grey colour shows as one number.
+    std::string show_value(const Color& c) const {
+      auto one = [](Float v) {
+        std::ostringstream os;
+        os.precision(7);
+        os << v;
+        return os.str();
+      };
+      if (scalar || c == Color(c[0])) return one(c[0]);
+      std::string s = "[";
+      for (int i = 0; i < Color::size(); ++i) s += (i ? ", " : "") + one(c[i]);
+      return s + "]";
+    }
+    void put(json& desc, const json& v) const {
+      if (entry < 0) desc[key] = v;
+      else desc[key][static_cast<size_t>(entry)] = v;
+    }
+    // Texel or checker entry i, with its value, is outside what the parser accepts.
+    [[noreturn]] void out_of_range(size_t i, const std::string& why) const {
+      const std::string v = "value " + show_value(value(i)) + " is out of range (" + why + ")";
+      if (!texture.image) node.at("checker").at(i).fail(v);
+      const size_t w = static_cast<size_t>(texture.image->width());
+      node.fail("texture " + file + ": texel (" + std::to_string(i % w) + ", " + std::to_string(i / w) + ") " + v);
+    }
+  };
+
+  // A colour (number or [r, g, b]) or, for a scalar parameter, a number; finite as a Float.
+  static Color texture_value(const Node& n, bool scalar) {
+    auto one = [](const Node& e) {
+      const double d = e.number();
+      if (!std::isfinite(static_cast<Float>(d))) e.fail("is too large, got " + show(e.value()));
+      return static_cast<Float>(d);
+    };
+    if (n.value().is_number()) return Color(one(n));
+    if (!scalar && n.value().is_array() && n.size() == static_cast<size_t>(Color::size())) {
+      Color c;
+      for (int i = 0; i < Color::size(); ++i) c[i] = one(n.at(static_cast<size_t>(i)));
+      return c;
+    }
+    n.fail(scalar ? "must be a number, got " + show(n.value()) : "must be a number or [r, g, b], got " + show(n.value()));
+  }
+
+  std::map<std::pair<std::string, bool>, std::shared_ptr<const Image>> images;
+
+  Slot texture_slot(const Node& n, const std::string& key, int entry, MaterialParam param) {
+    Slot s{n, key, entry, param, material_param_info(param).scalar, {}, {}, {}, {}};
+    n.object({"texture", "checker", "uv_scale", "srgb"});
+    if (n.has("texture") == n.has("checker")) n.fail("give exactly one of \"texture\" (an image file) or \"checker\"");
+    Texture& t = s.texture;
+    if (n.has("uv_scale")) {
+      const Node u = n.at("uv_scale");
+      if (u.value().is_number()) {
+        t.su = t.sv = static_cast<Float>(u.number(0, 1e6, true));
+      } else if (u.value().is_array() && u.size() == 2) {
+        t.su = static_cast<Float>(u.at(0).number(0, 1e6, true));
+        t.sv = static_cast<Float>(u.at(1).number(0, 1e6, true));
+      } else {
+        u.fail("must be a number or [su, sv], got " + show(u.value()));
+      }
+    }
+    size_t count = 2;
+    if (n.has("checker")) {
+      if (n.has("srgb")) n.at("srgb").fail("applies to an image \"texture\", not to a checker");
+      const Node c = n.at("checker");
+      if (!c.value().is_array() || c.size() != 2)
+        c.fail(std::string("must be [a, b], two ") + (s.scalar ? "numbers" : "colours (numbers or [r, g, b])") + ", got " + show(c.value()));
+      t.a = texture_value(c.at(0), s.scalar);
+      t.b = texture_value(c.at(1), s.scalar);
+    } else {
+      const Node f = n.at("texture");
+      s.file = f.string();
+      // Colours are stored sRGB-encoded in 8-bit images; roughness-like numbers are data.
+      const bool srgb = n.has("srgb") ? n.at("srgb").boolean() : !s.scalar;
+      const std::string path = resolve(s.file);
+      auto& image = images[{path, srgb}];
+      if (!image) {
+        try {
+          image = std::make_shared<const Image>(read_image(path, srgb));
+        } catch (const InputError& e) {
+          images.erase({path, srgb});
+          f.fail(e.what());
+        }
+      }
+      if (image->pixels().empty()) f.fail(s.file + ": the image is empty");
+      t.image = image;
+      count = image->pixels().size();
+    }
+    // Smallest and largest value per channel, and the first texel (entry) holding each.
+    t.lo = t.hi = s.value(0);
+    for (size_t i = 0; i < count; ++i) {
+      const Color c = s.value(i);
+      if (!c.is_finite()) s.out_of_range(i, "not finite");
+      for (int ch = 0; ch < Color::size(); ++ch) {
+        if (c[ch] < t.lo[ch]) t.lo[ch] = c[ch], s.lo_at[static_cast<size_t>(ch)] = i;
+        if (c[ch] > t.hi[ch]) t.hi[ch] = c[ch], s.hi_at[static_cast<size_t>(ch)] = i;
+      }
+    }
+    return s;
+  }
+
+  // A material some of whose parameters are textures. Its values are checked by the one
+  // parser of materials: first with every texture replaced by a value valid on its own
+  // (errors that are not the textures'), then with all textures at their smallest and
+  // at their largest values per channel. Every range is an interval and the combined
+  // constraints (kd + ks <= 1) grow with each value, so these two corners bound every
+  // value a lookup can return (bilinear weights are convex). When a corner fails, the
+  // texel responsible is the first one holding an extreme of some channel.
+  Material textured_material(const Node& desc) {
+    const json& d = desc.value();
+    const auto type_it = d.find("type");
+    const auto& types = material_type_names();
+    if (type_it == d.end() || !type_it->is_string() ||
+        std::find(types.begin(), types.end(), type_it->get<std::string>()) == types.end()) {
+      material_from_json(d, desc.where());  // throws the parser's message about the type
+      desc.fail("material: bad type");
+    }
+    const std::string type = type_it->get<std::string>();
+    if (type == "blend")
+      find_texture(desc)->fail("textures inside a blend are not supported (texture a whole material instead)");
+
+    std::vector<Slot> slots;
+    for (auto it = d.begin(); it != d.end(); ++it) {
+      const Node v = desc.at(it.key());
+      const bool whole = is_texture(v.value());
+      const bool entries = it.key() == "alpha" && v.value().is_array() && v.size() == 2 &&
+                           (is_texture(v.value()[0]) || is_texture(v.value()[1]));
+      if (!whole && !entries) continue;
+      const auto param = varying_param(type, it.key());
+      if (!param) {
+        const std::string keys = varying_param_keys(type);
+        v.fail("cannot be a texture" + (keys.empty() ? " (" + type + " has no parameter that can)"
+                                                      : " (" + type + "'s parameters that can: " + keys + ")"));
+      }
+      if (whole) {
+        slots.push_back(texture_slot(v, it.key(), -1, *param));
+      } else {
+        for (int i = 0; i < 2; ++i)
+          if (is_texture(v.value()[static_cast<size_t>(i)]))
+            slots.push_back(texture_slot(v.at(static_cast<size_t>(i)), it.key(), i, i == 0 ? MaterialParam::AlphaX : MaterialParam::AlphaY));
+      }
+    }
+    json probe = d;
+    for (const Slot& s : slots) s.put(probe, material_param_info(s.param).probe);
+    material_from_json(probe, desc.where());
+
+    auto why_invalid = [](const json& description) -> std::optional<std::string> {
+      try {
+        material_from_json(description, "");
+      } catch (const InputError& e) {
+        return std::string(e.what());
+      }
+      return std::nullopt;
+    };
+    json corner[2] = {d, d};
+    for (int high = 0; high < 2; ++high) {
+      for (const Slot& s : slots) s.put(corner[high], s.to_json(high ? s.texture.hi : s.texture.lo));
+      const auto why = why_invalid(corner[high]);
+      if (!why) continue;
+      // Each candidate texel alone, the other textures at their probes; then with one other
+      // texture at the same extreme, for the combined constraints (kd + ks <= 1).
+      auto candidate = [&](const Slot& s, int ch) { return (high ? s.hi_at : s.lo_at)[static_cast<size_t>(ch)]; };
+      for (const Slot& s : slots) {
+        for (int ch = 0; ch < s.channels(); ++ch) {
+          json one = probe;
+          s.put(one, s.to_json(s.value(candidate(s, ch))));
+          if (const auto w = why_invalid(one)) s.out_of_range(candidate(s, ch), *w);
+        }
+      }
+      for (const Slot& s : slots) {
+        for (int ch = 0; ch < s.channels(); ++ch) {
+          for (const Slot& other : slots) {
+            if (&other == &s) continue;
+            const Color extreme = high ? other.texture.hi : other.texture.lo;
+            json two = probe;
+            s.put(two, s.to_json(s.value(candidate(s, ch))));
+            other.put(two, other.to_json(extreme));
+            if (const auto w = why_invalid(two))
+              s.out_of_range(candidate(s, ch), *w + ", with " + other.node.path().substr(desc.path().size() + 1) + " at its " +
+                                                   (high ? "largest" : "smallest") + " value " + other.show_value(extreme));
+          }
+        }
+      }
+      desc.fail("the textures' " + std::string(high ? "largest" : "smallest") + " values are out of range (" + *why + ")");
+    }
+    // The largest values: a rough conductor then keeps its multiple-scattering lobe
+    // unless every roughness is smooth (with_params).
+    Material m{"", material_from_json(corner[1], desc.where()), {}};
+    for (const Slot& s : slots) m.textures.push_back({s.param, s.texture});
+    return m;
   }
 
   // A shape's material: the name of an entry of "materials", or a material object.
@@ -278,7 +526,7 @@ struct Loader {
   int emitter_material() {
     for (size_t i = 0; i < scene.materials.size(); ++i)
       if (scene.materials[i].name == "<emitter>") return static_cast<int>(i);
-    scene.materials.push_back({"<emitter>", DiffuseBxDF{Color(0)}});
+    scene.materials.push_back({"<emitter>", DiffuseBxDF{Color(0)}, {}});
     return static_cast<int>(scene.materials.size()) - 1;
   }
 
@@ -345,7 +593,7 @@ Scene parse_scene(std::string_view text, const std::string& source, const std::s
     if (colon != std::string::npos) what = what.substr(colon + 2);
     throw InputError(source + ":" + std::to_string(line) + ":" + std::to_string(col) + ": JSON syntax error: " + what);
   }
-  Loader loader{source, base_dir, {}, {}};
+  Loader loader{source, base_dir, {}, {}, {}};
   loader.load(root);
   return std::move(loader.scene);
 }

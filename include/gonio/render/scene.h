@@ -3,7 +3,9 @@
 // from JSON (docs/scene-format.md). Shapes are spheres and triangle meshes (quads and
 // OBJ files become meshes); area lights are shapes too, so that rays can hit them.
 
+#include <array>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -11,12 +13,26 @@
 #include "gonio/math/warp.h"
 #include "gonio/render/camera.h"
 #include "gonio/render/lights.h"
+#include "gonio/render/texture.h"
 
 namespace gonio::render {
 
 struct Material {
   std::string name;
   BxDF bxdf;
+  // Parameters that vary over the surface, at most one texture per parameter; empty for
+  // a uniform material.
+  std::vector<ParamTexture> textures;
+
+  // The model at texture coordinates `uv`: `bxdf` itself for a uniform material (no
+  // copy), else `bxdf` with the textured parameters looked up, built in `scratch`.
+  const BxDF& at(const Vec2& uv, std::optional<BxDF>& scratch) const {
+    if (textures.empty()) return bxdf;
+    std::array<ParamValue, size_t(MaterialParam::Nv) + 1> values;
+    size_t n = 0;
+    for (const ParamTexture& t : textures) values[n++] = {t.param, t.texture.eval(uv)};
+    return scratch.emplace(with_params(bxdf, {values.data(), n}));
+  }
 };
 
 // Indexed triangles with optional per-vertex normals, UVs and tangents (each either empty
