@@ -38,16 +38,21 @@ struct RoughConductorBxDF {
       wo.z = -wo.z;
       wi.z = -wi.z;
     }
+    // wm = h/|h|, h = wo + wi; D from h itself (D_unnormalized), so that sample() can
+    // give the same number for the pair it returns.
     const Vec3 h = wo + wi;
-    if (length_squared(h) == 0) return {};
-    const Vec3 wm = normalize(h);
-    const Float D = distribution.D(wm);
-    const Float lo = distribution.Lambda(wo), li = distribution.Lambda(wi);
-    const Float cos_om = std::max(Float(0), dot(wo, wm));
-    const Color F = fresnel(cos_om);
-    Color f = F * (D / ((1 + lo + li) * 4 * wo.z * wi.z));
-    // Visible-normal density of wm, times the Jacobian dωm/dωi = 1/(4 wo·wm).
-    Float pdf = D / (4 * wo.z * (1 + lo));
+    const Float h2 = length_squared(h);
+    if (h2 == 0) return {};
+    const Float D = distribution.D_unnormalized(h, h2);
+    const Float to = distribution.smith_t(wo), ti = distribution.smith_t(wi);
+    // wo·wm = wi·wm = |wo + wi|/2 for unit wo, wi: symmetric in the pair, and free of the
+    // cancellation in dot(wo, h) = 1 + wo·wi at grazing.
+    const Color F = fresnel(std::min(std::sqrt(h2) / 2, Float(1)), std::min(h2 / 4, Float(1)));
+    // G2 / (4 cos θo cos θi) = 1 / (2 (cos θi T(wo) + cos θo T(wi))) (smith_t).
+    Color f = F * (D / (2 * (wi.z * to + wo.z * ti)));
+    // Visible-normal density of wm, times the Jacobian dωm/dωi = 1/(4 wo·wm):
+    // D / (4 cos θo (1 + Λo)) = D / (2 (T(wo) + cos θo)).
+    Float pdf = D / (2 * (to + wo.z));
     if (multiscatter) {
       f += multiscatter->f(wo.z, wi.z);
       pdf = multiscatter->mix_pdf(wo.z, pdf, wi.z);
@@ -64,9 +69,9 @@ struct RoughConductorBxDF {
       wi.z = -wi.z;
     }
     const Vec3 h = wo + wi;
-    if (length_squared(h) == 0) return 0;
-    const Vec3 wm = normalize(h);
-    const Float p = distribution.D(wm) / (4 * wo.z * (1 + distribution.Lambda(wo)));
+    const Float h2 = length_squared(h);
+    if (h2 == 0) return 0;
+    const Float p = distribution.D_unnormalized(h, h2) / (2 * (distribution.smith_t(wo) + wo.z));  // as in eval
     return multiscatter ? multiscatter->mix_pdf(wo.z, p, wi.z) : p;
   }
 
@@ -88,15 +93,36 @@ struct RoughConductorBxDF {
       if (!(e.pdf > 0)) return std::nullopt;
       return BSDFSample{{wi.x, wi.y, flip ? -wi.z : wi.z}, e.f * (wi.z / e.pdf), e.pdf, false, Lobe::Reflection, 1};
     }
-    const Vec3 wm = distribution.sample_visible(wo, u1, u2);
-    const Vec3 wi = reflect(wo, wm);
+    return distribution.type == MicrofacetType::GGX
+               ? sample_single<static_cast<int>(MicrofacetType::GGX)>(wo, flip, u1, u2)
+               : sample_single<static_cast<int>(MicrofacetType::Beckmann)>(wo, flip, u1, u2);
+  }
+
+ private:
+  // The single-scattering sample for wo.z > 0 (flip: wo was below), per distribution type.
+  template <int kType>
+  [[gnu::always_inline]] std::optional<BSDFSample> sample_single(const Vec3& wo, bool flip, Float u1, Float u2) const {
+    const auto vn = distribution.sample_visible_terms<kType>(wo, u1, u2);
+    const Float to = distribution.smith_t<kType>(wo);  // the sampler's stretched length (CSE)
+    // wi = reflect(wo, wm) = 2 (wo·wm) wm − wo (lecture §5.2) with wm = m/|m|:
+    // 2 q m − wo, q = (wo·m)/|m|²; and (wo·wm)² = q (wo·m), without a sqrt.
+    const Float om = dot(wo, vn.m);
+    const Float q = om / vn.m2;
+    const Vec3 wi = vn.m * (2 * q) - wo;
     if (!(wi.z > 0) || grazing(wi)) return std::nullopt;
-    // Closed forms: pdf = D_wo(wm) / (4 wo·wm) = D / (4 cos θo (1 + Λo)) and
-    // weight = f cos θi / pdf = F G2 / G1(wo) = F (1 + Λo) / (1 + Λo + Λi).
-    const Float lo = distribution.Lambda(wo), li = distribution.Lambda(wi);
-    const Float pdf = distribution.D(wm) / (4 * wo.z * (1 + lo));
+    // pdf = D_wo(wm) / (4 wo·wm) = D / (4 cos θo (1 + Λo)) = D / (2 (T(wo) + cos θo)), with
+    // D of the half vector of the returned pair, computed as pdf() does: for a narrow lobe
+    // D(wm) is steep enough that the rounding of wi alone would move it by more than 1e-4.
+    const Vec3 h = wo + wi;
+    const Float pdf = distribution.D_unnormalized<kType>(h, length_squared(h)) / (2 * (to + wo.z));
     if (!(pdf > 0)) return std::nullopt;
-    const Color weight = fresnel(dot(wo, wm)) * ((1 + lo) / (1 + lo + li));
+    // weight = f cos θi / pdf = F G2 / G1(wo) (Heitz & d'Eon 2014: the weight of
+    // visible-normal sampling is the Fresnel term times the shadowing of wi given wo), with
+    // G2/G1 in the T form of smith_t; D cancels, and F is well-conditioned in wo·wm.
+    const Float ti = distribution.smith_t<kType>(wi);
+    const Float cos2_om = std::max(Float(0), q * om);
+    const Color weight =
+        fresnel(std::sqrt(cos2_om), cos2_om) * (wi.z * (to + wo.z) / (wi.z * to + wo.z * ti));
     return BSDFSample{{wi.x, wi.y, flip ? -wi.z : wi.z}, weight, pdf, false, Lobe::Reflection, 1};
   }
 };

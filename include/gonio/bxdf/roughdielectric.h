@@ -43,88 +43,204 @@ struct RoughDielectricBxDF {
 
   // Directions this close to the tangent plane are fully shadowed (G → 0); treating
   // them as such keeps products of cosines from underflowing into infinities.
-  static bool grazing(const Vec3& w) { return std::abs(w.z) < Float(1e-7); }
+  static constexpr Float kGrazing = 1e-7f;
+  static bool grazing(const Vec3& w) { return std::abs(w.z) < kGrazing; }
   bool is_isotropic() const { return distribution.is_isotropic(); }
 
+  // Each entry point runs code instantiated for its distribution type (see is_ggx).
   BSDFEval eval(const Vec3& wo, const Vec3& wi, TransportMode mode = TransportMode::Radiance) const {
-    if (specular() || grazing(wo) || grazing(wi)) return {};
-    const bool reflection = (wo.z > 0) == (wi.z > 0);
-    // The half vector and every dot product are computed from the pair in a fixed order
-    // (for transmission: the outside direction, then the inside one), so that f(wo, wi)
-    // and f(wi, wo) use identical numbers and reciprocity holds to rounding even where
-    // Fresnel is steep, at the critical angle of a microfacet.
-    const Vec3& a = reflection || wo.z > 0 ? wo : wi;  // outside (or wo, for reflection)
-    const Vec3& b = reflection || wo.z > 0 ? wi : wo;  // inside (or wi)
-    // wm ∝ n_a a + n_b b (Walter et al. 2007, eq. 16), turned to the outside.
-    Vec3 wm = reflection ? a + b : a + b * eta;
-    if (length_squared(wm) == 0) return {};
-    wm = normalize(wm);
-    if (wm.z < 0) wm = -wm;
-    const Float dot_a = dot(a, wm), dot_b = dot(b, wm);
-    // Microfacets seen from behind by either direction contribute nothing.
-    if (dot_a * a.z <= 0 || dot_b * b.z <= 0) return {};
-    const Float D = distribution.D(wm);
-    const Float lo = distribution.Lambda(wo), li = distribution.Lambda(wi);
-    const Float G2 = 1 / (1 + lo + li);
-    const Float dot_o = reflection || wo.z > 0 ? dot_a : dot_b;
-    // D_wo(wm) = G1(wo) |wo·wm| D / |cos θo|
-    const Float d_vis = D * std::abs(dot_o) / ((1 + lo) * std::abs(wo.z));
-    if (reflection) {
-      // F at the mean of the two (equal) cosines: symmetric in wo and wi.
-      const Float F = fresnel_dielectric((dot_a + dot_b) / 2, eta);
-      const Float f = D * G2 * F / (4 * std::abs(wo.z * wi.z));
-      return {Color(f), d_vis / (4 * std::abs(dot_o)) * F};
-    }
-    // Fresnel is the same from both sides of a refraction; take it from the outside.
-    const Float F = fresnel_dielectric(dot_a, eta);
-    const Float s = dot_a + eta * dot_b;  // n_a (a·wm) + n_b (b·wm)
-    const Float S = s * s;
-    if (!(S > 0)) return {};
-    // Eq. 21 in radiance mode, with wo outside (n_wo = 1, n_wi = η):
-    //   f = D G2 (1 − F) |a·wm| |b·wm| / (|cos θa| |cos θb| S);
-    // with wo inside it is η² times that (the generalized reciprocity of SPEC §1).
-    // Importance mode differs by (n_wi/n_wo)².
-    const Float base = D * G2 * (1 - F) * std::abs(dot_a * dot_b / (S * a.z * b.z));
-    const Float eta_crossed = wo.z > 0 ? eta : 1 / eta;  // n_wi / n_wo
-    const Float f = base * (wo.z > 0 ? Float(1) : eta * eta) * (mode == TransportMode::Radiance ? Float(1) : eta_crossed * eta_crossed);
-    // dωm/dωi = n_wi² |wi·wm| / S
-    const Float n_wi2 = wo.z > 0 ? eta * eta : Float(1);
-    const Float dwm_dwi = n_wi2 * std::abs(wo.z > 0 ? dot_b : dot_a) / S;
-    return {Color(f), d_vis * dwm_dwi * (1 - F)};
+    return distribution.type == MicrofacetType::GGX ? evaluate<true, static_cast<int>(MicrofacetType::GGX)>(wo, wi, mode)
+                                                    : evaluate<true, static_cast<int>(MicrofacetType::Beckmann)>(wo, wi, mode);
   }
   Color f(const Vec3& wo, const Vec3& wi, TransportMode mode = TransportMode::Radiance) const {
     return eval(wo, wi, mode).f;
   }
   Float pdf(const Vec3& wo, const Vec3& wi, TransportMode mode = TransportMode::Radiance) const {
-    return eval(wo, wi, mode).pdf;
+    return distribution.type == MicrofacetType::GGX ? evaluate<false, static_cast<int>(MicrofacetType::GGX)>(wo, wi, mode).pdf
+                                                    : evaluate<false, static_cast<int>(MicrofacetType::Beckmann)>(wo, wi, mode).pdf;
   }
 
   std::optional<BSDFSample> sample(const Vec3& wo, Float u_lobe, Float u1, Float u2,
                                    TransportMode mode = TransportMode::Radiance) const {
     if (specular()) return DielectricBxDF{eta}.sample(wo, u_lobe, u1, u2, mode);
     if (grazing(wo)) return std::nullopt;
+    constexpr int kGGX = static_cast<int>(MicrofacetType::GGX), kBeckmann = static_cast<int>(MicrofacetType::Beckmann);
+    if (distribution.type == MicrofacetType::GGX) {
+      return wo.z > 0 ? sample_rough<kGGX, true>(wo, u_lobe, u1, u2, mode)
+                      : sample_rough<kGGX, false>(wo, u_lobe, u1, u2, mode);
+    }
+    return wo.z > 0 ? sample_rough<kBeckmann, true>(wo, u_lobe, u1, u2, mode)
+                    : sample_rough<kBeckmann, false>(wo, u_lobe, u1, u2, mode);
+  }
+
+ private:
+  // The sampler per distribution type and side of wo (outside: wo.z > 0).
+  template <int kType, bool kOutside>
+  [[gnu::always_inline]] std::optional<BSDFSample> sample_rough(const Vec3& wo, Float u_lobe, Float u1, Float u2,
+                                                                TransportMode mode) const {
+    constexpr bool outside = kOutside;
     // Normals visible from wo; from inside, those visible from −wo (the same
     // distribution, as D_w uses |w·wm|).
-    const Vec3 wm = distribution.sample_visible(wo.z > 0 ? wo : -wo, u1, u2);
-    const Float F = fresnel_dielectric(dot(wo, wm), eta);
+    const Vec3 wv = outside ? wo : -wo;
+    const auto vn = distribution.sample_visible_terms<kType>(wv, u1, u2);
+    const Float to = distribution.smith_t<kType>(wv);  // = smith_t(wo); the sampler's stretched length (CSE)
+    const Float inv_eta = 1 / eta;
+    const Float e = outside ? eta : inv_eta;  // n(far side) / n(wo's side)
+    const Float inv_e = outside ? inv_eta : eta;
+    const Float cos_o = std::abs(wo.z);
+    // With wm = m/|m| and om = wo·m: |wo·wm| = |om|/|m| and, by Snell's law (lecture §5.3),
+    // t = |m|² cos²θt = |m|² − (|m|² − om²)/e² (t ≤ 0: total internal reflection). The
+    // directions below need only 1/|m|² and sqrt(t), not wm itself.
+    const Float om = dot(wo, vn.m);
+    const Float inv_m2 = 1 / vn.m2;
+    const Float inv_m = std::sqrt(inv_m2);
+    const Float t = vn.m2 - (vn.m2 - om * om) * (inv_e * inv_e);
+    const bool tir = !(t > 0);
+    const Float st = std::sqrt(std::max(t, Float(0)));
+    // Fresnel (Hecht §4.6.2) of the sampled facet chooses the lobe.
+    const Float F = tir ? Float(1) : reflectance(std::min(std::abs(om) * inv_m, Float(1)), st * inv_m, e);
+    // The weight f |cos θi| / pdf is G2/G1(wo) in closed form, times (n_wo/n_wi)² for a
+    // refraction in radiance mode (Heitz & d'Eon 2014; Walter et al. 2007, eqs. 20, 21):
+    // D, F and the Jacobian cancel. The pdf is that of the returned pair, computed as pdf()
+    // computes it (from_half) but with T(wo) known: for a narrow lobe D(wm) is steep, and F
+    // near a facet's critical angle, enough that the rounding of wi alone would move a
+    // closed form from the sampled normal by more than 1e-4.
+    const Float to_plus = to + cos_o;
+    const bool reflect_lobe = u_lobe < F;
     Vec3 wi;
-    Lobe lobe;
-    Float eta_crossed = 1;
-    if (u_lobe < F) {
-      wi = reflect(wo, wm);
-      if (!(wo.z * wi.z > 0)) return std::nullopt;
-      lobe = Lobe::Reflection;
+    if (reflect_lobe) {
+      wi = vn.m * (2 * (om * inv_m2)) - wo;  // reflect(wo, wm) = 2 (wo·wm) wm − wo (lecture §5.2)
+      if (!(outside ? wi.z >= kGrazing : wi.z <= -kGrazing)) return std::nullopt;  // same side, not grazing
     } else {
-      const auto r = refract(wo, wm, eta);
-      if (!r || !(wo.z * r->wt.z < 0)) return std::nullopt;
-      wi = r->wt;
-      eta_crossed = r->eta;
-      lobe = Lobe::Transmission;
+      if (tir) return std::nullopt;
+      // Refraction about the facet normal n = ±wm on wo's side (lecture §5.3; as refract()):
+      // wi = −wo/e + (|wo·wm|/e − cos θt) n = m (om/e ∓ sqrt(t)) / |m|² − wo/e.
+      wi = vn.m * ((om * inv_e - (outside ? st : -st)) * inv_m2) - wo * inv_e;
+      if (!(outside ? wi.z <= -kGrazing : wi.z >= kGrazing)) return std::nullopt;  // other side, not grazing
     }
-    // f and pdf from eval, so that the sample agrees with f() and pdf() exactly.
-    const BSDFEval e = eval(wo, wi, mode);
-    if (!(e.pdf > 0)) return std::nullopt;
-    return BSDFSample{wi, e.f * (std::abs(wi.z) / e.pdf), e.pdf, false, lobe, eta_crossed};
+    const Half hv = reflect_lobe ? half_vector_ab(wo, wi, true)
+                    : outside    ? half_vector_ab(wo, wi, false)
+                                 : half_vector_ab(wi, wo, false);  // = half_vector(wo, wi, reflect_lobe)
+    if (!hv.valid) return std::nullopt;
+    const Float pdf = from_half<false, kType>(wo, wi, mode, reflect_lobe, hv, to).pdf;
+    if (!(pdf > 0)) return std::nullopt;
+    const Float cos_i = std::abs(wi.z);
+    const Float g2_den = cos_i * to + cos_o * distribution.smith_t<kType>(wi);
+    if (reflect_lobe) return BSDFSample{wi, Color(cos_i * to_plus / g2_den), pdf, false, Lobe::Reflection, 1};
+    const Float scale = mode == TransportMode::Radiance ? e * e : Float(1);  // 1 / transmission_scale
+    return BSDFSample{wi, Color(cos_i * to_plus / (g2_den * scale)), pdf, false, Lobe::Transmission, e};
+  }
+
+  // Unpolarised reflectance from the cosines on both sides, c on the side of incidence and
+  // ct beyond, e = n_t/n_i (Hecht, Optics, §4.6.2, eqs. 4.34 and 4.40, cos form): both
+  // amplitude ratios rs = (c − e ct)/(c + e ct), rp = (e c − ct)/(e c + ct) over one
+  // division, R = (rs² + rp²)/2 (as DielectricBxDF::sample).
+  [[gnu::always_inline]] static Float reflectance(Float c, Float ct, Float e) {
+    const Float a = c - e * ct, b = c + e * ct;
+    const Float p = e * c - ct, d = e * c + ct;
+    const Float bd = b * d;
+    return bd > 0 ? (a * a * d * d + p * p * b * b) / (2 * bd * bd) : Float(1);
+  }
+
+  // Dielectric Fresnel (as fresnel_dielectric) for |cos θ| = c (c2 = c²) on the side from
+  // which the relative index to cross is e = 1/inv_e; cos θt by Snell's law, and 1 under
+  // total internal reflection.
+  [[gnu::always_inline]] static Float fresnel(Float c, Float c2, Float e, Float inv_e) {
+    const Float sin2_t = std::max(Float(0), 1 - c2) * (inv_e * inv_e);
+    if (sin2_t >= 1) return 1;
+    return reflectance(c, std::sqrt(1 - sin2_t), e);
+  }
+
+  // The (unnormalised) half vector of a pair and its dot products.
+  struct Half {
+    Vec3 h;          // ∝ wm, turned to the outside
+    Float h2 = 0;    // |h|²
+    Float ha = 0, hb = 0;  // a·h, b·h (a = the outside direction, or wo for reflection)
+    bool valid = false;
+  };
+  // The half vector and every dot product are computed from the pair in a fixed order
+  // (for transmission: the outside direction, then the inside one), so that f(wo, wi)
+  // and f(wi, wo) use identical numbers and reciprocity holds to rounding even where
+  // Fresnel is steep, at the critical angle of a microfacet.
+  [[gnu::always_inline]] Half half_vector(const Vec3& wo, const Vec3& wi, bool reflection) const {
+    if (reflection) return half_vector_ab(wo, wi, true);
+    return wo.z > 0 ? half_vector_ab(wo, wi, false) : half_vector_ab(wi, wo, false);
+  }
+  // a: the outside direction (or wo, for reflection), b: the inside one (or wi). By value,
+  // so that a caller's directions can stay in registers.
+  [[gnu::always_inline]] Half half_vector_ab(const Vec3 a, const Vec3 b, bool reflection) const {
+    // h ∝ n_a a + n_b b (Walter et al. 2007, eq. 16), turned to the outside.
+    Half r;
+    r.h = reflection ? a + b : a + b * eta;
+    r.h2 = length_squared(r.h);
+    if (r.h2 == 0) return r;
+    if (r.h.z < 0) r.h = -r.h;
+    r.ha = dot(a, r.h);
+    r.hb = dot(b, r.h);
+    // Microfacets seen from behind by either direction contribute nothing.
+    r.valid = !(r.ha * a.z <= 0 || r.hb * b.z <= 0);
+    return r;
+  }
+
+  // f and pdf (kWithF) or the pdf alone, from one code path. The hot helpers are forced
+  // inline: called out of line, their small structs travel through memory and the
+  // reloads stall on store forwarding.
+  template <bool kWithF, int kType>
+  [[gnu::always_inline]] BSDFEval evaluate(const Vec3& wo, const Vec3& wi, TransportMode mode) const {
+    if (specular() || grazing(wo) || grazing(wi)) return {};
+    const bool reflection = (wo.z > 0) == (wi.z > 0);
+    const Half hv = half_vector(wo, wi, reflection);
+    if (!hv.valid) return {};
+    return from_half<kWithF, kType>(wo, wi, mode, reflection, hv, distribution.smith_t<kType>(wo));
+  }
+
+  // eval given the half vector and T(wo) = smith_t(wo); sample() calls it for its pdf.
+  template <bool kWithF, int kType>
+  [[gnu::always_inline]] BSDFEval from_half(const Vec3& wo, const Vec3& wi, TransportMode mode, bool reflection, const Half& hv,
+                     Float to) const {
+    const Float cos_o = std::abs(wo.z), cos_i = std::abs(wi.z);
+    const Float to_plus = to + cos_o;
+    // With T = smith_t: G2 / (|cos θo| |cos θi|) = 2 / (|cos θi| T(wo) + |cos θo| T(wi)) and
+    // D_wo(wm) = G1(wo) |wo·wm| D / |cos θo| = 2 D |wo·wm| / (T(wo) + |cos θo|).
+    const auto g2_over_cos = [&] { return 2 / (cos_i * to + cos_o * distribution.smith_t<kType>(wi)); };
+    if (reflection) {
+      // F at wo·wm = wi·wm = |wo + wi|/2 (for unit wo, wi): symmetric in the pair, and free
+      // of the cancellation in wo·h = 1 + wo·wi near grazing.
+      const Float c2 = std::min(hv.h2 / 4, Float(1)), c = std::sqrt(c2);
+      const Float F = wo.z < 0 ? fresnel(c, c2, 1 / eta, eta) : fresnel(c, c2, eta, 1 / eta);
+      const Float D = distribution.D_unnormalized<kType>(hv.h, hv.h2);
+      // pdf = D_wo / (4 |wo·wm|) F = F D / (2 (T(wo) + |cos θo|)) (Walter et al. 2007, eq. 14)
+      const Float pdf = F * (D / (2 * to_plus));
+      if constexpr (!kWithF) return {Color{}, pdf};
+      // f = D G2 F / (4 |cos θo| |cos θi|) (eq. 20)
+      return {Color(F * (D * g2_over_cos() / 4)), pdf};
+    }
+    // Transmittance 1 − F of the pair from its two cosines with the facet normal,
+    // ca = a·h > 0 outside and cb = −b·h > 0 inside (in the common scale |h|, which cancels:
+    // Snell's law holds for the pair by construction of h, so no sqrt is needed). With
+    // Hecht's denominators B = ca + η cb, Dd = η ca + cb, B² − A² = Dd² − P² = 4 η ca cb, so
+    // 1 − F = 2 η ca cb (B² + Dd²) / (B² Dd²): no cancellation where F → 1.
+    const Float ca = hv.ha, cb = -hv.hb;
+    const Float B = ca + eta * cb, Dd = eta * ca + cb;
+    const Float B2 = B * B, Dd2 = Dd * Dd;
+    const Float dots = ca * cb;
+    const Float D = distribution.D_unnormalized<kType>(hv.h, hv.h2);
+    // (1 − F) / |h|⁴ as one quotient (D kept apart: it can be huge for a narrow lobe)
+    const Float num = 2 * eta * dots * (B2 + Dd2), den = (B2 * Dd2) * (hv.h2 * hv.h2);
+    // pdf = D_wo(wm) dωm/dωi (1 − F), with dωm/dωi = n_wi² |wi·wm| / S (eq. 17) and
+    // S = (n_a a·wm + n_b b·wm)² = |h|² for h = n_a a + n_b b; in terms of h:
+    // 2 (1 − F) (D/|h|⁴) |a·h| |b·h| n_wi² / (T(wo) + |cos θo|).
+    const Float n_wi2 = wo.z > 0 ? eta * eta : Float(1);
+    const Float pdf = den > 0 ? num / (den * to_plus) * D * (dots * n_wi2 * 2) : Float(0);
+    if constexpr (!kWithF) return {Color{}, pdf};
+    // Eq. 21 in radiance mode, with wo outside (n_wo = 1, n_wi = η):
+    //   f = D G2 (1 − F) |a·wm| |b·wm| / (|cos θa| |cos θb| S);
+    // with wo inside it is η² times that (the generalized reciprocity of SPEC §1).
+    // Importance mode differs by (n_wi/n_wo)².
+    const Float base = den > 0 ? num / den * D * (dots * g2_over_cos()) : Float(0);
+    const Float eta_crossed = wo.z > 0 ? eta : 1 / eta;  // n_wi / n_wo
+    const Float f = base * (wo.z > 0 ? Float(1) : eta * eta) * (mode == TransportMode::Radiance ? Float(1) : eta_crossed * eta_crossed);
+    return {Color(f), pdf};
   }
 };
 

@@ -36,17 +36,32 @@ inline SinCos sincos_quarter(Float x) {
   return {s, c};
 }
 
+// The same on [−π/4, π/4] with the minimax polynomials of the Cephes library's single-
+// precision sinf/cosf kernels (Moshier, Cephes Mathematical Library, sinf.c): two terms
+// fewer, max error 4.6e-8 (sin) and 7.4e-8 (cos), within float rounding.
+inline SinCos sincos_quarter_minimax(Float x) {
+  const Float z = x * x;
+  const Float s = x + x * z * (Float(-1.6666654611e-1) + z * (Float(8.3321608736e-3) + z * Float(-1.9515295891e-4)));
+  const Float c = 1 - Float(0.5) * z +
+                  z * z * (Float(4.166664568298827e-2) + z * (Float(-1.388731625493765e-3) + z * Float(2.443315711809948e-5)));
+  return {s, c};
+}
+
 // cos(2πu) and sin(2πu) for u in [0, 1]: the nearest quarter turn k = round(4u) is
 // split off exactly, the remainder (π/2)(4u − k) lies in [−π/4, π/4], and the result is
 // turned by k quarter turns. Replaces a libm sincos call (~15 ns) in the samplers.
+// Rounding is by a truncating conversion (4u + 1/2 ≥ 0), not std::nearbyint, which is a
+// library call on baseline x86-64; the turn is applied with a 4-entry table of (cos, sin)
+// of kπ/2 (entries 0 and ±1, so the products are exact) instead of a chain of branches.
 inline SinCos sincos_2pi(Float u) {
   const Float q = 4 * u;
-  const Float k = std::nearbyint(q);
-  const SinCos r = sincos_quarter(kPiOver2 * (q - k));
-  const int quarter = static_cast<int>(k) & 3;
+  const int k = static_cast<int>(q + Float(0.5));
+  const SinCos r = sincos_quarter_minimax(kPiOver2 * (q - static_cast<Float>(k)));
+  static constexpr Float kCos[4] = {1, 0, -1, 0}, kSin[4] = {0, 1, 0, -1};
+  const int quarter = k & 3;
   // (cos, sin) of r + k π/2
-  const Float c = quarter == 0 ? r.cos : quarter == 1 ? -r.sin : quarter == 2 ? -r.cos : r.sin;
-  const Float s = quarter == 0 ? r.sin : quarter == 1 ? r.cos : quarter == 2 ? -r.sin : -r.cos;
+  const Float c = kCos[quarter] * r.cos - kSin[quarter] * r.sin;
+  const Float s = kSin[quarter] * r.cos + kCos[quarter] * r.sin;
   return {s, c};
 }
 
