@@ -282,8 +282,11 @@ BxDF make_roughdielectric(Params& p) {
   RoughDielectricBxDF m;
   m.distribution = make_distribution(p);
   m.eta = dielectric_eta(p);
-  if (make_multiscatter_flag(p))
-    p.fail("multiscatter is not implemented for roughdielectric yet (it is for roughconductor)");
+  if (make_multiscatter_flag(p)) {
+    if (!m.distribution.is_isotropic())
+      p.fail("multiscatter needs an isotropic alpha (a number), got [alpha_x, alpha_y]");
+    if (!m.specular()) m.multiscatter = DielectricMultiscatterLobe::make(m.distribution, m.eta);
+  }
   return m;
 }
 
@@ -566,6 +569,16 @@ void apply(DielectricBxDF&, const ParamValue&, Changed&) {}
 
 template <typename M>
 void finish(M&, const Changed&) {}
+void finish(RoughDielectricBxDF& m, const Changed& c) {
+  if (!m.multiscatter || !c.alpha) return;
+  if (m.specular() || !m.distribution.is_isotropic()) {
+    // As material_from_json does for a specular model; an anisotropic one (textured
+    // alpha_x, alpha_y) has no compensation (see dielectric_multiscatter.h).
+    m.multiscatter.reset();
+    return;
+  }
+  m.multiscatter = DielectricMultiscatterLobe::remake(m.distribution, m.eta, m.multiscatter->fbar_out);
+}
 void finish(ConductorBxDF& m, const Changed& c) {
   if (c.index) set_f0_from_index(m.fresnel);
 }

@@ -38,6 +38,76 @@ double albedo(MicrofacetType type, double alpha, double mu) {
   return sum / (n * n);
 }
 
+// Importance-mode R + T of the single-scattering rough dielectric for wo on top with
+// relative index e = n(far side) / n(wo's side): the expected weight of visible-normal
+// sampling, F G2/G1(wo) for the reflection and (1 − F) G2/G1(wo) for the refraction
+// (Walter et al. 2007, eqs. 20, 21 with the Jacobians of eqs. 14, 17 cancelling).
+double dielectric_albedo(MicrofacetType type, double alpha, double e, double mu) {
+  const MicrofacetDistribution d{type, Float(alpha), Float(alpha)};
+  const double s = std::sqrt(std::max(0.0, 1 - mu * mu));
+  const Vec3 wo{Float(s), 0, Float(mu)};
+  constexpr int n = 40;
+  double sum = 0;
+  const double lo = d.Lambda(wo);
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) {
+      const Vec3 wm = d.sample_visible(wo, Float((i + 0.5) / n), Float((j + 0.5) / n));
+      const double c = dot(wo, wm);
+      if (!(c > 0)) continue;
+      const double F = fresnel_dielectric(c, e);
+      const Vec3 wr = reflect(wo, wm);
+      if (wr.z > 0) sum += F * (1 + lo) / (1 + lo + d.Lambda(wr));
+      if (F < 1) {
+        const auto t = refract(wo, wm, Float(e));
+        if (t && t->wt.z < 0) sum += (1 - F) * (1 + lo) / (1 + lo + d.Lambda(-t->wt));
+      }
+    }
+  return sum / (n * n);
+}
+
+void write_dielectric_tables(FILE* out, const char* name, MicrofacetType type) {
+  static double e[2][kAlbedoRoughnessSize][kDielectricEtaSize][kDielectricCosineSize];
+  std::fprintf(out, "const DielectricAlbedoTable %sDielectricAlbedo = {\n", name);
+  for (int side = 0; side < 2; ++side) {
+    std::fprintf(out, " {\n");
+    for (int a = 0; a < kAlbedoRoughnessSize; ++a) {
+      std::fprintf(out, "  {\n");
+      for (int k = 0; k < kDielectricEtaSize; ++k) {
+        const double eta = dielectric_table_eta(k);
+        std::fprintf(out, "   {");
+        for (int m = 0; m < kDielectricCosineSize; ++m) {
+          e[side][a][k][m] = dielectric_albedo(type, albedo_table_alpha(a), side == 0 ? eta : 1 / eta, dielectric_table_mu(m));
+          std::fprintf(out, "%s%.7g", m ? ", " : "", e[side][a][k][m]);
+        }
+        std::fprintf(out, "},\n");
+      }
+      std::fprintf(out, "  },\n");
+    }
+    std::fprintf(out, " },\n");
+  }
+  std::fprintf(out, "};\n\nconst DielectricAverageTable %sDielectricAverage = {\n", name);
+  const double h = 1.0 / (kDielectricCosineSize - 1);
+  for (int side = 0; side < 2; ++side) {
+    std::fprintf(out, " {");
+    for (int a = 0; a < kAlbedoRoughnessSize; ++a) {
+      std::fprintf(out, "{");
+      for (int k = 0; k < kDielectricEtaSize; ++k) {
+        // 2 ∫ E(μ) μ dμ of the linear interpolant, exactly: on [μa, μa + h] with
+        // E = Ea + (Eb − Ea)(μ − μa)/h the integral of E μ is h (Ea (2μa + μb) + Eb (μa + 2μb)) / 6.
+        double acc = 0;
+        for (int m = 0; m + 1 < kDielectricCosineSize; ++m) {
+          const double ma = m * h, mb = (m + 1) * h;
+          acc += h * (e[side][a][k][m] * (2 * ma + mb) + e[side][a][k][m + 1] * (ma + 2 * mb)) / 6;
+        }
+        std::fprintf(out, "%s%.9g", k ? ", " : "", 2 * acc);
+      }
+      std::fprintf(out, "},");
+    }
+    std::fprintf(out, "},\n");
+  }
+  std::fprintf(out, "};\n\n");
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -78,6 +148,8 @@ int main(int argc, char** argv) {
     for (int a = 0; a < kAlbedoRoughnessSize; ++a) std::fprintf(out, "%s%.9g", a ? ", " : "", avg[a]);
     std::fprintf(out, "};\n\n");
   }
+  write_dielectric_tables(out, "kGgx", MicrofacetType::GGX);
+  write_dielectric_tables(out, "kBeckmann", MicrofacetType::Beckmann);
   std::fprintf(out, "}  // namespace gonio::tables\n");
   return std::fclose(out) == 0 ? 0 : 1;
 }

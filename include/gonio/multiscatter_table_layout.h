@@ -24,4 +24,30 @@ extern const float kGgxAverageAlbedo[kAlbedoRoughnessSize];
 extern const float kBeckmannAlbedo[kAlbedoRoughnessSize][kAlbedoCosineSize];
 extern const float kBeckmannAverageAlbedo[kAlbedoRoughnessSize];
 
+// Rough dielectric albedo tables E(μ, α, η'): R + T of the single-scattering rough
+// dielectric in importance mode, for wo on the side of the lower index ("enter", light
+// going into the denser medium) and of the higher one ("exit"), with η' ≥ 1 the ratio of
+// the two indices. Rows by α as above; η' nodes uniform in z = sqrt((η'−1)/(η'+1)) on
+// [0, sqrt(3/5)] (η' from 1 to 4, denser near 1 where E changes fastest); μ uniform.
+inline constexpr int kDielectricEtaSize = 16;
+inline constexpr int kDielectricCosineSize = 65;
+inline constexpr double kDielectricZMax = 0.7745966692414834;  // sqrt(3/5): η' = 4
+
+constexpr double dielectric_table_eta(int k) {
+  const double z = kDielectricZMax * double(k) / (kDielectricEtaSize - 1);
+  return (1 + z * z) / (1 - z * z);
+}
+constexpr double dielectric_table_mu(int m) {
+  const double mu = double(m) / (kDielectricCosineSize - 1);
+  return mu < 1e-4 ? 1e-4 : mu;
+}
+
+// [side: 0 enter, 1 exit][α row][η' node][μ]
+using DielectricAlbedoTable = float[2][kAlbedoRoughnessSize][kDielectricEtaSize][kDielectricCosineSize];
+// Cosine-weighted means 2 ∫ E μ dμ of the piecewise-linear interpolant in μ, so that the
+// compensation lobe integrates exactly to what the table says is missing.
+using DielectricAverageTable = float[2][kAlbedoRoughnessSize][kDielectricEtaSize];
+extern const DielectricAlbedoTable kGgxDielectricAlbedo, kBeckmannDielectricAlbedo;
+extern const DielectricAverageTable kGgxDielectricAverage, kBeckmannDielectricAverage;
+
 }  // namespace gonio::tables

@@ -65,6 +65,8 @@ TEST(Material, ErrorsNameTheField) {
   expect_error(R"({"type":"diffuse",})", {"malformed JSON", "line 1"});
   expect_error("{\n\"type\": \"diffuse\"\n\"reflectance\": 1}", {"malformed JSON", "line 3"});
   expect_error(R"([1,2])", {"JSON object"});
+  expect_error(R"({"type":"roughdielectric","alpha":[0.2,0.4],"multiscatter":true})",
+               {"roughdielectric", "multiscatter", "isotropic"});
   expect_error(R"({"reflectance":0.5})", {"type"});
   expect_error(R"({"type":5})", {"type"});
   expect_error(R"({"type":"velvet"})", {"unknown type", "velvet"});

@@ -84,6 +84,11 @@ INSTANTIATE_TEST_SUITE_P(
       R"({"type":"roughdielectric","alpha":0.3,"eta":1})",
       R"({"type":"roughdielectric","alpha":0.3,"eta":1.0001})",
       R"({"type":"roughdielectric","alpha":0.3,"eta":1.004})",
+      R"({"type":"roughdielectric","alpha":1,"eta":1.5,"multiscatter":true})",
+      R"({"type":"roughdielectric","alpha":0.3,"eta":0.7,"multiscatter":true})",
+      R"({"type":"roughdielectric","alpha":0.5,"distribution":"beckmann","eta":1.33,"multiscatter":true})",
+      R"({"type":"roughdielectric","alpha":1,"eta":1.05,"multiscatter":true})",
+      R"({"type":"roughdielectric","alpha":0.05,"eta":2.4,"multiscatter":true})",
       // The classic models and the layered and blended ones.
       R"({"type":"orennayar","sigma":20})",
       R"({"type":"orennayar","reflectance":[1,0.5,0],"sigma":60,"model":"full"})",

@@ -14,6 +14,7 @@
 
 #include "gonio/bxdf/contract.h"
 #include "gonio/bxdf/dielectric.h"
+#include "gonio/dielectric_multiscatter.h"
 #include "gonio/fresnel.h"
 #include "gonio/microfacet.h"
 
@@ -23,6 +24,9 @@ struct RoughDielectricBxDF {
   static constexpr std::string_view kName = "roughdielectric";
   MicrofacetDistribution distribution;
   Float eta = 1.5f;  // n_inside / n_outside
+  // Kulla & Conty's energy compensation (dielectric_multiscatter.h), when enabled; only
+  // for a model that is not specular().
+  std::optional<DielectricMultiscatterLobe> multiscatter;
 
   // An index-matched interface (η = 1) refracts nothing: light goes straight through,
   // a delta lobe whatever the roughness; near η = 1 the transmitted lobe is about
@@ -49,13 +53,17 @@ struct RoughDielectricBxDF {
 
   // Each entry point runs code instantiated for its distribution type (see is_ggx).
   BSDFEval eval(const Vec3& wo, const Vec3& wi, TransportMode mode = TransportMode::Radiance) const {
-    return distribution.type == MicrofacetType::GGX ? evaluate<true, static_cast<int>(MicrofacetType::GGX)>(wo, wi, mode)
-                                                    : evaluate<true, static_cast<int>(MicrofacetType::Beckmann)>(wo, wi, mode);
+    BSDFEval e = distribution.type == MicrofacetType::GGX
+                     ? evaluate<true, static_cast<int>(MicrofacetType::GGX)>(wo, wi, mode)
+                     : evaluate<true, static_cast<int>(MicrofacetType::Beckmann)>(wo, wi, mode);
+    if (multiscatter) add_multiscatter(wo, wi, mode, e);
+    return e;
   }
   Color f(const Vec3& wo, const Vec3& wi, TransportMode mode = TransportMode::Radiance) const {
     return eval(wo, wi, mode).f;
   }
   Float pdf(const Vec3& wo, const Vec3& wi, TransportMode mode = TransportMode::Radiance) const {
+    if (multiscatter) return eval(wo, wi, mode).pdf;
     return distribution.type == MicrofacetType::GGX ? evaluate<false, static_cast<int>(MicrofacetType::GGX)>(wo, wi, mode).pdf
                                                     : evaluate<false, static_cast<int>(MicrofacetType::Beckmann)>(wo, wi, mode).pdf;
   }
@@ -64,6 +72,7 @@ struct RoughDielectricBxDF {
                                    TransportMode mode = TransportMode::Radiance) const {
     if (specular()) return DielectricBxDF{eta}.sample(wo, u_lobe, u1, u2, mode);
     if (grazing(wo)) return std::nullopt;
+    if (multiscatter) return sample_mixture(wo, u_lobe, u1, u2, mode);
     constexpr int kGGX = static_cast<int>(MicrofacetType::GGX), kBeckmann = static_cast<int>(MicrofacetType::Beckmann);
     if (distribution.type == MicrofacetType::GGX) {
       return wo.z > 0 ? sample_rough<kGGX, true>(wo, u_lobe, u1, u2, mode)
@@ -74,6 +83,56 @@ struct RoughDielectricBxDF {
   }
 
  private:
+  // Adds the compensation lobe to a single-scattering evaluation: f (radiance mode: times
+  // (n_wo/n_wi)² on transmission, SPEC §1) and the mixture's density.
+  void add_multiscatter(const Vec3& wo, const Vec3& wi, TransportMode mode, BSDFEval& e) const {
+    if (grazing(wo) || grazing(wi)) return;
+    const bool wo_out = wo.z > 0, wi_out = wi.z > 0;
+    const Float cos_o = std::abs(wo.z), cos_i = std::abs(wi.z);
+    Float f = multiscatter->f_importance(wo_out, wi_out, cos_o, cos_i);
+    if (wo_out != wi_out && mode == TransportMode::Radiance) {
+      const Float ratio = wo_out ? 1 / eta : eta;  // n_wo / n_wi
+      f *= ratio * ratio;
+    }
+    const Float p = multiscatter->probability(wo_out, cos_o);
+    e.f += Color(f);
+    e.pdf = (1 - p) * e.pdf + p * multiscatter->pdf(wo_out, wi_out, cos_i);
+  }
+
+  // Sampling of the mixture: the compensation lobe with its probability (a cosine-weighted
+  // direction on the side chosen by its reflection/transmission split), else the
+  // single-scattering sampler; the weight is f |cos θi| / pdf of the mixture.
+  std::optional<BSDFSample> sample_mixture(const Vec3& wo, Float u_lobe, Float u1, Float u2,
+                                           TransportMode mode) const {
+    const bool wo_out = wo.z > 0;
+    const Float p = multiscatter->probability(wo_out, std::abs(wo.z));
+    Vec3 wi;
+    if (u_lobe < p) {
+      const Float u = u_lobe / p;
+      const Float reflect_share = wo_out ? multiscatter->r_out : multiscatter->r_in;
+      wi = square_to_cosine_hemisphere(u1, u2);
+      // Reflection stays on wo's side; transmission goes to the other.
+      const bool same_side = u < reflect_share;
+      if (wo_out != same_side) wi.z = -wi.z;
+    } else {
+      const Float u = std::min((u_lobe - p) / (1 - p), kOneMinusEpsilon);
+      constexpr int kGGX = static_cast<int>(MicrofacetType::GGX), kBeckmann = static_cast<int>(MicrofacetType::Beckmann);
+      const auto s = distribution.type == MicrofacetType::GGX
+                         ? (wo_out ? sample_rough<kGGX, true>(wo, u, u1, u2, mode) : sample_rough<kGGX, false>(wo, u, u1, u2, mode))
+                         : (wo_out ? sample_rough<kBeckmann, true>(wo, u, u1, u2, mode)
+                                   : sample_rough<kBeckmann, false>(wo, u, u1, u2, mode));
+      if (!s) return std::nullopt;
+      wi = s->wi;
+    }
+    if (grazing(wi)) return std::nullopt;
+    const BSDFEval e = eval(wo, wi, mode);
+    if (!(e.pdf > 0)) return std::nullopt;
+    const bool transmit = (wi.z > 0) != wo_out;
+    const Float crossed = transmit ? (wo_out ? eta : 1 / eta) : Float(1);
+    return BSDFSample{wi, e.f * (std::abs(wi.z) / e.pdf), e.pdf, false,
+                      transmit ? Lobe::Transmission : Lobe::Reflection, crossed};
+  }
+
   // The sampler per distribution type and side of wo (outside: wo.z > 0).
   template <int kType, bool kOutside>
   [[gnu::always_inline]] std::optional<BSDFSample> sample_rough(const Vec3& wo, Float u_lobe, Float u1, Float u2,
