@@ -21,21 +21,29 @@ using namespace gonio::tables;
 
 namespace {
 
-double albedo(MicrofacetType type, double alpha, double mu) {
+// The mean over an n × n midpoint grid of the visible-normal sampling square of
+// weight(wm, G2/G1 as a function of wi), for wo at cos θ = mu on an isotropic surface.
+template <typename Weight>
+double mean_over_visible_normals(MicrofacetType type, double alpha, double mu, int n, Weight&& weight) {
   const MicrofacetDistribution d{type, Float(alpha), Float(alpha)};
   const double s = std::sqrt(std::max(0.0, 1 - mu * mu));
   const Vec3 wo{Float(s), 0, Float(mu)};
-  constexpr int n = 96;
-  double sum = 0;
   const double lo = d.Lambda(wo);
+  // G2(wo, wi)/G1(wo) of the height-correlated Smith model (Heitz 2014).
+  auto g2_over_g1 = [&](const Vec3& wi) { return (1 + lo) / (1 + lo + d.Lambda(wi)); };
+  double sum = 0;
   for (int i = 0; i < n; ++i)
-    for (int j = 0; j < n; ++j) {
-      const Vec3 wm = d.sample_visible(wo, Float((i + 0.5) / n), Float((j + 0.5) / n));
-      const Vec3 wi = reflect(wo, wm);
-      if (!(wi.z > 0)) continue;
-      sum += (1 + lo) / (1 + lo + d.Lambda(wi));
-    }
-  return sum / (n * n);
+    for (int j = 0; j < n; ++j)
+      sum += weight(wo, d.sample_visible(wo, Float((i + 0.5) / n), Float((j + 0.5) / n)), g2_over_g1);
+  return sum / (double(n) * n);
+}
+
+// E(μ) of the F = 1 microfacet BRDF.
+double albedo(MicrofacetType type, double alpha, double mu) {
+  return mean_over_visible_normals(type, alpha, mu, 96, [](const Vec3& wo, const Vec3& wm, auto& g) {
+    const Vec3 wi = reflect(wo, wm);
+    return wi.z > 0 ? g(wi) : 0.0;
+  });
 }
 
 // Importance-mode R + T of the single-scattering rough dielectric for wo on top with
@@ -43,26 +51,19 @@ double albedo(MicrofacetType type, double alpha, double mu) {
 // sampling, F G2/G1(wo) for the reflection and (1 − F) G2/G1(wo) for the refraction
 // (Walter et al. 2007, eqs. 20, 21 with the Jacobians of eqs. 14, 17 cancelling).
 double dielectric_albedo(MicrofacetType type, double alpha, double e, double mu) {
-  const MicrofacetDistribution d{type, Float(alpha), Float(alpha)};
-  const double s = std::sqrt(std::max(0.0, 1 - mu * mu));
-  const Vec3 wo{Float(s), 0, Float(mu)};
-  constexpr int n = 40;
-  double sum = 0;
-  const double lo = d.Lambda(wo);
-  for (int i = 0; i < n; ++i)
-    for (int j = 0; j < n; ++j) {
-      const Vec3 wm = d.sample_visible(wo, Float((i + 0.5) / n), Float((j + 0.5) / n));
-      const double c = dot(wo, wm);
-      if (!(c > 0)) continue;
-      const double F = fresnel_dielectric(c, e);
-      const Vec3 wr = reflect(wo, wm);
-      if (wr.z > 0) sum += F * (1 + lo) / (1 + lo + d.Lambda(wr));
-      if (F < 1) {
-        const auto t = refract(wo, wm, Float(e));
-        if (t && t->wt.z < 0) sum += (1 - F) * (1 + lo) / (1 + lo + d.Lambda(-t->wt));
-      }
+  return mean_over_visible_normals(type, alpha, mu, 40, [e](const Vec3& wo, const Vec3& wm, auto& g) {
+    const double c = dot(wo, wm);
+    if (!(c > 0)) return 0.0;
+    const double F = fresnel_dielectric(c, e);
+    double sum = 0;
+    const Vec3 wr = reflect(wo, wm);
+    if (wr.z > 0) sum += F * g(wr);
+    if (F < 1) {
+      const auto t = refract(wo, wm, Float(e));
+      if (t && t->wt.z < 0) sum += (1 - F) * g(-t->wt);
     }
-  return sum / (n * n);
+    return sum;
+  });
 }
 
 void write_dielectric_tables(FILE* out, const char* name, MicrofacetType type) {

@@ -254,17 +254,22 @@ void on_png_error(png_structp png, png_const_charp msg) {
 // Warnings (e.g. an odd gamma chunk) do not stop decoding; the library prints nothing.
 void on_png_warning(png_structp, png_const_charp) {}
 
-class PngReader {
+// libpng's read or write struct with its info struct, destroyed on every path.
+template <bool kWrite>
+class PngHandle {
  public:
-  explicit PngReader(PngStatus* status) {
-    png_ = png_create_read_struct(PNG_LIBPNG_VER_STRING, status, on_png_error, on_png_warning);
+  explicit PngHandle(PngStatus* status) {
+    png_ = kWrite ? png_create_write_struct(PNG_LIBPNG_VER_STRING, status, on_png_error, on_png_warning)
+                  : png_create_read_struct(PNG_LIBPNG_VER_STRING, status, on_png_error, on_png_warning);
     if (png_) info_ = png_create_info_struct(png_);
   }
-  ~PngReader() {
-    if (png_) png_destroy_read_struct(&png_, info_ ? &info_ : nullptr, nullptr);
+  ~PngHandle() {
+    if (!png_) return;
+    if constexpr (kWrite) png_destroy_write_struct(&png_, info_ ? &info_ : nullptr);
+    else png_destroy_read_struct(&png_, info_ ? &info_ : nullptr, nullptr);
   }
-  PngReader(const PngReader&) = delete;
-  PngReader& operator=(const PngReader&) = delete;
+  PngHandle(const PngHandle&) = delete;
+  PngHandle& operator=(const PngHandle&) = delete;
   bool ok() const { return png_ && info_; }
   png_structp png() const { return png_; }
   png_infop info() const { return info_; }
@@ -273,26 +278,8 @@ class PngReader {
   png_structp png_ = nullptr;
   png_infop info_ = nullptr;
 };
-
-class PngWriter {
- public:
-  explicit PngWriter(PngStatus* status) {
-    png_ = png_create_write_struct(PNG_LIBPNG_VER_STRING, status, on_png_error, on_png_warning);
-    if (png_) info_ = png_create_info_struct(png_);
-  }
-  ~PngWriter() {
-    if (png_) png_destroy_write_struct(&png_, info_ ? &info_ : nullptr);
-  }
-  PngWriter(const PngWriter&) = delete;
-  PngWriter& operator=(const PngWriter&) = delete;
-  bool ok() const { return png_ && info_; }
-  png_structp png() const { return png_; }
-  png_infop info() const { return info_; }
-
- private:
-  png_structp png_ = nullptr;
-  png_infop info_ = nullptr;
-};
+using PngReader = PngHandle<false>;
+using PngWriter = PngHandle<true>;
 
 struct PngLayout {
   png_uint_32 width, height;

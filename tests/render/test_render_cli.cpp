@@ -6,34 +6,14 @@
 #include <string>
 
 #include "../cli/run_gonio.h"
+#include "scratch_dir.h"
 
 namespace gonio_cli_test {
 namespace {
 
 namespace fs = std::filesystem;
 
-// A scratch directory removed at the end of the test.
-class ScratchDir {
- public:
-  ScratchDir() {
-    std::string tmpl = (fs::temp_directory_path() / "gonio_render_XXXXXX").string();
-    if (!::mkdtemp(tmpl.data())) throw std::runtime_error("mkdtemp failed");
-    path_ = tmpl;
-  }
-  ~ScratchDir() {
-    std::error_code ec;
-    fs::remove_all(path_, ec);
-  }
-  std::string file(const std::string& name, const std::string& contents) const {
-    const std::string p = (path_ / name).string();
-    std::ofstream(p) << contents;
-    return p;
-  }
-  std::string path(const std::string& name) const { return (path_ / name).string(); }
-
- private:
-  fs::path path_;
-};
+using gonio::test::ScratchDir;
 
 const char* kSmallScene = R"({
   "camera": {"position": [0, 1, 4], "look_at": [0, 0.5, 0], "width": 24, "height": 16},

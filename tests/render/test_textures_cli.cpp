@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "../cli/run_gonio.h"
+#include "scratch_dir.h"
 #include "gonio/render/image.h"
 
 namespace gonio_cli_test {
@@ -16,27 +17,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-class TextureScratchDir {
- public:
-  TextureScratchDir() {
-    std::string tmpl = (fs::temp_directory_path() / "gonio_textures_XXXXXX").string();
-    if (!::mkdtemp(tmpl.data())) throw std::runtime_error("mkdtemp failed");
-    path_ = tmpl;
-  }
-  ~TextureScratchDir() {
-    std::error_code ec;
-    fs::remove_all(path_, ec);
-  }
-  std::string file(const std::string& name, const std::string& contents) const {
-    const std::string p = path(name);
-    std::ofstream(p) << contents;
-    return p;
-  }
-  std::string path(const std::string& name) const { return (path_ / name).string(); }
-
- private:
-  fs::path path_;
-};
+using gonio::test::ScratchDir;
 
 // A scene with one quad whose material is `material`.
 std::string quad_scene(const std::string& material) {
@@ -47,7 +28,7 @@ std::string quad_scene(const std::string& material) {
 }
 
 TEST(TexturesCli, GoodTexturesRender) {
-  TextureScratchDir dir;
+  ScratchDir dir;
   gonio::render::Image rough(4, 4);
   for (auto y = 0; y < 4; ++y)
     for (auto x = 0; x < 4; ++x) rough.at(x, y) = gonio::Color(gonio::Float(0.1 + 0.05 * (x + y)));
@@ -100,7 +81,7 @@ TEST(TexturesCli, BadTextureInputIsOneLineAndExit2) {
   };
   for (const auto& c : cases) {
     SCOPED_TRACE(c.name);
-    TextureScratchDir dir;
+    ScratchDir dir;
     gonio::render::Image rough(6, 5), bright(2, 2);
     for (auto y = 0; y < 5; ++y)
       for (auto x = 0; x < 6; ++x) rough.at(x, y) = gonio::Color(0.2f);
