@@ -138,6 +138,7 @@ LightSample sample_area_light(const AreaLight& light, const Vec3& p, Float u1, F
   const Float d = std::sqrt(d2);
   const Float sin2 = r2 / d2;
   const Float omc = one_minus_cos_cone(sin2);
+  if (!(omc > 0)) return s;  // r²/d² underflowed: the sphere subtends no solid angle in float
   const Vec3 local = square_to_uniform_cone(u1, u2, 1 - omc);
   const Frame frame = Frame::from_normal(to_center / d);
   s.wi = normalize(frame.to_world(local));
@@ -163,7 +164,8 @@ Float area_light_pdf(const AreaLight& light, const Vec3& p, const Vec3& on_light
   const Float d2 = length_squared(sp.center - p);
   const Float r2 = sp.radius * sp.radius;
   if (d2 <= r2) return 0;
-  return 1 / (2 * kPi * one_minus_cos_cone(r2 / d2));
+  const Float omc = one_minus_cos_cone(r2 / d2);
+  return omc > 0 ? 1 / (2 * kPi * omc) : Float(0);
 }
 
 Color area_light_radiance(const AreaLight& light, const Vec3& n, const Vec3& w) {

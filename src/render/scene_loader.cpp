@@ -18,6 +18,7 @@
 #include <nlohmann/json.hpp>
 
 #include "gonio/error.h"
+#include "gonio/json_text.h"
 #include "gonio/material.h"
 #include "gonio/render/mesh_loader.h"
 #include "gonio/render/texture.h"
@@ -578,21 +579,7 @@ struct Loader {
 }  // namespace
 
 Scene parse_scene(std::string_view text, const std::string& source, const std::string& base_dir) {
-  json root;
-  try {
-    root = json::parse(text.begin(), text.end());
-  } catch (const json::parse_error& e) {
-    size_t line = 1, col = 1;
-    const size_t end = std::min(e.byte == 0 ? 0 : e.byte - 1, text.size());
-    for (size_t i = 0; i < end; ++i) {
-      if (text[i] == '\n') { ++line; col = 1; } else { ++col; }
-    }
-    std::string what = e.what();
-    // nlohmann's message starts with "[json.exception.parse_error.101] parse error at ...: ".
-    const auto colon = what.find(": ");
-    if (colon != std::string::npos) what = what.substr(colon + 2);
-    throw InputError(source + ":" + std::to_string(line) + ":" + std::to_string(col) + ": JSON syntax error: " + what);
-  }
+  const json root = parse_json_text(text, source);
   Loader loader{source, base_dir, {}, {}, {}};
   loader.load(root);
   return std::move(loader.scene);

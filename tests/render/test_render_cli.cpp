@@ -60,7 +60,8 @@ struct BadScene {
 
 TEST(RenderCli, BadSceneInputIsOneLineAndExit2) {
   const std::vector<BadScene> cases = {
-      {"syntax", "{\n  \"camera\": {,\n}", {"s.json:2:", "syntax"}},
+      {"syntax", "{\n  \"camera\": {,\n}", {"s.json", "malformed JSON at line 2, column 14"}},
+      {"number overflow", R"({"camera": {"fov": 1e999}})", {"s.json", "malformed JSON", "1e999"}},
       {"top-level field", R"({"cameras": {}})", {"s.json", "cameras", "unknown field"}},
       {"shape type", R"({"shapes": [{"type": "cube", "material": {"type": "diffuse"}}]})", {"/shapes/0/type", "cube"}},
       {"radius", R"({"shapes": [{"type": "sphere", "center": [0,0,0], "radius": -1, "material": {"type": "diffuse"}}]})", {"/shapes/0/radius", "-1"}},
