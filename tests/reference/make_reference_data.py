@@ -211,7 +211,7 @@ def main():
     # term, dE (1/(1 − E(μo)) + 1/(1 − E(μi)) + 1/(1 − E_avg)) of it (the published GGX
     # figures hold the tables to 2e-3, tests/unit/test_microfacet.cpp). Pairs where that
     # allowance exceeds 25% of the term are skipped, so that a missing F_avg in F_ms (an
-    # error of 1/F_avg − 1 of the term: +139% for gold's blue, +100% for f0 = 0.3) always
+    # error of 1/F_avg − 1 of the term: +139% for gold's blue, +200% for f0 = 0.3) always
     # fails.
     rng = random.Random(106)
     recs = []
