@@ -23,8 +23,9 @@
 //   linearity     a blend equals the weighted sum of its parts, in f, pdf and the mean
 //                 weight of its samples.
 //   weights       in importance mode, the largest weight of 10⁶ samples per outgoing
-//                 direction (grazing ones included) is at most 20 × the directional albedo
-//                 (the mean weight): the relative variance of a sample is then ≤ 19.
+//                 direction (the tested ones, and 89.9° and 89.99°) is at most 100 × the
+//                 directional albedo (the mean weight): the relative variance of one
+//                 sample is then ≤ 99, i.e. never worse than 100 samples of a perfect sampler.
 //
 // A property that does not apply to a model passes with no figure.
 
