@@ -54,7 +54,7 @@ void register_check(CLI::App& app) {
   auto* cmd = app.add_subcommand(
       "check",
       "Validate a material: finite, reciprocity, energy, chi2, pdf_integral, consistency, isotropy, "
-      "linearity. Exit 0 when all hold, 1 otherwise");
+      "linearity, weights. Exit 0 when all hold, 1 otherwise");
   cmd->add_option("--bsdf", args->bsdf, "material JSON text, or @path to a file holding it")->required();
   cmd->add_flag("--json", args->json, "print one JSON object instead of the table");
   cmd->add_option("--seed", args->seed, "random seed (default 1)");

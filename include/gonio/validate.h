@@ -2,8 +2,10 @@
 // The validator: proves that a model is physically plausible and that its sampling
 // matches its density (the `gonio check` subcommand; SPEC §3). Properties:
 //
-//   finite        f, pdf and sample weights finite and ≥ 0 over ≥ 10⁶ direction pairs,
-//                 random and adversarial (grazing, normal, below the horizon, critical).
+//   finite        f, pdf and sample weights finite and ≥ 0, no weight above 10⁶ (a
+//                 runaway), over ≥ 10⁶ random pairs and the extremes: |cos θ| log-uniform
+//                 from 10⁻⁴⁵ to 10⁻², ±0, denormals, u = 0 and 1 − ulp, wi = wo, −wo and
+//                 the mirror of wo, normal incidence, critical angles; both sides, both modes.
 //   reciprocity   f(wo, wi) = f(wi, wo) for reflection (lecture §3.4); for transmission
 //                 in radiance mode f(wo, wi)/n_wo² = f(wi, wo)/n_wi² (Veach 1997, §5.2).
 //   energy        ρ_dh ≤ 1 + 3σ + 2·10⁻³ over a sweep of θ (and φ when anisotropic), in
@@ -11,11 +13,19 @@
 //   chi2          Pearson χ² of sample() against pdf() on a (cos θ, φ) grid of the sphere.
 //   pdf_integral  ∫ pdf dω equals the fraction of sample() calls that return a non-delta
 //                 direction.
-//   consistency   weight = f |cos θi| / pdf and pdf = pdf(wo, wi) for every sample; for
-//                 delta lobes the mean weight equals the lobe's exact albedo.
+//   consistency   weight = f |cos θi| / pdf and pdf = pdf(wo, wi) for every sample; delta
+//                 samples obey the laws of reflection and refraction (Snell with the
+//                 declared index); each delta lobe's mean weight equals F, (1 − F)(n_wo/n_wi)²
+//                 (radiance) or 1 − F (importance), with total internal reflection, from
+//                 the validator's own Fresnel (not the model's); where a model has a
+//                 closed-form albedo, each lobe's mean weight equals it.
 //   isotropy      an isotropic model is invariant under rotation about N.
 //   linearity     a blend equals the weighted sum of its parts, in f, pdf and the mean
 //                 weight of its samples.
+//   weights       in importance mode, the largest weight of 10⁶ samples per outgoing
+//                 direction (the tested ones, and 89.9° and 89.99°) is at most 100 × the
+//                 directional albedo (the mean weight): the relative variance of one
+//                 sample is then ≤ 99, i.e. never worse than 100 samples of a perfect sampler.
 //
 // A property that does not apply to a model passes with no figure.
 
@@ -63,6 +73,7 @@ std::vector<PropertyResult> check_sampling(const BxDF& bxdf, const ValidationOpt
 PropertyResult check_consistency(const BxDF& bxdf, const ValidationOptions& options = {});
 PropertyResult check_isotropy(const BxDF& bxdf, const ValidationOptions& options = {});
 PropertyResult check_linearity(const BxDF& bxdf, const ValidationOptions& options = {});
+PropertyResult check_weights(const BxDF& bxdf, const ValidationOptions& options = {});
 // Linearity of any model claimed to be (1 − w) a + w b.
 PropertyResult check_linearity(const BxDF& blend, const BxDF& a, const BxDF& b, Float w,
                                const ValidationOptions& options = {});

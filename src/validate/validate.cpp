@@ -13,6 +13,7 @@ ValidationReport validate(const BxDF& bxdf, const ValidationOptions& opt) {
   report.properties.push_back(check_consistency(bxdf, opt));
   report.properties.push_back(check_isotropy(bxdf, opt));
   report.properties.push_back(check_linearity(bxdf, opt));
+  report.properties.push_back(check_weights(bxdf, opt));
   return report;
 }
 

@@ -5,8 +5,10 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <string>
 
+#include "gonio/bxdf/dielectric.h"
 #include "gonio/material.h"
 #include "gonio/math/warp.h"
 #include "gonio/validate.h"
@@ -33,7 +35,7 @@ class ValidateBuiltIn : public ::testing::TestWithParam<const char*> {};
 TEST_P(ValidateBuiltIn, EveryPropertyHolds) {
   const char* m = GetParam();
   const ValidationReport r = validate(parse_material(m), options());
-  ASSERT_EQ(r.properties.size(), 8u);
+  ASSERT_EQ(r.properties.size(), 9u);
   for (const auto& p : r.properties) EXPECT_TRUE(p.pass) << m << ": " << p.name << ": " << p.detail;
 }
 
@@ -116,10 +118,14 @@ class BaseLambert : public CustomBxDF {
   explicit BaseLambert(Float k = 0.5f) : k_(k) {}
   BxDFFlags flags() const override { return BxDFFlags::DiffuseReflection; }
   Color f(const Vec3& wo, const Vec3& wi, TransportMode) const override {
-    return wo.z * wi.z > 0 ? Color(k_ * kInvPi) * shape(wo, wi) : Color{};
+    return same_side(wo, wi) ? Color(k_ * kInvPi) * shape(wo, wi) : Color{};
   }
   Float pdf(const Vec3& wo, const Vec3& wi, TransportMode) const override {
-    return wo.z * wi.z > 0 ? std::abs(wi.z) * kInvPi : 0;
+    return same_side(wo, wi) ? std::abs(wi.z) * kInvPi : 0;
+  }
+  // By signs, not by the product wo.z wi.z, which underflows to 0 at extreme cosines.
+  static bool same_side(const Vec3& wo, const Vec3& wi) {
+    return wo.z != 0 && wi.z != 0 && (wo.z > 0) == (wi.z > 0);
   }
   std::optional<BSDFSample> sample(const Vec3& wo, Float, Float u1, Float u2, TransportMode m) const override {
     Vec3 wi = square_to_cosine_hemisphere(u1, u2);
@@ -148,7 +154,7 @@ class PdfNotMatchingSample final : public BaseLambert {
  public:
   // Samples cosine-weighted but claims a uniform density (which also integrates to 1).
   Float pdf(const Vec3& wo, const Vec3& wi, TransportMode) const override {
-    return wo.z * wi.z > 0 ? kInv2Pi : 0;
+    return same_side(wo, wi) ? kInv2Pi : 0;
   }
 };
 
@@ -191,6 +197,138 @@ class WrongClosedFormAlbedo final : public BaseLambert {
   }
 };
 
+// NaN for |cos θi| between 10⁻²² and 10⁻¹⁹ only, as rough plastic was on main: a narrow
+// band of extreme cosines that random and the old adversarial directions never hit.
+class NanInABandOfExtremeCosines final : public BaseLambert {
+ public:
+  Color f(const Vec3& wo, const Vec3& wi, TransportMode m) const override {
+    const Float c = std::abs(wi.z);
+    if (c > 1e-22f && c < 1e-19f) return Color(std::numeric_limits<Float>::quiet_NaN());
+    return BaseLambert::f(wo, wi, m);
+  }
+};
+
+// A weight that grows like 1/√cos θo without bound towards grazing.
+class WeightRunawayAtGrazing final : public BaseLambert {
+ public:
+  std::optional<BSDFSample> sample(const Vec3& wo, Float a, Float b, Float c, TransportMode m) const override {
+    auto s = BaseLambert::sample(wo, a, b, c, m);
+    if (s) s->weight *= 1 / std::sqrt(std::abs(wo.z));
+    return s;
+  }
+};
+
+// Lambert sampled ∝ cos⁴ θi: a correct sampler (pdf matches, weights = f |cos| / pdf) whose
+// weight 2k/5 cos⁻³ θi is huge in the rare grazing samples — a variance disaster of the
+// kind Ward's sampler has at grazing.
+class RareHugeWeights final : public BaseLambert {
+ public:
+  static constexpr Float kM = 4;
+  Float pdf(const Vec3& wo, const Vec3& wi, TransportMode) const override {
+    return same_side(wo, wi) ? (kM + 1) * kInv2Pi * std::pow(std::abs(wi.z), kM) : 0;
+  }
+  std::optional<BSDFSample> sample(const Vec3& wo, Float, Float u1, Float u2, TransportMode m) const override {
+    const Float c = std::pow(u1, 1 / (kM + 1)), s = std::sqrt(std::max(Float(0), 1 - c * c));
+    const Float phi = 2 * kPi * u2;
+    Vec3 wi{s * std::cos(phi), s * std::sin(phi), c};
+    if (wo.z == 0 || wi.z == 0) return std::nullopt;
+    if (wo.z < 0) wi.z = -wi.z;
+    const Float p = pdf(wo, wi, m);
+    return BSDFSample{wi, f(wo, wi, m) * std::abs(wi.z) / p, p, false, Lobe::Reflection, 1};
+  }
+};
+
+// Smooth dielectrics through the extension point: the true one, and variants broken in
+// the ways the delta-lobe checks are meant to catch. Each broken variant's albedo()
+// agrees with its own sampler — the old, circular check passed them.
+class UserDielectric : public CustomBxDF {
+ public:
+  explicit UserDielectric(Float eta = 1.5f) : d_{eta} {}
+  BxDFFlags flags() const override { return DielectricBxDF::flags(); }
+  Float relative_eta() const override { return d_.eta; }
+  Color f(const Vec3&, const Vec3&, TransportMode) const override { return {}; }
+  Float pdf(const Vec3&, const Vec3&, TransportMode) const override { return 0; }
+  std::optional<BSDFSample> sample(const Vec3& wo, Float u0, Float u1, Float u2, TransportMode m) const override {
+    return d_.sample(wo, u0, u1, u2, m);
+  }
+  std::optional<DirectionalAlbedo> albedo(const Vec3& wo, TransportMode m) const override {
+    return d_.albedo(wo, m);
+  }
+
+ protected:
+  DielectricBxDF d_;
+};
+
+// The bug of issue 9: refraction without the radiance factor (n_wo/n_wi)².
+class DielectricWithoutRadianceScale final : public UserDielectric {
+ public:
+  std::optional<BSDFSample> sample(const Vec3& wo, Float u0, Float u1, Float u2, TransportMode m) const override {
+    auto s = d_.sample(wo, u0, u1, u2, m);
+    if (s && s->lobe == Lobe::Transmission) s->weight = Color(1);
+    return s;
+  }
+  std::optional<DirectionalAlbedo> albedo(const Vec3& wo, TransportMode) const override {
+    return d_.albedo(wo, TransportMode::Importance);
+  }
+};
+
+// Reflects about a normal tilted by 0.01 rad.
+class DielectricWithWrongReflection final : public UserDielectric {
+ public:
+  std::optional<BSDFSample> sample(const Vec3& wo, Float u0, Float u1, Float u2, TransportMode m) const override {
+    auto s = d_.sample(wo, u0, u1, u2, m);
+    if (s && s->lobe == Lobe::Reflection) s->wi = normalize(Vec3{s->wi.x + 0.01f * s->wi.z, s->wi.y, s->wi.z});
+    return s;
+  }
+};
+
+// Refracts and weighs as an interface of index 1.45 while declaring 1.5.
+class DielectricWithWrongIndex final : public UserDielectric {
+ public:
+  DielectricWithWrongIndex() : UserDielectric(1.45f) {}
+  Float relative_eta() const override { return 1.5f; }
+};
+
+// Schlick's approximation instead of the exact Fresnel, in sample() and albedo() alike.
+class DielectricWithSchlickFresnel final : public UserDielectric {
+ public:
+  static Float schlick(Float c, Float e) {  // e = n(far side) / n(wo's side)
+    const Float sin2_t = (1 - c * c) / (e * e);
+    if (sin2_t >= 1) return 1;
+    const Float f0 = (e - 1) * (e - 1) / ((e + 1) * (e + 1));
+    const Float m = 1 - (e >= 1 ? c : std::sqrt(1 - sin2_t));
+    return f0 + (1 - f0) * m * m * m * m * m;
+  }
+  std::optional<BSDFSample> sample(const Vec3& wo, Float u0, Float u1, Float u2, TransportMode m) const override {
+    const Float e = wo.z > 0 ? d_.eta : 1 / d_.eta;
+    const Float F = schlick(std::abs(wo.z), e), F_true = fresnel_dielectric(wo.z, d_.eta);
+    // Map u0 so that the true sampler reflects with probability F: the direction code is
+    // the model's, the lobe choice and the weights follow Schlick.
+    const bool reflect = u0 < F;
+    auto s = d_.sample(wo, reflect ? F_true * 0.5f : F_true + (1 - F_true) * 0.5f, u1, u2, m);
+    if (s) s->pdf = reflect ? F : 1 - F;
+    return s;
+  }
+  std::optional<DirectionalAlbedo> albedo(const Vec3& wo, TransportMode m) const override {
+    const Float e = wo.z > 0 ? d_.eta : 1 / d_.eta;
+    const Float F = schlick(std::abs(wo.z), e);
+    return DirectionalAlbedo{Color(F), Color((1 - F) * transmission_scale(e, m))};
+  }
+};
+
+// A user mirror that reflects about a tilted normal: the validator does not know what its
+// delta lobe's weight should be, but still holds its direction to the law of reflection.
+class TiltedUserMirror final : public CustomBxDF {
+ public:
+  BxDFFlags flags() const override { return BxDFFlags::SpecularReflection; }
+  Color f(const Vec3&, const Vec3&, TransportMode) const override { return {}; }
+  Float pdf(const Vec3&, const Vec3&, TransportMode) const override { return 0; }
+  std::optional<BSDFSample> sample(const Vec3& wo, Float, Float, Float, TransportMode) const override {
+    if (wo.z == 0) return std::nullopt;
+    return BSDFSample{normalize(Vec3{-wo.x + 0.005f, -wo.y, wo.z}), Color(1), 1, true, Lobe::Reflection, 1};
+  }
+};
+
 TEST(Validate, CatchesANonReciprocalModel) {
   const auto r = check_reciprocity(make_user_bxdf<NonReciprocal>(), options());
   EXPECT_FALSE(r.pass) << r.detail;
@@ -226,6 +364,64 @@ TEST(Validate, CatchesNanAtGrazing) {
   EXPECT_FALSE(r.pass) << r.detail;
   EXPECT_NE(r.detail.find("f not finite"), std::string::npos) << r.detail;
   EXPECT_TRUE(check_finite(make_user_bxdf<BaseLambert>(), options()).pass);
+}
+
+TEST(Validate, CatchesNanInANarrowBandOfExtremeCosines) {
+  const auto r = check_finite(make_user_bxdf<NanInABandOfExtremeCosines>(), options());
+  EXPECT_FALSE(r.pass) << r.detail;
+  EXPECT_NE(r.detail.find("f not finite"), std::string::npos) << r.detail;
+}
+
+TEST(Validate, CatchesAWeightThatGrowsWithoutBoundAtGrazing) {
+  const auto r = check_finite(make_user_bxdf<WeightRunawayAtGrazing>(), options());
+  EXPECT_FALSE(r.pass) << r.detail;
+  EXPECT_NE(r.detail.find("unbounded weight"), std::string::npos) << r.detail;
+}
+
+TEST(Validate, CatchesRareHugeWeights) {
+  const BxDF m = make_user_bxdf<RareHugeWeights>();
+  const auto r = check_weights(m, options());
+  EXPECT_FALSE(r.pass) << r.detail;
+  EXPECT_GT(*r.figure, 100.0) << r.detail;
+  // Only "weights" sees it: the sampler matches its pdf and its weights are f |cos| / pdf.
+  for (const auto& p : check_sampling(m, options())) EXPECT_TRUE(p.pass) << p.name << ": " << p.detail;
+  EXPECT_TRUE(check_consistency(m, options()).pass);
+  const auto good = check_weights(make_user_bxdf<BaseLambert>(), options());
+  EXPECT_TRUE(good.pass) << good.detail;
+  EXPECT_NEAR(*good.figure, 1.0, 1e-5);
+}
+
+TEST(Validate, Delta_ACorrectUserDielectricPasses) {
+  const auto r = check_consistency(make_user_bxdf<UserDielectric>(), options());
+  EXPECT_TRUE(r.pass) << r.detail;
+  const auto inverted = check_consistency(make_user_bxdf<UserDielectric>(0.6f), options());
+  EXPECT_TRUE(inverted.pass) << inverted.detail;
+}
+
+TEST(Validate, Delta_CatchesADielectricWithoutTheRadianceFactor) {
+  const auto r = check_consistency(make_user_bxdf<DielectricWithoutRadianceScale>(), options());
+  EXPECT_FALSE(r.pass) << r.detail;
+  EXPECT_NE(r.detail.find("delta transmission"), std::string::npos) << r.detail;
+}
+
+TEST(Validate, Delta_CatchesAWrongReflectedDirection) {
+  const auto r = check_consistency(make_user_bxdf<DielectricWithWrongReflection>(), options());
+  EXPECT_FALSE(r.pass) << r.detail;
+  EXPECT_NE(r.detail.find("not the mirror"), std::string::npos) << r.detail;
+  const auto mirror = check_consistency(make_user_bxdf<TiltedUserMirror>(), options());
+  EXPECT_FALSE(mirror.pass) << mirror.detail;
+}
+
+TEST(Validate, Delta_CatchesARefractionWithAnotherIndexThanDeclared) {
+  const auto r = check_consistency(make_user_bxdf<DielectricWithWrongIndex>(), options());
+  EXPECT_FALSE(r.pass) << r.detail;
+  EXPECT_NE(r.detail.find("implies relative index"), std::string::npos) << r.detail;
+}
+
+TEST(Validate, Delta_CatchesAnApproximateFresnelThatAgreesWithItsOwnAlbedo) {
+  const auto r = check_consistency(make_user_bxdf<DielectricWithSchlickFresnel>(), options());
+  EXPECT_FALSE(r.pass) << r.detail;
+  EXPECT_NE(r.detail.find("reference"), std::string::npos) << r.detail;
 }
 
 TEST(Validate, CatchesWeightsThatAreNotFCosOverPdf) {

@@ -1,0 +1,98 @@
+#pragma once
+// What a model's delta lobes must return, computed by the validator itself (internal to
+// the property "consistency"). The mean weight of the delta samples of each lobe is the
+// lobe's reflectance: for a smooth dielectric F and (1 − F)(n_wo/n_wi)² (radiance) or
+// 1 − F (importance), for a smooth conductor its Fresnel reflectance, for a mirror its
+// reflectance. These come from fresnel_reference.h and the model's declared parameters
+// (index, complex index, F0, reflectance, blend weight) — never from the model's
+// sample() or albedo(), which are what is being checked; comparing the sampler with the
+// model's own albedo() was circular, as both shared the (n_wo/n_wi)² code.
+
+#include <array>
+#include <optional>
+#include <string>
+#include <type_traits>
+#include <variant>
+
+#include "fresnel_reference.h"
+#include "gonio/bxdf.h"
+
+namespace gonio::validation {
+
+struct DeltaReference {
+  std::array<double, kColorChannels> reflection{}, transmission{};
+};
+
+// A smooth dielectric interface with relative index eta = n_inside / n_outside, seen from
+// wo. e = n(far side) / n(wo's side); (n_wo/n_wi)² = 1/e² in radiance mode.
+inline DeltaReference dielectric_reference(const Vec3& wo, double eta, TransportMode mode) {
+  DeltaReference r;
+  if (wo.z == 0) return r;
+  const double e = wo.z > 0 ? eta : 1 / eta;
+  const double F = reference_fresnel_dielectric(wo.z, e);
+  const double scale = mode == TransportMode::Radiance ? 1 / (e * e) : 1;
+  r.reflection.fill(F);
+  r.transmission.fill((1 - F) * scale);
+  return r;
+}
+
+inline DeltaReference conductor_reference(const Vec3& wo, const ConductorFresnel& fr) {
+  DeltaReference r;
+  if (wo.z == 0) return r;
+  for (int c = 0; c < kColorChannels; ++c)
+    r.reflection[size_t(c)] = fr.model == FresnelModel::Schlick
+                                  ? reference_fresnel_schlick(wo.z, fr.f0[c])
+                                  : reference_fresnel_conductor(wo.z, fr.eta[c], fr.k[c]);
+  return r;
+}
+
+// The expected delta-lobe reflectances of `bxdf` at wo, or none when the validator does
+// not know what the model's delta lobe is (a user model with a specular reflection lobe
+// and no specular transmission). Models without delta lobes expect 0: a delta sample
+// from them is an error. A user model with a specular transmission lobe is taken to be
+// a smooth dielectric interface of its declared relative_eta() — the one thing a delta
+// refraction can be under SPEC §1.
+inline std::optional<DeltaReference> delta_reference(const BxDF& bxdf, const Vec3& wo, TransportMode mode) {
+  return std::visit(
+      [&](const auto& m) -> std::optional<DeltaReference> {
+        using M = std::decay_t<decltype(m)>;
+        DeltaReference r;
+        if constexpr (std::is_same_v<M, MirrorBxDF>) {
+          if (wo.z != 0)
+            for (int c = 0; c < kColorChannels; ++c) r.reflection[size_t(c)] = m.reflectance[c];
+          return r;
+        } else if constexpr (std::is_same_v<M, ConductorBxDF>) {
+          return conductor_reference(wo, m.fresnel);
+        } else if constexpr (std::is_same_v<M, DielectricBxDF>) {
+          return dielectric_reference(wo, m.eta, mode);
+        } else if constexpr (std::is_same_v<M, RoughConductorBxDF>) {
+          return m.distribution.effectively_smooth() ? conductor_reference(wo, m.fresnel) : r;
+        } else if constexpr (std::is_same_v<M, RoughDielectricBxDF>) {
+          return m.specular() ? dielectric_reference(wo, m.eta, mode) : r;
+        } else if constexpr (std::is_same_v<M, PlasticBxDF>) {
+          // The smooth coat's mirror reflection: F from outside the coat, on wo's side.
+          if (m.smooth() && wo.z != 0) r.reflection.fill(reference_fresnel_dielectric(wo.z, m.eta));
+          return r;
+        } else if constexpr (std::is_same_v<M, BlendBxDF>) {
+          const auto a = delta_reference((*m.parts)[0], wo, mode), b = delta_reference((*m.parts)[1], wo, mode);
+          if (!a || !b) return std::nullopt;
+          const double w = m.weight;
+          for (size_t c = 0; c < size_t(kColorChannels); ++c) {
+            r.reflection[c] = (1 - w) * a->reflection[c] + w * b->reflection[c];
+            r.transmission[c] = (1 - w) * a->transmission[c] + w * b->transmission[c];
+          }
+          return r;
+        } else if constexpr (std::is_same_v<M, UserBxDF>) {
+          const BxDFFlags f = m.flags();
+          if (has(f, BxDFFlags::Specular) && has(f, BxDFFlags::Transmission) && !has(f, BxDFFlags::Glossy | BxDFFlags::Diffuse))
+            return dielectric_reference(wo, m.relative_eta(), mode);
+          if (has(f, BxDFFlags::Specular)) return std::nullopt;
+          return r;
+        } else {
+          return r;  // no delta lobe
+        }
+      },
+      bxdf.models());
+}
+
+}  // namespace gonio::validation
