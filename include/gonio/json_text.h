@@ -16,8 +16,8 @@ namespace gonio {
 // Largest material description or scene file read: far above any hand-written scene
 // (the default scene is 3 KB), small enough that parsing it stays well under a second.
 inline constexpr std::size_t kMaxJsonFileBytes = std::size_t(16) << 20;  // 16 MiB
-// Largest OBJ mesh file read (a few million triangles).
-inline constexpr std::size_t kMaxObjFileBytes = std::size_t(256) << 20;  // 256 MiB
+// Largest OBJ mesh file read: about a million triangles with normals and UVs.
+inline constexpr std::size_t kMaxObjFileBytes = std::size_t(64) << 20;  // 64 MiB
 // Deepest nesting of JSON arrays and objects. Deeper text is refused before it is
 // parsed: the parser is iterative, but what works on its result (dump() for messages,
 // the material parser) recurses, and 58,000 levels overflowed the stack.

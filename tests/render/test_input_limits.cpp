@@ -143,10 +143,10 @@ TEST(InputLimits, SceneFileSizeAndNesting) {
 }
 
 TEST(InputLimits, ObjFileSizeIsBounded) {
-  // OBJ meshes may be larger than scenes (256 MiB); /dev/zero is refused once past it.
+  // OBJ meshes may be larger than scenes (64 MiB); /dev/zero is refused once past it.
   ScratchDir dir;
   const std::string scene = dir.file("s.json", R"({"shapes": [{"type": "mesh", "file": "/dev/zero", "material": {"type": "diffuse"}}]})");
-  expect_error(load_error(scene), {"/shapes/0/file", "/dev/zero", "too large", "256 MiB"});
+  expect_error(load_error(scene), {"/shapes/0/file", "/dev/zero", "too large", "64 MiB"});
 }
 
 TEST(InputLimits, UserTextInSceneErrorsIsEscaped) {
