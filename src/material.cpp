@@ -42,7 +42,7 @@ std::string format_number(double v) {
 // A parameter that must be positive must stay positive, and normal, as a float: 1e-320
 // passes "> 0" as a double but becomes 0 (or a denormal, whose reciprocal overflows).
 bool positive_float(double v) { return static_cast<float>(v) >= FLT_MIN; }
-const std::string kTooSmallForFloat = " (too small for a float: it would round to 0 or a denormal)";
+constexpr const char* kTooSmallForFloat = " (too small for a float: it would round to 0 or a denormal)";
 
 // Short rendering of a JSON value for error messages.
 std::string show(const json& v) {
