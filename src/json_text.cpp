@@ -1,37 +1,108 @@
-// JSON parsing with errors that point into the text.
+// Bounded file reads and JSON parsing with errors that point into the text.
 
 #include "gonio/json_text.h"
 
 #include <algorithm>
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <memory>
 #include <string>
 
 #include "gonio/error.h"
 
 namespace gonio {
+namespace {
+
+// "16 MiB", or the byte count when the limit is not a whole number of MiB.
+std::string show_size(std::size_t bytes) {
+  if (bytes % (std::size_t(1) << 20) == 0) return std::to_string(bytes >> 20) + " MiB";
+  return std::to_string(bytes) + " bytes";
+}
+
+// Line and column (1-based, in bytes) of byte `offset` of `text`.
+std::string line_column(std::string_view text, size_t offset) {
+  size_t line = 1, col = 1;
+  const size_t end = std::min(offset, text.size());
+  for (size_t i = 0; i < end; ++i) {
+    if (text[i] == '\n') {
+      ++line;
+      col = 1;
+    } else {
+      ++col;
+    }
+  }
+  return "line " + std::to_string(line) + ", column " + std::to_string(col);
+}
+
+// Refuses nesting deeper than kMaxJsonDepth in one linear pass over the text: brackets
+// are counted outside strings (a backslash escapes the next character inside one).
+// Malformed text is left to the parser, which reports it.
+void check_depth(std::string_view text, std::string_view source) {
+  int depth = 0;
+  bool in_string = false, escaped = false;
+  for (size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
+    if (in_string) {
+      if (escaped) escaped = false;
+      else if (c == '\\') escaped = true;
+      else if (c == '"') in_string = false;
+    } else if (c == '"') {
+      in_string = true;
+    } else if (c == '[' || c == '{') {
+      if (++depth > kMaxJsonDepth)
+        throw InputError(std::string(source) + ": JSON nested deeper than " + std::to_string(kMaxJsonDepth) +
+                         " levels of arrays and objects, at " + line_column(text, i));
+    } else if (c == ']' || c == '}') {
+      --depth;
+    }
+  }
+}
+
+}  // namespace
+
+std::string read_text_file(const std::string& path, std::size_t limit, std::string_view kind) {
+  const std::string what(kind);
+  if (path.empty()) throw InputError("cannot read " + what + ": the file name is empty");
+  // A NUL (from "\u0000" in JSON) would silently cut the name short.
+  if (path.find('\0') != std::string::npos) throw InputError(path + ": a file name cannot hold a NUL byte");
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) throw InputError(path + ": is a directory, not " + what);
+  errno = 0;
+  const std::unique_ptr<std::FILE, int (*)(std::FILE*)> f(std::fopen(path.c_str(), "rb"), &std::fclose);
+  if (!f) throw InputError(path + ": cannot open " + what + ": " + std::strerror(errno));
+  std::string text;
+  char buf[1 << 16];
+  // One byte past the limit tells a file at the limit from a larger one.
+  while (text.size() <= limit) {
+    const size_t want = std::min(sizeof buf, limit + 1 - text.size());
+    const size_t got = std::fread(buf, 1, want, f.get());
+    text.append(buf, got);
+    if (got < want) {
+      if (std::ferror(f.get())) throw InputError(path + ": cannot read " + what + ": " + std::strerror(errno));
+      break;  // end of file
+    }
+  }
+  if (text.size() > limit)
+    throw InputError(path + ": file too large (more than " + show_size(limit) + ", the limit for " + what + ")");
+  return text;
+}
 
 nlohmann::json parse_json_text(std::string_view text, std::string_view source) {
   using nlohmann::json;
+  check_depth(text, source);
   try {
     return json::parse(text.begin(), text.end());
   } catch (const json::parse_error& e) {
-    // Byte offset → line and column, so the message points into the text.
-    size_t line = 1, col = 1;
-    const size_t end = std::min(e.byte == 0 ? 0 : e.byte - 1, text.size());
-    for (size_t i = 0; i < end; ++i) {
-      if (text[i] == '\n') {
-        ++line;
-        col = 1;
-      } else {
-        ++col;
-      }
-    }
     std::string what = e.what();
     // nlohmann's text is "[json.exception.parse_error.101] parse error at line 1, column 2:
     // syntax error while parsing value - ..."; keep the part after the last " - ".
     const auto dash = what.rfind(" - ");
     if (dash != std::string::npos) what = what.substr(dash + 3);
-    throw InputError(std::string(source) + ": malformed JSON at line " + std::to_string(line) + ", column " +
-                     std::to_string(col) + ": " + what);
+    // Byte offset → line and column, so the message points into the text.
+    throw InputError(std::string(source) + ": malformed JSON at " + line_column(text, e.byte == 0 ? 0 : e.byte - 1) +
+                     ": " + what);
   } catch (const json::exception& e) {
     // e.g. out_of_range.406 "number overflow parsing '1e999'"; drop the "[json.exception...] ".
     std::string what = e.what();

@@ -2,6 +2,7 @@
 
 #include "gonio/material.h"
 
+#include <cfloat>
 #include <cmath>
 #include <array>
 #include <iterator>
@@ -26,6 +27,10 @@ using nlohmann::json;
 constexpr double kMinIndex = 1e-4, kMaxIndex = 1e4;
 // Largest microfacet roughness accepted (the energy-compensation tables end at 1).
 constexpr double kMaxAlpha = 10;
+// Deepest nesting of blends: a blend evaluates every part, so a tree of blends costs
+// up to 2^depth evaluations per call (256 here); and 10,000 levels took a minute and
+// 4 GB to parse (each level's error prefix copies the one above).
+constexpr int kMaxBlendDepth = 8;
 
 std::string format_number(double v) {
   std::ostringstream os;
@@ -33,6 +38,11 @@ std::string format_number(double v) {
   os << v;
   return os.str();
 }
+
+// A parameter that must be positive must stay positive, and normal, as a float: 1e-320
+// passes "> 0" as a double but becomes 0 (or a denormal, whose reciprocal overflows).
+bool positive_float(double v) { return static_cast<float>(v) >= FLT_MIN; }
+constexpr const char* kTooSmallForFloat = " (too small for a float: it would round to 0 or a denormal)";
 
 // Short rendering of a JSON value for error messages.
 std::string show(const json& v) {
@@ -235,9 +245,11 @@ MicrofacetDistribution make_distribution(Params& p) {
   }
   if (!p.has("alpha")) p.fail("missing parameter 'alpha' (a number, or [alpha_x, alpha_y])");
   const auto [ax, ay] = p.alpha("alpha");
-  for (double a : {ax, ay})
+  for (double a : {ax, ay}) {
     if (!(a > 0 && a <= kMaxAlpha))
       p.fail("alpha must be > 0 and <= " + format_number(kMaxAlpha) + ", got " + format_number(a));
+    if (!positive_float(a)) p.fail("alpha must be > 0, got " + format_number(a) + kTooSmallForFloat);
+  }
   d.alpha_x = static_cast<Float>(ax);
   d.alpha_y = static_cast<Float>(ay);
   return d;
@@ -319,6 +331,8 @@ double required_number(Params& p, const char* key, double lo, double hi, bool op
   if (!ok)
     p.fail(std::string(key) + " must be in " + (open_lo ? "(" : "[") + format_number(lo) + ", " + format_number(hi) +
            "], got " + format_number(v));
+  if (open_lo && lo == 0 && !positive_float(v))
+    p.fail(std::string(key) + " must be > 0, got " + format_number(v) + kTooSmallForFloat);
   return v;
 }
 
@@ -358,8 +372,10 @@ BxDF make_ward(Params& p) {
   check_sum_at_most_one(p, "kd", m.kd, "ks", m.ks);
   if (!p.has("alpha")) p.fail("missing parameter 'alpha' (a number, or [alpha_x, alpha_y])");
   const auto [ax, ay] = p.alpha("alpha");
-  for (double a : {ax, ay})
+  for (double a : {ax, ay}) {
     if (!(a > 0 && a <= 1)) p.fail("alpha must be > 0 and <= 1, got " + format_number(a));
+    if (!positive_float(a)) p.fail("alpha must be > 0, got " + format_number(a) + kTooSmallForFloat);
+  }
   m.alpha_x = Float(ax);
   m.alpha_y = Float(ay);
   return m;
@@ -386,7 +402,8 @@ BxDF make_plastic(Params& p) {
   return PlasticBxDF::make(reflectance, eta, coat);
 }
 
-BxDF make_blend(Params& p, const std::string& where);
+BxDF make_blend(Params& p, const std::string& where, int depth);
+BxDF parse_description(const json& description, const std::string& where, int blend_depth);
 
 struct TypeEntry {
   std::string_view name;
@@ -420,13 +437,16 @@ const std::vector<std::string_view>& material_type_names() {
 }
 
 namespace {
-BxDF make_blend(Params& p, const std::string& where) {
+// `depth`: how many blends enclose this one (0 at the top).
+BxDF make_blend(Params& p, const std::string& where, int depth) {
+  if (depth >= kMaxBlendDepth)
+    p.fail("blends nested deeper than " + std::to_string(kMaxBlendDepth) + " levels (each level doubles the cost of an evaluation)");
   const double w = required_number(p, "weight", 0, 1, false);
   if (!p.has("bsdfs")) p.fail("missing parameter 'bsdfs' (an array of 2 materials)");
   const json& arr = p.raw("bsdfs");
   if (!arr.is_array() || arr.size() != 2) p.fail("bsdfs must be an array of 2 materials, got " + show(arr));
   auto parts = std::make_shared<std::array<BxDF, 2>>();
-  for (size_t i = 0; i < 2; ++i) (*parts)[i] = material_from_json(arr[i], where + ".bsdfs[" + std::to_string(i) + "]");
+  for (size_t i = 0; i < 2; ++i) (*parts)[i] = parse_description(arr[i], where + ".bsdfs[" + std::to_string(i) + "]", depth + 1);
   const Float e0 = (*parts)[0].relative_eta(), e1 = (*parts)[1].relative_eta();
   if (is_transmissive((*parts)[0].flags()) && is_transmissive((*parts)[1].flags()) && e0 != e1)
     p.fail("both parts refract, with different eta (" + format_number(e0) + " and " + format_number(e1) + ")");
@@ -435,6 +455,11 @@ BxDF make_blend(Params& p, const std::string& where) {
 }  // namespace
 
 BxDF material_from_json(const json& description, const std::string& where) {
+  return parse_description(description, where, 0);
+}
+
+namespace {
+BxDF parse_description(const json& description, const std::string& where, int blend_depth) {
   const std::string at = where.empty() ? "" : where + ": ";
   if (!description.is_object())
     throw InputError(at + "material must be a JSON object, got " + show(description));
@@ -444,7 +469,7 @@ BxDF material_from_json(const json& description, const std::string& where) {
   const std::string type = it->get<std::string>();
   if (type == "blend") {
     Params p(description, at + "blend: ");
-    BxDF m = make_blend(p, where.empty() ? "blend" : where + ": blend");
+    BxDF m = make_blend(p, where.empty() ? "blend" : where + ": blend", blend_depth);
     p.reject_unknown();
     return m;
   }
@@ -460,6 +485,7 @@ BxDF material_from_json(const json& description, const std::string& where) {
   for (auto n : material_type_names()) known += (known.empty() ? "" : ", ") + std::string(n);
   throw InputError(at + "material: unknown type \"" + type + "\" (known: " + known + ")");
 }
+}  // namespace
 
 // --- Spatially varying parameters (material.h) -----------------------------------
 

@@ -4,10 +4,9 @@
 #include <charconv>
 #include <cmath>
 #include <cstdio>
-#include <fstream>
-#include <sstream>
 #include <stdexcept>
 
+#include "gonio/json_text.h"
 #include "gonio/material.h"
 
 namespace gonio::cli {
@@ -15,14 +14,26 @@ namespace gonio::cli {
 BxDF load_bsdf(const std::string& arg) {
   if (!arg.empty() && arg[0] == '@') {
     const std::string path = arg.substr(1);
-    std::ifstream f(path, std::ios::binary);
-    if (!f) throw InputError("--bsdf: cannot read file '" + path + "'");
-    std::stringstream ss;
-    ss << f.rdbuf();
-    if (f.bad()) throw InputError("--bsdf: cannot read file '" + path + "'");
-    return parse_material(ss.str(), path);
+    std::string text;
+    try {
+      text = read_text_file(path, kMaxJsonFileBytes, "a material file");
+    } catch (const InputError& e) {
+      throw InputError(std::string("--bsdf: ") + e.what());
+    }
+    return parse_material(text, path);
   }
   return parse_material(arg, "--bsdf");
+}
+
+CLI::Validator decimal_in_range(std::int64_t lo, std::int64_t hi) {
+  const CLI::Validator decimal(
+      [](std::string& s) -> std::string {
+        const size_t digits = s.find_first_not_of("0123456789", !s.empty() && s[0] == '-' ? 1 : 0);
+        const bool ok = digits == std::string::npos && !s.empty() && s != "-";
+        return ok ? std::string() : "'" + s + "' is not a decimal integer";
+      },
+      "", "decimal");
+  return decimal & CLI::Range(lo, hi);
 }
 
 TransportMode parse_mode(const std::string& name) {

@@ -4,6 +4,7 @@
 // round-trip precision (SPEC §1: %.9g for float, %.17g for double).
 
 #include <array>
+#include <cstdint>
 #include <istream>
 #include <string>
 #include <vector>
@@ -15,8 +16,22 @@
 
 namespace gonio::cli {
 
-// --bsdf value: the JSON text itself, or @path to a file holding it.
+// --bsdf value: the JSON text itself, or @path to a file holding it (read through the
+// bounded reader: at most kMaxJsonFileBytes, devices and pipes included).
 BxDF load_bsdf(const std::string& arg);
+
+// SPEC §3's ranges of the integer options, shared by every command that has them.
+inline constexpr std::int64_t kMaxSamples = 1'000'000'000'000;  // --samples 1 to 10^12
+inline constexpr std::int64_t kMaxSeed = 2'147'483'647;         // --seed 0 to 2^31 - 1
+inline constexpr std::int64_t kMaxSpp = 1'048'576;              // --spp 1 to 2^20
+inline constexpr std::int64_t kMaxThreads = 1024;               // --threads 0 to 1024
+
+// CLI11 validator for an integer option: decimal digits only (an optional leading '-',
+// so that a negative value is reported as out of range) and CLI::Range(lo, hi).
+// CLI11's own conversion would also take 0x10, 0b11, 0o7 and 1e3. Use it as
+//   cmd.add_option("--seed", seed)->check(decimal_in_range(0, kMaxSeed));
+// with an integer type that holds the whole range (std::int64_t).
+CLI::Validator decimal_in_range(std::int64_t lo, std::int64_t hi);
 
 // --mode radiance|importance (validated by CLI11's check; this only maps the name).
 TransportMode parse_mode(const std::string& name);

@@ -30,8 +30,6 @@ double checked_degrees(double v, double lo, double hi, const char* name) {
 
 void run_albedo(const AlbedoArgs& a) {
   const BxDF bxdf = load_bsdf(a.bsdf);
-  if (a.samples <= 0) throw InputError("--samples must be > 0, got " + std::to_string(a.samples));
-  if (a.seed < 0) throw InputError("--seed must be >= 0, got " + std::to_string(a.seed));
   const ReflectanceOptions opt{std::uint64_t(a.samples), std::uint64_t(a.seed)};
   AlbedoEstimate e;
   std::string theta = "null";
@@ -70,8 +68,9 @@ void register_albedo(CLI::App& app) {
                              "rho_hh: average over all wo on one side, cosine-weighted (theta ignored)");
   theta->excludes(hemi);
   cmd->add_flag("--inside", args->inside, "put wo on the z < 0 side");
-  cmd->add_option("--samples", args->samples, "Monte Carlo samples (default 1048576)");
-  cmd->add_option("--seed", args->seed, "random seed (default 1)");
+  cmd->add_option("--samples", args->samples, "Monte Carlo samples, 1 to 10^12 (default 1048576)")
+      ->check(decimal_in_range(1, kMaxSamples));
+  cmd->add_option("--seed", args->seed, "random seed, 0 to 2147483647 (default 1)")->check(decimal_in_range(0, kMaxSeed));
   cmd->callback([args, theta, hemi] {
     if (theta->count() == 0 && hemi->count() == 0)
       throw InputError("albedo: give --theta DEG or --hemispherical");

@@ -1,7 +1,9 @@
 // gonio: the command-line face of the library (SPEC §3). Results go to stdout as JSON
 // lines; errors go to stderr as one line, with exit status 2 for bad input.
 
+#include <cerrno>
 #include <cstdio>
+#include <cstring>
 #include <exception>
 #include <iostream>
 #include <string>
@@ -10,6 +12,15 @@
 
 #include "commands.h"
 #include "gonio/error.h"
+
+namespace {
+// The one way an error leaves gonio: one line on stderr, control characters the user
+// typed escaped (gonio::escape_control), and the exit status.
+int fail(int status, const std::string& message) {
+  std::cerr << "gonio: " << gonio::escape_control(message) << "\n";
+  return status;
+}
+}  // namespace
 
 int main(int argc, char** argv) {
   CLI::App app{"gonio: physically based reflection models, evaluated, sampled and measured"};
@@ -30,10 +41,7 @@ int main(int argc, char** argv) {
       known |= sub->get_name() == word;
       names += (names.empty() ? "" : ", ") + sub->get_name();
     }
-    if (!known) {
-      std::cerr << "gonio: unknown subcommand '" << word << "' (known: " << names << ")\n";
-      return 2;
-    }
+    if (!known) return fail(2, "unknown subcommand '" + word + "' (known: " + names + ")");
   }
   try {
     app.parse(argc, argv);
@@ -44,17 +52,24 @@ int main(int argc, char** argv) {
   } catch (const CLI::CallForVersion& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
-    std::cerr << "gonio: " << e.what() << " (see gonio --help)\n";
-    return 2;
+    return fail(2, std::string(e.what()) + " (see gonio --help)");
   } catch (const gonio::InputError& e) {
-    std::cerr << "gonio: " << e.what() << "\n";
-    return 2;
+    return fail(2, e.what());
   } catch (const std::exception& e) {
-    std::cerr << "gonio: internal error: " << e.what() << "\n";
-    return 3;
+    return fail(3, std::string("internal error: ") + e.what());
   }
+  // Results go out through C stdio (std::cout is synchronised with it, and some commands
+  // printf): a full disk or a bad descriptor shows at the latest when stdout is flushed.
+  // When an earlier write failed and the flush has nothing left to write, errno still
+  // holds that write's reason (nothing else fails in between).
   std::cout.flush();
-  return std::cout.good() ? gonio::cli::exit_status() : 3;
+  const int earlier = errno;
+  errno = 0;
+  const bool flushed = std::fflush(stdout) == 0;
+  const int reason = flushed ? earlier : errno;
+  if (!flushed || std::ferror(stdout) || !std::cout.good())
+    return fail(2, std::string("cannot write to stdout: ") + std::strerror(reason != 0 ? reason : EIO));
+  return gonio::cli::exit_status();
 }
 
 int& gonio::cli::exit_status() {

@@ -1,15 +1,37 @@
 #pragma once
-// JSON text → nlohmann::json, with bad input reported as one InputError line that names
+// Text input with limits: files read whole but bounded (devices and pipes included), and
+// JSON text → nlohmann::json with bad input reported as one InputError line that names
 // the source and the line and column, e.g.
 //   "scene.json: malformed JSON at line 3, column 5: unexpected ','; expected string literal".
-// Shared by material descriptions and renderer scenes.
+// Shared by material descriptions, renderer scenes and OBJ meshes.
 
+#include <cstddef>
+#include <string>
 #include <string_view>
 
 #include <nlohmann/json.hpp>
 
 namespace gonio {
 
+// Largest material description or scene file read: far above any hand-written scene
+// (the default scene is 3 KB), small enough that parsing it stays well under a second.
+inline constexpr std::size_t kMaxJsonFileBytes = std::size_t(16) << 20;  // 16 MiB
+// Largest OBJ mesh file read: about a million triangles with normals and UVs.
+inline constexpr std::size_t kMaxObjFileBytes = std::size_t(64) << 20;  // 64 MiB
+// Deepest nesting of JSON arrays and objects. Deeper text is refused before it is
+// parsed: the parser is iterative, but what works on its result (dump() for messages,
+// the material parser) recurses, and 58,000 levels overflowed the stack.
+inline constexpr int kMaxJsonDepth = 64;
+
+// The whole file `path` (`kind` names it in messages, e.g. "a scene file"), reading at
+// most limit + 1 bytes whatever it is: a regular file, a device (/dev/zero never ends),
+// a FIFO or /dev/stdin. Throws InputError "PATH: file too large (more than 16 MiB, the
+// limit for a scene file)" past the limit, and names the path and the reason when it
+// cannot be opened or read, or is a directory.
+std::string read_text_file(const std::string& path, std::size_t limit, std::string_view kind);
+
+// Parses JSON text; nesting deeper than kMaxJsonDepth is an InputError naming the line
+// and column of the first bracket too deep.
 nlohmann::json parse_json_text(std::string_view text, std::string_view source);
 
 }  // namespace gonio

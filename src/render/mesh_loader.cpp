@@ -1,17 +1,177 @@
-// OBJ → Mesh with tinyobjloader, vertex deduplication, transform and UV tangents.
+// OBJ → Mesh: a strict check of every statement, then tinyobjloader, vertex
+// deduplication, transform and UV tangents.
 
 #include "gonio/render/mesh_loader.h"
 
+#include <cfloat>
+#include <charconv>
 #include <cmath>
 #include <map>
+#include <string_view>
 #include <tuple>
+#include <vector>
 
 #include <tiny_obj_loader.h>
 
 #include "gonio/error.h"
+#include "gonio/json_text.h"
 
 namespace gonio::render {
 namespace {
+
+// --- Strict OBJ statements ----------------------------------------------------------
+// tinyobjloader is lenient by design: "nan" or "a" read as numbers, "1x" as 1, a NUL
+// ends its line, out-of-range indices are left for the caller. So every line is checked
+// here first, with "file:line: problem" errors, and tinyobjloader then only ever sees
+// text known to be well-formed; it keeps doing the parsing and the triangulation.
+// Accepted: v (3, 4 or 6 numbers), vt (1 to 3), vn (3), f (3 or more corners), l (2 or
+// more), p (1 or more), the names o, g, s, usemtl, mtllib, and # comments.
+
+class ObjChecker {
+ public:
+  explicit ObjChecker(const std::string& name) : name_(name) {}
+
+  void check(std::string_view text) {
+    size_t line_no = 0;
+    for (size_t start = 0; start < text.size();) {
+      size_t end = text.find('\n', start);
+      if (end == std::string_view::npos) end = text.size();
+      ++line_no;
+      line_ = line_no;
+      line(text.substr(start, end - start));
+      start = end + 1;
+    }
+    // Positive indices may point forward; they are held to the file's totals at its end.
+    for (const auto& f : forward_) {
+      line_ = f.line;
+      in_range(f.kind, f.index, counts_[f.kind], false);
+    }
+  }
+
+ private:
+  enum Kind { kVertex, kTexcoord, kNormal };
+  struct Forward {
+    size_t line;
+    Kind kind;
+    long long index;
+  };
+
+  // 'text', for messages. (Built by appending: GCC 12 warns falsely about "'" + string, bug 105651.)
+  static std::string quoted(std::string_view text) {
+    std::string s(1, '\'');
+    s.append(text);
+    s += '\'';
+    return s;
+  }
+
+  [[noreturn]] void fail(const std::string& msg) const {
+    throw InputError(name_ + ":" + std::to_string(line_) + ": " + msg);
+  }
+
+  void line(std::string_view s) {
+    if (!s.empty() && s.back() == '\r') s.remove_suffix(1);  // CRLF line ends
+    for (const char ch : s) {
+      const auto c = static_cast<unsigned char>(ch);
+      if ((c < 0x20 && c != '\t') || c == 0x7f) fail("control character " + quoted(std::string_view(&ch, 1)) + " in the line");
+    }
+    std::vector<std::string_view> tok;
+    for (size_t i = 0; i < s.size();) {
+      while (i < s.size() && (s[i] == ' ' || s[i] == '\t')) ++i;
+      if (i >= s.size() || s[i] == '#') break;  // the rest is a comment
+      const size_t b = i;
+      while (i < s.size() && s[i] != ' ' && s[i] != '\t') ++i;
+      tok.push_back(s.substr(b, i - b));
+    }
+    if (tok.empty()) return;
+    const std::string_view key = tok[0];
+    const size_t n = tok.size() - 1;
+    if (key == "v") {
+      if (n != 3 && n != 4 && n != 6) fail("v needs 3 numbers (x y z; or 4 with w, 6 with r g b), got " + std::to_string(n));
+      numbers(tok);
+      ++counts_[kVertex];
+    } else if (key == "vt") {
+      if (n < 1 || n > 3) fail("vt needs 1 to 3 numbers (u [v [w]]), got " + std::to_string(n));
+      numbers(tok);
+      ++counts_[kTexcoord];
+    } else if (key == "vn") {
+      if (n != 3) fail("vn needs 3 numbers (x y z), got " + std::to_string(n));
+      numbers(tok);
+      ++counts_[kNormal];
+    } else if (key == "f" || key == "l" || key == "p") {
+      const size_t least = key == "f" ? 3 : key == "l" ? 2 : 1;
+      if (n < least)
+        fail(std::string(key) + " needs at least " + std::to_string(least) + " vertices, got " + std::to_string(n));
+      for (size_t i = 1; i < tok.size(); ++i) corner(tok[i]);
+    } else if (key != "o" && key != "g" && key != "s" && key != "usemtl" && key != "mtllib") {
+      fail("unsupported statement " + quoted(key) + " (gonio reads v, vt, vn, f, l, p, o, g, s, usemtl, mtllib)");
+    }
+  }
+
+  // Every number parsed completely, finite, and within float range (what the mesh stores).
+  void numbers(const std::vector<std::string_view>& tok) const {
+    for (size_t i = 1; i < tok.size(); ++i) {
+      const std::string_view t = tok[i];
+      const bool plus = t[0] == '+' && t.size() > 1 && t[1] != '-';
+      const char* first = t.data() + (plus ? 1 : 0);
+      const char* last = t.data() + t.size();
+      double v = 0;
+      const auto r = std::from_chars(first, last, v);
+      const bool whole = r.ptr == last;
+      if (whole && (r.ec == std::errc::result_out_of_range || (r.ec == std::errc() && std::isfinite(v) && std::abs(v) > FLT_MAX)))
+        fail(quoted(t) + " does not fit in a float");
+      if (r.ec != std::errc() || !whole) fail(quoted(t) + " is not a number");
+      if (!std::isfinite(v)) fail(quoted(t) + " is not a finite number");
+    }
+  }
+
+  // One vertex reference: v, v/t, v//n or v/t/n.
+  void corner(std::string_view c) {
+    std::string_view part[3];
+    size_t parts = 0;
+    for (size_t b = 0;;) {
+      const size_t slash = c.find('/', b);
+      if (parts == 3) fail(quoted(c) + " is not a vertex reference (v, v/t, v//n or v/t/n)");
+      part[parts++] = c.substr(b, slash == std::string_view::npos ? std::string_view::npos : slash - b);
+      if (slash == std::string_view::npos) break;
+      b = slash + 1;
+    }
+    const bool ok = !part[0].empty() && !(parts == 2 && part[1].empty()) && !(parts == 3 && part[2].empty());
+    if (!ok) fail(quoted(c) + " is not a vertex reference (v, v/t, v//n or v/t/n)");
+    index(kVertex, part[0]);
+    if (parts >= 2 && !part[1].empty()) index(kTexcoord, part[1]);
+    if (parts == 3) index(kNormal, part[2]);
+  }
+
+  static const char* kind_name(Kind k) {
+    return k == kVertex ? "vertex" : k == kTexcoord ? "texture coordinate" : "normal";
+  }
+  static std::string count_text(Kind k, long long count) {
+    const char* plural = k == kVertex ? " vertices" : k == kTexcoord ? " texture coordinates" : " normals";
+    return std::to_string(count) + plural;
+  }
+
+  // An index counts from 1; a negative one counts back from the last element so far.
+  void index(Kind k, std::string_view t) {
+    long long i = 0;
+    const auto r = std::from_chars(t.data(), t.data() + t.size(), i);
+    if (r.ec != std::errc() || r.ptr != t.data() + t.size())
+      fail(std::string(kind_name(k)) + " index " + quoted(t) + " is not an integer in range");
+    if (i == 0) fail(std::string(kind_name(k)) + " index 0 is not allowed (OBJ counts from 1)");
+    if (i < 0) in_range(k, i, counts_[k], true);
+    else if (i > counts_[k]) forward_.push_back({line_, k, i});
+  }
+
+  void in_range(Kind k, long long i, long long count, bool so_far) const {
+    if (i > count || -i > count)
+      fail(std::string(kind_name(k)) + " index " + std::to_string(i) + " out of range (" + count_text(k, count) +
+           (so_far ? " so far)" : ")"));
+  }
+
+  std::string name_;
+  size_t line_ = 0;
+  long long counts_[3] = {0, 0, 0};
+  std::vector<Forward> forward_;
+};
 
 // Rodrigues' rotation of v about the unit axis k by angle a.
 Vec3 rotate(const Vec3& v, const Vec3& k, Float cos_a, Float sin_a) {
@@ -22,11 +182,19 @@ Vec3 rotate(const Vec3& v, const Vec3& k, Float cos_a, Float sin_a) {
 
 Mesh load_obj_mesh(const std::string& path, const MeshTransform& t, const std::string& where) {
   auto fail = [&](const std::string& msg) -> void { throw InputError(where + ": " + path + ": " + msg); };
+  std::string text;
+  try {
+    text = read_text_file(path, kMaxObjFileBytes, "an OBJ mesh");
+    ObjChecker(path).check(text);
+  } catch (const InputError& e) {
+    throw InputError(where + ": " + e.what());
+  }
   tinyobj::ObjReaderConfig config;
   config.triangulate = true;
   config.vertex_color = false;
   tinyobj::ObjReader reader;
-  if (!reader.ParseFromFile(path, config)) {
+  // No material library: gonio takes the material from the scene.
+  if (!reader.ParseFromString(text, "", config)) {
     std::string err = reader.Error();
     while (!err.empty() && (err.back() == '\n' || err.back() == '\r')) err.pop_back();
     for (char& c : err) if (c == '\n') c = ' ';

@@ -4,11 +4,9 @@
 #include "gonio/render/scene_loader.h"
 
 #include <algorithm>
-#include <cerrno>
+#include <cfloat>
 #include <cmath>
-#include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <initializer_list>
 #include <map>
 #include <memory>
@@ -79,16 +77,22 @@ class Node {
     return *this;
   }
 
+  // Every number of a scene is stored as a Float: it must fit one.
   double number() const {
     if (!v_->is_number()) fail("must be a number, got " + show(*v_));
     const double d = v_->get<double>();
     if (!std::isfinite(d)) fail("must be finite, got " + show(*v_));
+    if (std::abs(d) > FLT_MAX) fail("does not fit in a float (at most " + format_number(FLT_MAX) + "), got " + show(*v_));
     return d;
   }
+  // With open_lo and lo = 0 (a positive quantity), the value must also stay a normal
+  // float: 1e-320 passes "> 0" as a double but is 0 as a Float.
   double number(double lo, double hi, bool open_lo = false) const {
     const double d = number();
     if (open_lo ? !(d > lo) : !(d >= lo)) fail("must be " + std::string(open_lo ? "> " : ">= ") + format_number(lo) + ", got " + show(*v_));
     if (!(d <= hi)) fail("must be <= " + format_number(hi) + ", got " + show(*v_));
+    if (open_lo && lo == 0 && !(static_cast<Float>(d) >= FLT_MIN))
+      fail("must be > 0, got " + show(*v_) + " (too small for a float: it would round to 0 or a denormal)");
     return d;
   }
   int integer(int lo, int hi) const {
@@ -479,8 +483,9 @@ struct Loader {
           const Float k = static_cast<Float>(s.number(0, 1e30, true));
           t.scale = {k, k, k};
         } else {
-          t.scale = s.vec3();
-          if (!(t.scale.x > 0 && t.scale.y > 0 && t.scale.z > 0)) s.fail("scale factors must be > 0, got " + show(s.value()));
+          if (!s.value().is_array() || s.size() != 3) s.fail("must be a number or [x, y, z], got " + show(s.value()));
+          t.scale = {static_cast<Float>(s.at(0).number(0, 1e30, true)), static_cast<Float>(s.at(1).number(0, 1e30, true)),
+                     static_cast<Float>(s.at(2).number(0, 1e30, true))};
         }
       }
       if (n.has("rotate")) {
@@ -586,15 +591,9 @@ Scene parse_scene(std::string_view text, const std::string& source, const std::s
 }
 
 Scene load_scene_file(const std::string& path) {
-  std::error_code ec;
-  if (std::filesystem::is_directory(path, ec)) throw InputError(path + ": is a directory, not a scene file");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path + ": cannot open the scene file: " + std::strerror(errno));
-  std::ostringstream text;
-  text << in.rdbuf();
-  if (in.bad()) throw InputError(path + ": cannot read the scene file");
+  const std::string text = read_text_file(path, kMaxJsonFileBytes, "a scene file");
   const std::string dir = std::filesystem::path(path).parent_path().string();
-  return parse_scene(text.str(), path, dir);
+  return parse_scene(text, path, dir);
 }
 
 }  // namespace gonio::render

@@ -75,12 +75,15 @@ class TempFile {
 
 // Runs GONIO_BINARY with `args` (argv[1..]) and `stdin_text` on its standard input.
 // A watchdog kills the child after `timeout_s` seconds (status then 128 + SIGKILL).
+// With `stdout_path`, the child's stdout is that file (e.g. /dev/full) and r.out stays empty.
 inline RunResult run_gonio(const std::vector<std::string>& args, const std::string& stdin_text = "",
-                           int timeout_s = 30) {
+                           int timeout_s = 30, const char* stdout_path = nullptr) {
   RunResult r;
   TempFile in(stdin_text, "gonio_cli_stdin");
   const int in_fd = ::open(in.path().c_str(), O_RDONLY | O_CLOEXEC);
   if (in_fd < 0) throw std::runtime_error("cannot reopen stdin temp file");
+  const int file_out_fd = stdout_path ? ::open(stdout_path, O_WRONLY | O_CLOEXEC) : -1;
+  if (stdout_path && file_out_fd < 0) throw std::runtime_error(std::string("cannot open ") + stdout_path);
 
   int out_pipe[2], err_pipe[2];
   if (::pipe2(out_pipe, O_CLOEXEC) != 0 || ::pipe2(err_pipe, O_CLOEXEC) != 0)
@@ -98,7 +101,7 @@ inline RunResult run_gonio(const std::vector<std::string>& args, const std::stri
   if (pid == 0) {
     // Child: only async-signal-safe calls from here on.
     ::dup2(in_fd, 0);
-    ::dup2(out_pipe[1], 1);
+    ::dup2(file_out_fd >= 0 ? file_out_fd : out_pipe[1], 1);
     ::dup2(err_pipe[1], 2);
     ::execv(argv[0], argv.data());
     const char msg[] = "run_gonio: execv failed\n";
@@ -106,6 +109,7 @@ inline RunResult run_gonio(const std::vector<std::string>& args, const std::stri
     ::_exit(127);
   }
   ::close(in_fd);
+  if (file_out_fd >= 0) ::close(file_out_fd);
   ::close(out_pipe[1]);
   ::close(err_pipe[1]);
 
@@ -149,6 +153,12 @@ inline RunResult run_gonio(const std::vector<std::string>& args, const std::stri
   if (WIFEXITED(wstatus)) r.status = WEXITSTATUS(wstatus);
   else if (WIFSIGNALED(wstatus)) r.status = 128 + WTERMSIG(wstatus);
   return r;
+}
+
+// As run_gonio, with the child's stdout written to `stdout_path` (e.g. /dev/full).
+inline RunResult run_gonio_stdout_to(const std::string& stdout_path, const std::vector<std::string>& args,
+                                     const std::string& stdin_text = "", int timeout_s = 30) {
+  return run_gonio(args, stdin_text, timeout_s, stdout_path.c_str());
 }
 
 inline std::string describe(const RunResult& r) {

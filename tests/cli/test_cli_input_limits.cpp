@@ -1,0 +1,211 @@
+// Input that once crashed, hung or misled gonio (issue 9): nesting and size limits,
+// bounded reads of devices, one-line errors whatever the user typed, decimal integer
+// options within SPEC §3's ranges, float-sized material numbers, and write errors on
+// stdout. Every case keeps the SPEC §3 contract: exit 2, one stderr line, empty stdout.
+
+#include <chrono>
+#include <string>
+#include <vector>
+
+#include "run_gonio.h"
+
+namespace gonio_cli_test {
+namespace {
+
+const std::string kGoodEvalLine = "0 0 1 0 0.6 0.8\n";
+const std::string kDiffuse = R"({"type":"diffuse","reflectance":0.5})";
+
+// n arrays nested inside one another: "[[[...]]]" (JSON depth n).
+std::string nested_arrays(size_t n) { return std::string(n, '[') + std::string(n, ']'); }
+
+// A blend whose first part is a blend, `levels` deep, around a diffuse leaf.
+std::string nested_blends(size_t levels) {
+  std::string open, close;
+  for (size_t i = 0; i < levels; ++i) {
+    open += R"({"type":"blend","weight":0.5,"bsdfs":[)";
+    close += R"(,{"type":"diffuse"}]})";
+  }
+  return open + R"({"type":"diffuse"})" + close;
+}
+
+// The error line carries no control character: nothing but printable text and its
+// final newline (control characters the user typed are shown escaped).
+void expect_printable_line(const RunResult& r) {
+  ASSERT_FALSE(r.err.empty()) << describe(r);
+  for (size_t i = 0; i + 1 < r.err.size(); ++i) {
+    const auto c = static_cast<unsigned char>(r.err[i]);
+    EXPECT_FALSE(c < 0x20 || c == 0x7f) << "control byte " << int(c) << " at " << i << " in: " << r.err;
+  }
+}
+
+// ---------------------------------------------------------------------------------------
+// JSON nesting: depth <= 64, checked before the parser builds anything.
+
+TEST(CliInputLimits, DeeplyNestedJsonIsRejectedQuickly) {
+  // 100,000 deep (a 200 KB file) crashed the error formatting with a stack overflow (exit 139).
+  const TempFile deep(nested_arrays(100000));
+  const auto t0 = std::chrono::steady_clock::now();
+  const RunResult r = run_gonio({"eval", "--bsdf", "@" + deep.path()}, kGoodEvalLine);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  expect_bad_input(r, {deep.path(), "nested", "64"});
+  EXPECT_LT(seconds, 2.0);
+}
+
+TEST(CliInputLimits, NestingLimitIsExactly64) {
+  // Depth 64 (an object holding 63 arrays) reaches the material parser, which names the
+  // unknown field; depth 65 is refused as too deep, at the line and column of the 65th bracket.
+  const std::string ok = R"({"type":"diffuse","x":)" + nested_arrays(63) + "}";
+  expect_bad_input(run_gonio({"eval", "--bsdf", ok}, kGoodEvalLine), {"unknown parameter 'x'"});
+  const std::string deep = R"({"type":"diffuse","x":)" + nested_arrays(64) + "}";
+  const RunResult r = run_gonio({"eval", "--bsdf", deep}, kGoodEvalLine);
+  expect_bad_input(r, {"--bsdf", "nested deeper than 64", "column 86"});
+}
+
+TEST(CliInputLimits, TenThousandNestedBlendsFailFast) {
+  const TempFile blends(nested_blends(10000));
+  const auto t0 = std::chrono::steady_clock::now();
+  const RunResult r = run_gonio({"eval", "--bsdf", "@" + blends.path()}, kGoodEvalLine, 20);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  expect_bad_input(r, {"nested"});
+  EXPECT_LT(seconds, 2.0);
+}
+
+TEST(CliInputLimits, BlendNestingIsBounded) {
+  // 8 levels (256 leaves at most) evaluate; 9 are refused, naming the blend limit.
+  const auto objs = run_lines({"eval", "--bsdf", nested_blends(8)}, kGoodEvalLine, 1);
+  ASSERT_EQ(objs.size(), 1u);
+  // Every level halves the diffuse leaf's share: (0.5 (0.5 (... 1/π))) plus the other
+  // parts, all diffuse with reflectance 0.5 by default: f = 0.5/π throughout.
+  EXPECT_NEAR(color3(objs[0]["f"])[0], 0.5 / kPi, 1e-6);
+  expect_bad_input(run_gonio({"eval", "--bsdf", nested_blends(9)}, kGoodEvalLine), {"blend", "nested", "8"});
+}
+
+// ---------------------------------------------------------------------------------------
+// File size: every read is bounded (16 MiB for a material or scene), devices included.
+
+TEST(CliInputLimits, MaterialFileLargerThanTheLimitIsRejected) {
+  // A valid material padded with spaces to 16 MiB + 1 byte.
+  std::string text = kDiffuse;
+  text.resize((size_t(16) << 20) + 1, ' ');
+  const TempFile big(text);
+  expect_bad_input(run_gonio({"eval", "--bsdf", "@" + big.path()}, kGoodEvalLine),
+                   {big.path(), "too large", "16 MiB"});
+  // Exactly at the limit it is read and parsed.
+  text.resize(size_t(16) << 20);
+  const TempFile at_limit(text);
+  run_lines({"eval", "--bsdf", "@" + at_limit.path()}, kGoodEvalLine, 1);
+}
+
+TEST(CliInputLimits, EndlessDeviceIsReadOnlyUpToTheLimit) {
+  // /dev/zero never ends; reading it whole hung gonio until memory ran out.
+  const RunResult r = run_gonio({"eval", "--bsdf", "@/dev/zero"}, kGoodEvalLine, 10);
+  expect_bad_input(r, {"/dev/zero", "too large"});
+}
+
+TEST(CliInputLimits, MaterialFromStdinDevice) {
+  // /dev/stdin is one more file: read through the same bounded reader.
+  const RunResult r = run_gonio({"albedo", "--bsdf", "@/dev/stdin", "--theta", "0"}, kDiffuse);
+  EXPECT_EQ(r.status, 0) << describe(r);
+  EXPECT_NE(r.out.find("\"albedo\":[0.5,0.5,0.5]"), std::string::npos) << describe(r);
+  expect_bad_input(run_gonio({"eval", "--bsdf", "@/tmp"}, kGoodEvalLine), {"/tmp", "directory"});
+}
+
+// ---------------------------------------------------------------------------------------
+// One line, whatever the user typed: control characters in echoed text are escaped.
+
+TEST(CliInputLimits, ControlCharactersInEchoedTextAreEscaped) {
+  struct Case {
+    std::vector<std::string> args;
+    std::string stdin_text;
+    std::string shown;  // how the control character must appear
+  };
+  const std::vector<Case> cases = {
+      {{"eval", "--bsdf", R"({"type":"velvet\nrug"})"}, kGoodEvalLine, "velvet\\nrug"},
+      {{"eval", "--bsdf", R"({"type":"diffuse","a\tb":1})"}, kGoodEvalLine, "a\\tb"},
+      {{"eval", "--bsdf", R"({"type":"diffuse","a\u0001b":1})"}, kGoodEvalLine, "a\\x01b"},
+      {{"eval", "--bsdf", "@/nonexistent\nfile"}, kGoodEvalLine, "/nonexistent\\nfile"},
+      {{"eval", "--bsdf", kDiffuse}, "0 0 1 0 0.6 0.8\x01\n", "0.8\\x01"},
+      {{"albedo", "--bsdf", kDiffuse, "--theta", "1\n2"}, "", "1\\n2"},
+      {{"nosuch\ncommand"}, "", "nosuch\\ncommand"},
+      {{"eval", "--bsdf", kDiffuse, "--mode", "radiance\r"}, kGoodEvalLine, "radiance\\r"},
+  };
+  for (const auto& c : cases) {
+    SCOPED_TRACE(c.shown);
+    const RunResult r = run_gonio(c.args, c.stdin_text);
+    expect_bad_input(r, {c.shown});
+    expect_printable_line(r);
+  }
+}
+
+// ---------------------------------------------------------------------------------------
+// Integer options: decimal only, within SPEC §3's ranges (--samples 1 to 10^12,
+// --seed 0 to 2,147,483,647).
+
+TEST(CliInputLimits, SamplesAndSeedOutOfRangeOrNotDecimal) {
+  const std::vector<std::string> albedo = {"albedo", "--bsdf", R"({"type":"phong","kd":0.2,"ks":0.3,"exponent":10})",
+                                           "--theta", "30"};
+  auto with = [&](const char* opt, const std::string& v) {
+    auto a = albedo;
+    a.push_back(opt);
+    a.push_back(v);
+    return a;
+  };
+  for (const std::string v : {"0", "-1", "1000000000001", "99999999999999999999", "0x10", "1e3", "1.5", "", "12abc"}) {
+    SCOPED_TRACE("--samples " + v);
+    expect_bad_input(run_gonio(with("--samples", v)), {"--samples"});
+  }
+  for (const std::string v : {"-1", "2147483648", "99999999999999999999", "0x10", "1e3", "0.5", " 7"}) {
+    SCOPED_TRACE("--seed " + v);
+    expect_bad_input(run_gonio(with("--seed", v)), {"--seed"});
+  }
+  // The ends of the ranges that are cheap to run.
+  for (const auto& [opt, v] : std::vector<std::pair<const char*, std::string>>{
+           {"--samples", "1"}, {"--seed", "0"}, {"--seed", "2147483647"}}) {
+    SCOPED_TRACE(std::string(opt) + " " + v);
+    auto a = with(opt, v);
+    if (std::string(opt) == "--seed") a.insert(a.end(), {"--samples", "1000"});
+    run_one(a);
+  }
+}
+
+// ---------------------------------------------------------------------------------------
+// Material numbers must fit a float; a positive-only one must not round to 0 or a denormal.
+
+TEST(CliInputLimits, MaterialNumbersThatUnderflowAFloatAreRejected) {
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {R"({"type":"roughconductor","material":"Au","alpha":1e-320})", "alpha"},
+      {R"({"type":"roughconductor","material":"Au","alpha":[0.1,1e-39]})", "alpha"},
+      {R"({"type":"roughdielectric","alpha":1e-46})", "alpha"},
+      {R"({"type":"ward","kd":0.1,"ks":0.1,"alpha":1e-40})", "alpha"},
+      {R"({"type":"ashikhminshirley","rd":0.1,"rs":0.1,"nu":1e-320,"nv":10})", "nu"},
+      {R"({"type":"plastic","alpha":2e-39})", "alpha"},
+  };
+  for (const auto& [bsdf, field] : cases) {
+    SCOPED_TRACE(bsdf);
+    expect_bad_input(run_gonio({"eval", "--bsdf", bsdf}, kGoodEvalLine), {field, "float"});
+  }
+  // The smallest normal float (1.18e-38) is still a (smooth) roughness.
+  run_lines({"eval", "--bsdf", R"({"type":"roughconductor","material":"Au","alpha":1.2e-38})"}, kGoodEvalLine, 1);
+}
+
+// ---------------------------------------------------------------------------------------
+// Write errors on stdout: exit 2 and one line, not silence (exit 3) or success (check).
+
+TEST(CliInputLimits, FullStdoutIsReported) {
+  const std::vector<std::pair<std::vector<std::string>, std::string>> runs = {
+      {{"eval", "--bsdf", kDiffuse}, kGoodEvalLine},
+      {{"sample", "--bsdf", kDiffuse}, "0 0 1 0.5 0.5 0.5\n"},
+      {{"albedo", "--bsdf", kDiffuse, "--theta", "30"}, ""},
+      {{"fresnel", "--eta", "1.5", "--theta", "30"}, ""},
+      {{"table"}, ""},
+      {{"check", "--bsdf", R"({"type":"mirror"})"}, ""},  // printf, not std::cout; the quickest check
+  };
+  for (const auto& [args, in] : runs) {
+    SCOPED_TRACE(args.front());
+    const RunResult r = run_gonio_stdout_to("/dev/full", args, in, 120);
+    expect_bad_input(r, {"cannot write to stdout", "no space left"});
+  }
+}
+
+}  // namespace
+}  // namespace gonio_cli_test

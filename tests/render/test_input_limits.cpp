@@ -1,0 +1,167 @@
+// Scene and OBJ input that gonio once accepted or choked on (issue 9): numbers that do
+// not fit a float, strict OBJ statements with file:line errors, bounded reads of scene
+// files, and one-line messages. Through the library (load_scene_file), plus `gonio render`
+// on an endless device.
+
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "../cli/run_gonio.h"
+#include "gonio/error.h"
+#include "gonio/render/scene_loader.h"
+#include "scratch_dir.h"
+
+namespace gonio::render {
+namespace {
+
+using gonio::test::ScratchDir;
+
+// The message of the InputError that loading `scene_path` throws ("" when none is thrown).
+std::string load_error(const std::string& scene_path) {
+  try {
+    load_scene_file(scene_path);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+void expect_error(const std::string& msg, const std::vector<std::string>& mentions) {
+  ASSERT_FALSE(msg.empty()) << "accepted";
+  for (const char c : msg) EXPECT_FALSE(static_cast<unsigned char>(c) < 0x20) << "control byte in: " << msg;
+  for (const auto& m : mentions) EXPECT_NE(msg.find(m), std::string::npos) << "should mention '" << m << "': " << msg;
+}
+
+const std::string kMeshScene = R"({"camera": {"width": 4, "height": 4},
+  "shapes": [{"type": "mesh", "file": "m.obj", "material": {"type": "diffuse"}}]})";
+
+// ---------------------------------------------------------------------------------------
+// OBJ: every statement parsed completely, numbers finite and float-sized, indices in
+// range (negative ones relative to the vertices so far), no NUL or control bytes.
+
+// A NUL byte inside line 2.
+constexpr char kNulObj[] = "v 0 0 0\nv 1 0 0\x00\nv 0 0 1\nf 1 2 3\n";
+
+TEST(InputLimits, BadObjStatementsNameFileAndLine) {
+  const std::string tri = "v 0 0 0\nv 1 0 0\nv 0 0 1\n";
+  struct Case {
+    std::string obj;
+    std::vector<std::string> mentions;
+  };
+  const std::vector<Case> cases = {
+      {"v nan nan nan\nv 1 0 0\nv 0 0 1\nf 1 2 3\n", {"m.obj:1:", "nan"}},
+      {tri + "v inf 0 0\nf 1 2 3\n", {"m.obj:4:", "inf"}},
+      {"v a b c\nv 1 0 0\nv 0 0 1\nf 1 2 3\n", {"m.obj:1:", "'a'"}},
+      {"v 0 0 0\nv 1 0 0 \nv 0 0 1x\nf 1 2 3\n", {"m.obj:3:", "'1x'"}},
+      {"v 0 0\nv 1 0 0\nv 0 0 1\nf 1 2 3\n", {"m.obj:1:", "3"}},
+      {tri + "v 1e39 0 0\nf 1 2 3\n", {"m.obj:4:", "1e39", "float"}},
+      {tri + "vn 0 1\nf 1 2 3\n", {"m.obj:4:"}},
+      {tri + "vt 0.5 nan\nf 1 2 3\n", {"m.obj:4:", "nan"}},
+      {tri + "f 1 2 4\n", {"m.obj:4:", "4", "out of range", "3 vertices"}},
+      {tri + "f 1 2 0\n", {"m.obj:4:", "0"}},
+      {tri + "f -1 -2 -4\n", {"m.obj:4:", "-4", "out of range"}},
+      {tri + "f 1 2 99999999999999999999\n", {"m.obj:4:", "99999999999999999999"}},
+      {tri + "f 1 2 3.5\n", {"m.obj:4:", "3.5"}},
+      {tri + "f 1 2\n", {"m.obj:4:", "3"}},
+      {tri + "vt 0 0\nf 1/2 2/1 3/1\n", {"m.obj:5:", "texture coordinate", "out of range"}},
+      {tri + "vn 0 1 0\nf 1//1 2//2 3//1\n", {"m.obj:5:", "normal", "out of range"}},
+      {tri + "f 1/ 2 3\n", {"m.obj:4:"}},
+      {std::string(kNulObj, sizeof kNulObj - 1), {"m.obj:2:", "\\x00"}},
+      {tri + "f 1 2 3\x01\n", {"m.obj:4:", "\\x01"}},
+      {tri + "curv 0 1 1 2\nf 1 2 3\n", {"m.obj:4:", "curv"}},
+  };
+  for (const auto& c : cases) {
+    SCOPED_TRACE(c.obj);
+    ScratchDir dir;
+    dir.file("m.obj", c.obj);
+    expect_error(load_error(dir.file("s.json", kMeshScene)), c.mentions);
+  }
+}
+
+TEST(InputLimits, GoodObjStatementsAreAccepted) {
+  // Relative (negative) indices, v/t/n forms, w and comments, groups, smoothing, materials,
+  // CRLF line ends, a quad: all legal OBJ.
+  ScratchDir dir;
+  dir.file("m.obj",
+           "# a comment\r\nmtllib none.mtl\r\no thing\r\ng part\r\ns 1\r\nusemtl x\r\n"
+           "v 0 0 0 1\r\nv 1 0 0\r\nv 1 0 1\r\nv 0 0 1\r\nvt 0 0\r\nvt 1 0\r\nvt 1 1\r\nvn 0 1 0\r\n"
+           "f -4/-3/-1 -3/-2/-1 -2/-1/-1\r\nf 1//1 3//1 4//1\r\nf 1 2 3 4\r\n");
+  const std::string scene = dir.file("s.json", kMeshScene);
+  EXPECT_EQ(load_error(scene), "");
+  const Scene s = load_scene_file(scene);
+  ASSERT_EQ(s.meshes.size(), 1u);
+  EXPECT_EQ(s.meshes[0].indices.size(), 3u * 4u);
+}
+
+// ---------------------------------------------------------------------------------------
+// Scene numbers: a value must fit a float; a positive-only one must stay a normal float.
+
+TEST(InputLimits, SceneNumbersMustFitAFloat) {
+  const std::vector<std::pair<std::string, std::vector<std::string>>> cases = {
+      {R"({"shapes": [{"type": "sphere", "center": [0,0,0], "radius": 1e39, "material": {"type": "diffuse"}}]})",
+       {"s.json: /shapes/0/radius", "float"}},
+      {R"({"shapes": [{"type": "sphere", "center": [0,0,0], "radius": 1e-320, "material": {"type": "diffuse"}}]})",
+       {"s.json: /shapes/0/radius", "float"}},
+      {R"({"lights": [{"type": "sphere", "center": [0,0,0], "radius": 1e-40, "radiance": 1}]})",
+       {"s.json: /lights/0/radius", "float"}},
+      {R"({"shapes": [{"type": "sphere", "center": [1e39,0,0], "radius": 1, "material": {"type": "diffuse"}}]})",
+       {"s.json: /shapes/0/center/0", "float"}},
+      {R"({"camera": {"position": [0,-3.5e38,0]}})", {"s.json: /camera/position/1", "float"}},
+      {R"({"shapes": [{"type": "mesh", "file": "m.obj", "scale": 1e-320, "material": {"type": "diffuse"}}]})",
+       {"s.json: /shapes/0/scale", "float"}},
+      {R"({"shapes": [{"type": "mesh", "file": "m.obj", "scale": [1, 1e-39, 1], "material": {"type": "diffuse"}}]})",
+       {"s.json: /shapes/0/scale/1", "float"}},
+      {R"({"shapes": [{"type": "mesh", "file": "m.obj", "rotate": {"axis": [0,1,0], "degrees": 1e39}, "material": {"type": "diffuse"}}]})",
+       {"s.json: /shapes/0/rotate/degrees", "float"}},
+      {R"({"materials": {"m": {"type": "roughconductor", "material": "Au", "alpha": 1e-320}}})",
+       {"s.json: /materials/m", "alpha", "float"}},
+  };
+  for (const auto& [scene, mentions] : cases) {
+    SCOPED_TRACE(scene);
+    ScratchDir dir;
+    dir.file("m.obj", "v 0 0 0\nv 1 0 0\nv 0 0 1\nf 1 2 3\n");
+    expect_error(load_error(dir.file("s.json", scene)), mentions);
+  }
+}
+
+// ---------------------------------------------------------------------------------------
+// Size and nesting: scene files at most 16 MiB, JSON depth at most 64, one-line errors.
+
+TEST(InputLimits, SceneFileSizeAndNesting) {
+  ScratchDir dir;
+  std::string big = R"({"camera": {"width": 4, "height": 4}})";
+  big.resize((size_t(16) << 20) + 1, '\n');
+  expect_error(load_error(dir.file("big.json", big)), {"big.json", "too large", "16 MiB"});
+
+  const std::string deep = R"({"comment": )" + std::string(70000, '[') + std::string(70000, ']') + "}";
+  expect_error(load_error(dir.file("deep.json", deep)), {"deep.json", "nested deeper than 64", "line 1, column 76"});
+
+  expect_error(load_error(dir.path("")), {});
+  expect_error(load_error(dir.path("nothing.json")), {"nothing.json"});
+}
+
+TEST(InputLimits, ObjFileSizeIsBounded) {
+  // OBJ meshes may be larger than scenes (64 MiB); /dev/zero is refused once past it.
+  ScratchDir dir;
+  const std::string scene = dir.file("s.json", R"({"shapes": [{"type": "mesh", "file": "/dev/zero", "material": {"type": "diffuse"}}]})");
+  expect_error(load_error(scene), {"/shapes/0/file", "/dev/zero", "too large", "64 MiB"});
+}
+
+TEST(InputLimits, UserTextInSceneErrorsIsEscaped) {
+  ScratchDir dir;
+  const std::string scene = dir.file("s.json", R"({"shapes": [{"type": "cu\nbe\t", "material": {"type": "diffuse"}}]})");
+  expect_error(load_error(scene), {"cu\\nbe\\t"});
+  const std::string mesh = dir.file("m.json", R"({"shapes": [{"type": "mesh", "file": "no\u0007such.obj", "material": "x"}]})");
+  expect_error(load_error(mesh), {"no\\x07such.obj"});
+}
+
+TEST(InputLimits, RenderOfAnEndlessDeviceStops) {
+  // `gonio render /dev/zero` read until memory ran out.
+  const auto r = gonio_cli_test::run_gonio({"render", "/dev/zero"}, "", 10);
+  gonio_cli_test::expect_bad_input(r, {"/dev/zero", "too large"});
+}
+
+}  // namespace
+}  // namespace gonio::render
