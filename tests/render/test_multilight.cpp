@@ -189,9 +189,10 @@ TEST(MultiLight, TwoPointLightsMatchClosedFormPerPixel) {
 
 // All lights at once: two point lights, three area lights of different power and colour
 // and the sky — four sampled lights, one picked per estimate. Compared over 8 × 8 blocks
-// and over the whole image. The noise of a block mean, measured over seeds, is below 0.5%
-// of its value at this sample count; a selection pdf off by a factor (1/N for another N,
-// or missing) moves blocks by 10% or more.
+// and over the whole image. Measured over seeds, the worst of the 48 block means is off
+// by 1.0% at 256 spp (1.8% at 64, the sanitizer run's count) and the image mean by 0.3%;
+// a selection pdf off by a factor (1/N for another N, or missing) moves them by 10% or
+// more.
 TEST(MultiLight, PointQuadSphereAndSkyMatchClosedForm) {
   const int spp = int(std::max<std::uint64_t>(64, gonio::test::scaled(256, 64)));
   const Image img = render_text(scene_json(spp, 7, true, true, true));
@@ -206,7 +207,7 @@ TEST(MultiLight, PointQuadSphereAndSkyMatchClosedForm) {
         const double got = block_mean(img, bx, by, 8, c);
         got_all[c] += got / 16;
         want_all[c] += want / 16;
-        EXPECT_NEAR(got, want, 0.03 * want) << "block " << bx << "," << by << " channel " << c;
+        EXPECT_NEAR(got, want, 0.04 * want) << "block " << bx << "," << by << " channel " << c;
       }
   for (int c = 0; c < 3; ++c) EXPECT_NEAR(got_all[c], want_all[c], 0.01 * want_all[c]) << "channel " << c;
 }
