@@ -262,6 +262,31 @@ TEST(RenderOutput, TwoWritersOfOnePathEachHaveTheirOwnFile) {
   EXPECT_EQ(leftovers(dir.path(""), {"same.exr"}), std::vector<std::string>{});
 }
 
+// Through a symbolic link the image replaces the file the link names, and the link stays;
+// an existing read-only file is not replaced.
+TEST(RenderOutput, SymbolicLinkAndReadOnlyTargets) {
+  ScratchDir dir;
+  std::ofstream(dir.path("real.exr")) << "old";
+  fs::create_symlink(dir.path("real.exr"), dir.path("link.exr"));
+  Image img(2, 2);
+  img.at(1, 1) = Color(5);
+  write_exr(img, dir.path("link.exr"));
+  EXPECT_TRUE(fs::is_symlink(dir.path("link.exr")));
+  EXPECT_EQ(read_image(dir.path("real.exr")).at(1, 1), Color(5));
+  if (::geteuid() != 0) {  // permission bits do not stop root
+    std::ofstream(dir.path("ro.exr")) << "keep";
+    fs::permissions(dir.path("ro.exr"), fs::perms::owner_read);
+    try {
+      ImageOutput out(dir.path("ro.exr"));
+      ADD_FAILURE() << "a read-only file was accepted";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("read-only"), std::string::npos) << e.what();
+    }
+    EXPECT_EQ(read_bytes(dir.path("ro.exr")), "keep");
+  }
+  EXPECT_EQ(leftovers(dir.path(""), {"real.exr", "link.exr", "ro.exr"}), std::vector<std::string>{});
+}
+
 // Two renders to one output at the same time: both succeed, and the file is one of the
 // two images, whole (byte for byte the file each writes alone).
 TEST(RenderOutput, ConcurrentRendersToOneOutput) {
