@@ -7,7 +7,10 @@
 #include "gonio/render/image.h"
 #include "gonio/render/image_output.h"
 
+#include <fcntl.h>
 #include <png.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include <Iex.h>
 #include <ImfChannelList.h>
@@ -25,10 +28,6 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
-#include <fcntl.h>
-#include <sys/stat.h>
-#include <unistd.h>
-
 #include <filesystem>
 #include <functional>
 #include <mutex>
