@@ -50,7 +50,7 @@ static_assert(std::atomic<bool>::is_always_lock_free && std::atomic<int>::is_alw
 
 extern "C" void on_stop_signal(int sig) {
   g_signal.store(sig, std::memory_order_relaxed);
-  g_stop.store(true, std::memory_order_relaxed);
+  g_stop.store(true, std::memory_order_release);  // publishes g_signal to the renderer's acquire
 }
 
 void install_stop_handlers() {
@@ -117,7 +117,7 @@ void run_render(const RenderArgs& a) {
   render::RenderStats stats;
   const render::Image image = render::render(scene, options, &stats);
   if (tty && last_step >= 0) std::fprintf(stderr, "\n");
-  const int sig = g_signal.load();
+  const int sig = g_signal.load() == SIGTERM ? SIGTERM : SIGINT;
   const char* sig_name = sig == SIGTERM ? "SIGTERM" : "SIGINT";
   if (stats.stopped) exit_status() = 128 + sig;
   if (stats.spp == 0) {

@@ -40,7 +40,9 @@ Image render(const Scene& scene_in, const RenderOptions& options, RenderStats* s
   scene.camera.prepare();
   const int w = scene.camera.width, h = scene.camera.height, spp = scene.settings.spp;
   const size_t pixels = size_t(w) * size_t(h);
-  const auto stop_requested = [&] { return options.stop && options.stop->load(std::memory_order_relaxed); };
+  // Acquire: what the stopper wrote before setting the flag (a signal number, say) is
+  // visible to the caller once render() returns.
+  const auto stop_requested = [&] { return options.stop && options.stop->load(std::memory_order_acquire); };
 
   // Per pixel: its random stream, carried from pass to pass, and its sum of samples after
   // the last completed pass (`sums`) and during the current one (`next`). The samples are
