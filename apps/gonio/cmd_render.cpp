@@ -1,12 +1,21 @@
 // gonio render: the reflection equation on a scene (SPEC §3). Writes linear OpenEXR or
 // tone-mapped sRGB PNG, by the output's extension.
+//
+// The output file is created (under a temporary name) before the scene is rendered, so an
+// output that cannot be written costs no rendering time. SIGINT and SIGTERM stop the
+// render between tiles; the passes completed so far are written as an image with fewer
+// samples per pixel, and the exit status is 128 + the signal number (130, 143).
 
+#include <signal.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cctype>
+#include <cstdint>
 #include <cstdio>
 #include <filesystem>
+#include <cmath>
 #include <iostream>
 #include <memory>
 #include <string>
@@ -14,6 +23,7 @@
 
 #include "commands.h"
 #include "gonio/error.h"
+#include "gonio/render/image_output.h"
 #include "gonio/render/renderer.h"
 #include "gonio/render/scene_loader.h"
 
@@ -23,10 +33,34 @@ namespace {
 struct RenderArgs {
   std::string scene;
   std::string output = "gonio.png";
-  int spp = -1;      // -1: not given
-  int threads = -1;
-  std::int64_t seed = -1;
+  int spp = 0;         // 0: the scene's
+  int threads = 0;     // 0: all cores
+  std::int64_t seed = -1;  // -1: the scene's
 };
+
+// SPEC §3: the integer options' ranges.
+constexpr int kMaxSpp = 1 << 20, kMaxThreads = 1024;
+constexpr std::int64_t kMaxSeed = 2147483647;
+
+// Set by the signal handler, read by the renderer between tiles. Only lock-free atomics
+// may be touched in a handler.
+std::atomic<bool> g_stop{false};
+std::atomic<int> g_signal{0};
+static_assert(std::atomic<bool>::is_always_lock_free && std::atomic<int>::is_always_lock_free);
+
+extern "C" void on_stop_signal(int sig) {
+  g_signal.store(sig, std::memory_order_relaxed);
+  g_stop.store(true, std::memory_order_release);  // publishes g_signal to the renderer's acquire
+}
+
+void install_stop_handlers() {
+  struct sigaction sa {};
+  sa.sa_handler = on_stop_signal;
+  sigemptyset(&sa.sa_mask);
+  sa.sa_flags = SA_RESTART;
+  sigaction(SIGINT, &sa, nullptr);
+  sigaction(SIGTERM, &sa, nullptr);
+}
 
 std::string lower_extension(const std::string& path) {
   std::string ext = std::filesystem::path(path).extension().string();
@@ -37,6 +71,7 @@ std::string lower_extension(const std::string& path) {
 // "1.23 M" style figures for the closing line.
 std::string si(double v) {
   char buf[32];
+  if (!(v >= 0) || !std::isfinite(v)) v = 0;
   if (v >= 1e9) std::snprintf(buf, sizeof buf, "%.2f G", v / 1e9);
   else if (v >= 1e6) std::snprintf(buf, sizeof buf, "%.2f M", v / 1e6);
   else if (v >= 1e3) std::snprintf(buf, sizeof buf, "%.1f k", v / 1e3);
@@ -48,21 +83,21 @@ void run_render(const RenderArgs& a) {
   const std::string ext = lower_extension(a.output);
   if (ext != ".exr" && ext != ".png")
     throw InputError("-o " + a.output + ": the output must end in .exr (linear) or .png (sRGB)");
-  const std::filesystem::path dir = std::filesystem::path(a.output).parent_path();
-  if (!dir.empty() && !std::filesystem::is_directory(dir))
-    throw InputError("-o " + a.output + ": directory " + dir.string() + " does not exist");
-  if (a.spp != -1 && a.spp < 1) throw InputError("--spp must be >= 1, got " + std::to_string(a.spp));
-  if (a.threads != -1 && a.threads < 1) throw InputError("--threads must be >= 1, got " + std::to_string(a.threads));
-  if (a.seed < -1) throw InputError("--seed must be >= 0, got " + std::to_string(a.seed));
 
+  // From here on a signal only sets the flag, so the temporary file below is always
+  // removed or renamed; a signal during loading stops the render before it starts.
+  install_stop_handlers();
+  render::ImageOutput out(a.output);  // an unwritable location fails here, before any work
   render::Scene scene = a.scene.empty() ? render::parse_scene(render::default_scene_json(), "default scene", "")
                                         : render::load_scene_file(a.scene);
   if (a.spp > 0) scene.settings.spp = a.spp;
   if (a.seed >= 0) scene.settings.seed = static_cast<std::uint64_t>(a.seed);
+  out.reserve(scene.camera.width, scene.camera.height);  // a full disk fails here
 
   const bool tty = isatty(STDERR_FILENO) == 1;
   render::RenderOptions options;
-  options.threads = std::max(0, a.threads);
+  options.threads = a.threads;
+  options.stop = &g_stop;
   int last_step = -1;
   options.progress = [&](double done) {
     if (tty) {
@@ -81,21 +116,45 @@ void run_render(const RenderArgs& a) {
   };
   render::RenderStats stats;
   const render::Image image = render::render(scene, options, &stats);
-  if (tty) std::fprintf(stderr, "\n");
-  if (ext == ".exr") {
-    render::write_exr(image, a.output);
-  } else {
-    render::PngOptions png;
-    png.exposure_stops = scene.settings.exposure;
-    png.tonemap = scene.settings.filmic ? render::ToneMap::Filmic : render::ToneMap::Clamp;
-    render::write_png(image, a.output, png);
+  if (tty && last_step >= 0) std::fprintf(stderr, "\n");
+  const int sig = g_signal.load() == SIGTERM ? SIGTERM : SIGINT;
+  const char* sig_name = sig == SIGTERM ? "SIGTERM" : "SIGINT";
+  if (stats.stopped) exit_status() = 128 + sig;
+  if (stats.spp == 0) {
+    // Not one pass completed: there is no image to write (the temporary goes away).
+    std::fprintf(stderr, "gonio: interrupted by %s before any pass was complete: no image written\n", sig_name);
+    return;
   }
+  render::PngOptions png;
+  png.exposure_stops = scene.settings.exposure;
+  png.tonemap = scene.settings.filmic ? render::ToneMap::Filmic : render::ToneMap::Clamp;
+  out.write(image, png);
   const unsigned threads = a.threads > 0 ? static_cast<unsigned>(a.threads) : std::max(1u, std::thread::hardware_concurrency());
-  std::fprintf(stderr, "rendered %dx%d at %d spp on %u threads in %.2f s (+%.2f s setup): %ssamples/s, %srays/s\n",
-               scene.camera.width, scene.camera.height, scene.settings.spp, threads, stats.seconds,
+  if (stats.stopped)
+    std::fprintf(stderr, "interrupted by %s: ", sig_name);
+  std::fprintf(stderr, "rendered %dx%d at %d spp", scene.camera.width, scene.camera.height, stats.spp);
+  if (stats.stopped) std::fprintf(stderr, " (of %d)", scene.settings.spp);
+  std::fprintf(stderr, " on %u threads in %.2f s (+%.2f s setup): %ssamples/s, %srays/s\n", threads, stats.seconds,
                stats.setup_seconds, si(double(stats.samples) / stats.seconds).c_str(),
                si(double(stats.rays) / stats.seconds).c_str());
   std::cout << a.output << "\n";
+}
+
+// Decimal digits only, with an optional sign (SPEC §3): CLI11 reads integers with base
+// prefixes (0x10, 010 as octal), so the text is checked first and leading zeros dropped
+// before CLI::Range converts it.
+CLI::Validator decimal_integer() {
+  return CLI::Validator(
+      [](std::string& s) -> std::string {
+        size_t i = (!s.empty() && (s[0] == '-' || s[0] == '+')) ? 1 : 0;
+        if (i == s.size()) return "'" + s + "' is not a decimal integer";
+        for (size_t k = i; k < s.size(); ++k)
+          if (!std::isdigit(static_cast<unsigned char>(s[k]))) return "'" + s + "' is not a decimal integer";
+        const size_t nz = std::min(s.find_first_not_of('0', i), s.size() - 1);
+        s = (s[0] == '-' ? "-" : "") + s.substr(nz);
+        return {};
+      },
+      "DECIMAL");
 }
 }  // namespace
 
@@ -105,9 +164,15 @@ void register_render(CLI::App& app) {
       "render", "Render a scene (JSON, docs/scene-format.md); without one, the built-in default scene");
   cmd->add_option("scene", args->scene, "scene file (JSON)");
   cmd->add_option("-o,--output", args->output, "output image: .exr (linear) or .png (tone-mapped sRGB); default gonio.png");
-  cmd->add_option("--spp", args->spp, "samples per pixel (overrides the scene's)");
-  cmd->add_option("--threads", args->threads, "worker threads (default: all cores)");
-  cmd->add_option("--seed", args->seed, "random seed (overrides the scene's; default 0)");
+  cmd->add_option("--spp", args->spp, "samples per pixel, 1 to 1048576 (overrides the scene's)")
+      ->transform(decimal_integer())
+      ->check(CLI::Range(1, kMaxSpp));
+  cmd->add_option("--threads", args->threads, "worker threads, 0 to 1024 (default 0: all cores)")
+      ->transform(decimal_integer())
+      ->check(CLI::Range(0, kMaxThreads));
+  cmd->add_option("--seed", args->seed, "random seed, 0 to 2147483647 (overrides the scene's; default 0)")
+      ->transform(decimal_integer())
+      ->check(CLI::Range(std::int64_t(0), kMaxSeed));
   cmd->callback([args] { run_render(*args); });
 }
 

@@ -1,12 +1,16 @@
 // Image buffer, texture lookup, and OpenEXR / PNG input and output.
 //
-// Writes go to "<path>.part" and are renamed over <path> only after every byte has been
-// written and the file closed without error, so a failed write never leaves a
-// half-written file under the requested name.
+// Writes go to a temporary file of a unique name next to <path> (image_output.h) and are
+// renamed over <path> only after every byte has been written and the file closed without
+// error, so a failed write never leaves a half-written file under the requested name.
 
 #include "gonio/render/image.h"
+#include "gonio/render/image_output.h"
 
+#include <fcntl.h>
 #include <png.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include <Iex.h>
 #include <ImfChannelList.h>
@@ -25,7 +29,10 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <functional>
+#include <mutex>
 #include <new>
+#include <random>
 #include <stdexcept>
 #include <system_error>
 #include <type_traits>
@@ -74,42 +81,6 @@ class InFile {
   FILE* f_;
 };
 
-// The output file, written under a temporary name until commit().
-class OutFile {
- public:
-  explicit OutFile(const std::string& path) : path_(path), part_(path + ".part") {
-    f_ = std::fopen(part_.c_str(), "wb");
-    if (!f_) fail(path_, "cannot open for writing: " + errno_text(errno));
-  }
-  ~OutFile() {
-    if (f_) std::fclose(f_);
-    if (!committed_) std::remove(part_.c_str());
-  }
-  OutFile(const OutFile&) = delete;
-  OutFile& operator=(const OutFile&) = delete;
-  FILE* get() const { return f_; }
-
-  // fwrite buffers, so a full disk may only show at fflush or fclose: both are checked
-  // before the file takes its real name.
-  void commit() {
-    int error = 0;
-    if (std::fflush(f_) != 0 || std::ferror(f_)) error = errno ? errno : EIO;
-    errno = 0;
-    const int closed = std::fclose(f_);
-    f_ = nullptr;
-    if (closed != 0 && error == 0) error = errno ? errno : EIO;
-    if (error != 0) fail(path_, "write failed: " + errno_text(error));
-    if (std::rename(part_.c_str(), path_.c_str()) != 0)
-      fail(path_, "cannot write: " + errno_text(errno));
-    committed_ = true;
-  }
-
- private:
-  std::string path_, part_;
-  FILE* f_ = nullptr;
-  bool committed_ = false;
-};
-
 std::string lower_extension(const std::string& path) {
   std::string ext = std::filesystem::path(path).extension().string();
   for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
@@ -125,6 +96,7 @@ class ExrOutStream : public Imf::OStream {
   ExrOutStream(FILE* f, const std::string& name) : Imf::OStream(name.c_str()), f_(f) {}
   void write(const char c[], int n) override {
     if (n < 0 || std::fwrite(c, 1, size_t(n), f_) != size_t(n)) raise();
+    end_ = std::max(end_, tellp());
   }
   uint64_t tellp() override {
     const off_t p = ftello(f_);
@@ -135,6 +107,8 @@ class ExrOutStream : public Imf::OStream {
     if (fseeko(f_, off_t(pos), SEEK_SET) != 0) raise();
   }
   int error() const { return error_; }
+  // The file's length: the library seeks back to fill in the offset table at the end.
+  uint64_t end() const { return end_; }
 
  private:
   [[noreturn]] void raise() {
@@ -143,6 +117,7 @@ class ExrOutStream : public Imf::OStream {
   }
   FILE* f_;
   int error_ = 0;
+  uint64_t end_ = 0;
 };
 
 class ExrInStream : public Imf::IStream {
@@ -457,12 +432,13 @@ Float tone_map(Float x, ToneMap op) {
 }
 
 // ---------------------------------------------------------------------------------------
-// Writing
+// Writing: encoders into an open file, returning the file's length.
 
-void write_exr(const Image& img, const std::string& path) {
+namespace {
+
+uint64_t encode_exr(const Image& img, FILE* f, const std::string& path) {
   if (img.width() == 0 || img.height() == 0) fail(path, "cannot write an empty image");
-  OutFile out(path);
-  ExrOutStream stream(out.get(), path);
+  ExrOutStream stream(f, path);
   try {
     Imf::Header header(img.width(), img.height());
     header.compression() = Imf::ZIP_COMPRESSION;
@@ -482,10 +458,10 @@ void write_exr(const Image& img, const std::string& path) {
     fail(path, "cannot write OpenEXR: " + one_line(e.what()));
   }
   if (stream.error() != 0) fail(path, "write failed: " + errno_text(stream.error()));
-  out.commit();
+  return stream.end();
 }
 
-void write_png(const Image& img, const std::string& path, const PngOptions& opt) {
+uint64_t encode_png(const Image& img, FILE* f, const std::string& path, const PngOptions& opt) {
   if (img.width() == 0 || img.height() == 0) fail(path, "cannot write an empty image");
   const double scale = std::exp2(double(opt.exposure_stops));
   const size_t row_bytes = 3 * size_t(img.width());
@@ -501,20 +477,159 @@ void write_png(const Image& img, const std::string& path, const PngOptions& opt)
         *p++ = static_cast<png_byte>(std::clamp(code, 0L, 255L));
       }
   }
-
-  OutFile out(path);
   PngStatus status{};
   PngWriter writer(&status);
   if (!writer.ok()) fail(path, "out of memory");
   errno = 0;
-  if (!png_encode(writer.png(), writer.info(), out.get(), png_uint_32(img.width()),
+  if (!png_encode(writer.png(), writer.info(), f, png_uint_32(img.width()),
                   png_uint_32(img.height()), rows.data())) {
     const int error = errno;
     std::string problem = std::string("cannot write PNG: ") + status.message;
     if (error != 0) problem += " (" + errno_text(error) + ")";
     fail(path, problem);
   }
-  out.commit();
+  const off_t end = ftello(f);  // libpng writes straight through, never seeking
+  if (end < 0) fail(path, "write failed: " + errno_text(errno));
+  return uint64_t(end);
+}
+
+// Letters and digits for temporary names, from a generator seeded once per process
+// from the system's entropy and the process id.
+std::string random_suffix() {
+  static std::mutex mutex;
+  static std::mt19937_64 engine(std::random_device{}() ^ (std::uint64_t(::getpid()) << 32));
+  const char digits[] = "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789";
+  std::lock_guard lock(mutex);
+  std::string s(6, 'x');
+  for (char& c : s) c = digits[engine() % 62];
+  return s;
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------------
+// The output file
+
+ImageOutput::ImageOutput(const std::string& path) : path_(path) {
+  namespace fs = std::filesystem;
+  const std::string ext = lower_extension(path);
+  format_ = ext == ".exr" ? Format::Exr : ext == ".png" ? Format::Png : Format::Unknown;
+  if (path.empty()) fail(path, "empty output path");
+  // Through a symbolic link the image replaces the file it points to, not the link.
+  std::string target = path;
+  std::error_code ec;
+  if (fs::is_symlink(path, ec)) {
+    const fs::path real = fs::canonical(path, ec);
+    if (!ec) target = real.string();
+  }
+  struct stat st {};
+  if (::stat(target.c_str(), &st) == 0) {
+    if (S_ISDIR(st.st_mode)) fail(path, "cannot write the image: it is a directory");
+    if (!S_ISREG(st.st_mode)) fail(path, "cannot write the image: it exists and is not a regular file");
+    if (::access(target.c_str(), W_OK) != 0) fail(path, "cannot write the image: the file is read-only");
+  }
+  if (fs::path(target).filename().empty()) fail(path, "cannot write the image: it is a directory");
+  const std::string dir = fs::path(target).parent_path().string();
+  const std::string shown_dir = dir.empty() ? "." : dir;
+  struct stat ds {};
+  if (::stat(shown_dir.c_str(), &ds) != 0)
+    fail(path, "cannot open for writing: " + errno_text(errno) + " (directory " + shown_dir + ")");
+  if (!S_ISDIR(ds.st_mode)) fail(path, "cannot open for writing: " + shown_dir + " is not a directory");
+  // O_EXCL: a name another process holds is never opened twice; try another.
+  for (int attempt = 0;; ++attempt) {
+    temp_ = target + "." + random_suffix() + ".part";
+    fd_ = ::open(temp_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+    if (fd_ >= 0) break;
+    const int e = errno;
+    temp_.clear();
+    if (e == EEXIST && attempt < 100) continue;
+    fail(path, "cannot open for writing: " + errno_text(e) + " (directory " + shown_dir + ")");
+  }
+  target_ = target;
+}
+
+ImageOutput::~ImageOutput() {
+  if (fd_ >= 0) ::close(fd_);
+  if (!committed_ && !temp_.empty()) ::unlink(temp_.c_str());
+}
+
+std::uint64_t ImageOutput::max_exr_bytes(int width, int height) {
+  // ZIP blocks of 16 rows are stored raw when compression does not shrink them (OpenEXR
+  // file layout: 8 bytes of row number and size per block, 8 per offset-table entry),
+  // plus the header, a few hundred bytes.
+  const std::uint64_t raw = std::uint64_t(std::max(width, 0)) * std::uint64_t(std::max(height, 0)) * 12;
+  return raw + 16 * (std::uint64_t(std::max(height, 0)) / 16 + 1) + 65536;
+}
+
+std::uint64_t ImageOutput::max_png_bytes(int width, int height) {
+  // Filtered rows (a filter byte + 3 bytes per pixel) through zlib, whose worst case adds
+  // about 0.03% (deflateBound), in IDAT chunks of 8 KiB with 12 bytes each of framing.
+  const std::uint64_t raw = std::uint64_t(std::max(height, 0)) * (1 + 3 * std::uint64_t(std::max(width, 0)));
+  return raw + raw / 128 + 65536;
+}
+
+void ImageOutput::reserve(int width, int height) {
+  if (fd_ < 0) return;
+  const std::uint64_t bytes = format_ == Format::Exr ? max_exr_bytes(width, height)
+                              : format_ == Format::Png ? max_png_bytes(width, height)
+                                                       : std::max(max_exr_bytes(width, height), max_png_bytes(width, height));
+  const int e = ::posix_fallocate(fd_, 0, off_t(bytes));
+  // A file system that cannot reserve space (EOPNOTSUPP, EINVAL) leaves the check to the
+  // write itself, which reports a full disk as well, only later.
+  if (e == 0 || e == EOPNOTSUPP || e == EINVAL) return;
+  char size[32];
+  std::snprintf(size, sizeof size, "%.1f MB", double(bytes) / 1e6);
+  fail(path_, std::string("no room for the image (up to ") + size + "): " + errno_text(e));
+}
+
+void ImageOutput::write(const Image& img, const PngOptions& png) {
+  if (format_ == Format::Unknown) fail(path_, "unknown image format (expected .exr or .png)");
+  finish([&](FILE* f) { return format_ == Format::Exr ? encode_exr(img, f, path_) : encode_png(img, f, path_, png); });
+}
+
+void ImageOutput::write_exr(const Image& img) {
+  finish([&](FILE* f) { return encode_exr(img, f, path_); });
+}
+
+void ImageOutput::write_png(const Image& img, const PngOptions& png) {
+  finish([&](FILE* f) { return encode_png(img, f, path_, png); });
+}
+
+// stdio buffers, so a full disk may show only at fflush: it, the length (the reservation
+// may have made the file longer), fsync and fclose are all checked before the file takes
+// its real name.
+void ImageOutput::finish(const std::function<std::uint64_t(FILE*)>& encode) {
+  if (fd_ < 0) fail(path_, "the image was already written");
+  FILE* f = ::fdopen(fd_, "wb");
+  if (!f) fail(path_, "cannot write: " + errno_text(errno));
+  fd_ = -1;  // f owns it now
+  std::uint64_t length = 0;
+  try {
+    length = encode(f);
+  } catch (...) {
+    std::fclose(f);
+    throw;
+  }
+  int error = 0;
+  if (std::fflush(f) != 0 || std::ferror(f)) error = errno ? errno : EIO;
+  if (error == 0 && ::ftruncate(::fileno(f), off_t(length)) != 0) error = errno;
+  if (error == 0 && ::fsync(::fileno(f)) != 0 && errno != EINVAL) error = errno;
+  errno = 0;
+  const int closed = std::fclose(f);
+  if (closed != 0 && error == 0) error = errno ? errno : EIO;
+  if (error != 0) fail(path_, "write failed: " + errno_text(error));
+  if (std::rename(temp_.c_str(), target_.c_str()) != 0) fail(path_, "cannot write: " + errno_text(errno));
+  committed_ = true;
+}
+
+void write_exr(const Image& img, const std::string& path) {
+  if (img.width() == 0 || img.height() == 0) fail(path, "cannot write an empty image");
+  ImageOutput(path).write_exr(img);
+}
+
+void write_png(const Image& img, const std::string& path, const PngOptions& opt) {
+  if (img.width() == 0 || img.height() == 0) fail(path, "cannot write an empty image");
+  ImageOutput(path).write_png(img, opt);
 }
 
 // ---------------------------------------------------------------------------------------

@@ -1,10 +1,12 @@
-// Tile-parallel rendering with oneTBB.
+// Tile-parallel rendering with oneTBB, in passes that can be stopped between tiles.
 
 #include "gonio/render/renderer.h"
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <mutex>
+#include <vector>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -17,6 +19,9 @@ namespace gonio::render {
 namespace {
 
 constexpr int kTile = 16;
+// A pass takes at least this many camera samples (several per pixel for small images),
+// so that the cost of starting a parallel loop stays small against the work in it.
+constexpr std::int64_t kSamplesPerPass = 1 << 16;
 
 // SplitMix64 finaliser (Steele, Lea & Flood 2014): decorrelates the per-pixel seeds.
 std::uint64_t mix(std::uint64_t z) {
@@ -34,51 +39,85 @@ Image render(const Scene& scene_in, const RenderOptions& options, RenderStats* s
   Scene scene = scene_in;  // the camera basis is prepared on a copy
   scene.camera.prepare();
   const int w = scene.camera.width, h = scene.camera.height, spp = scene.settings.spp;
+  const size_t pixels = size_t(w) * size_t(h);
+  // Acquire: what the stopper wrote before setting the flag (a signal number, say) is
+  // visible to the caller once render() returns.
+  const auto stop_requested = [&] { return options.stop && options.stop->load(std::memory_order_acquire); };
+
+  // Per pixel: its random stream, carried from pass to pass, and its sum of samples after
+  // the last completed pass (`sums`) and during the current one (`next`). The samples are
+  // added one by one in the same order as in a single pass, so the image does not depend
+  // on how the samples are split into passes.
+  std::vector<Pcg32> rngs(pixels);
+  std::vector<Color> sums(pixels, Color(0)), next(pixels);
+  const int per_pass = static_cast<int>(std::clamp<std::int64_t>(
+      (kSamplesPerPass + std::int64_t(pixels) - 1) / std::int64_t(std::max<size_t>(pixels, 1)), 1, std::max(spp, 1)));
 
   tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);
-  Image image(w, h);
-  std::atomic<std::uint64_t> rays{0};
-  std::atomic<int> tiles_done{0};
+  std::atomic<std::uint64_t> rays{0}, samples_done{0};
   std::mutex progress_mutex;
   const int tiles_x = (w + kTile - 1) / kTile, tiles_y = (h + kTile - 1) / kTile;
   const int tiles = tiles_x * tiles_y;
+  const double samples_total = double(pixels) * spp;
   double setup = 0;
+  int completed = 0;  // samples per pixel in `sums`
   arena.execute([&] {
     // Embree builds its BVH with TBB too; inside the arena it uses the same threads.
     const Accel accel(scene);
     setup = std::chrono::duration<double>(clock::now() - t0).count();
     const PathTracer tracer(scene, accel);
-    tbb::parallel_for(tbb::blocked_range<int>(0, tiles, 1), [&](const tbb::blocked_range<int>& range) {
-      PathStats local;
-      for (int tile = range.begin(); tile != range.end(); ++tile) {
-        const int x0 = (tile % tiles_x) * kTile, y0 = (tile / tiles_x) * kTile;
-        for (int y = y0; y < std::min(y0 + kTile, h); ++y) {
-          for (int x = x0; x < std::min(x0 + kTile, w); ++x) {
-            const std::uint64_t pixel = static_cast<std::uint64_t>(y) * static_cast<std::uint64_t>(w) + static_cast<std::uint64_t>(x);
-            Pcg32 rng(mix(scene.settings.seed ^ mix(pixel)), pixel);
-            Color sum(0);
-            for (int i = 0; i < spp; ++i) {
-              const Float jx = rng.next_float(), jy = rng.next_float();
-              const Ray ray = scene.camera.generate(Float(x) + jx, Float(y) + jy);
-              sum += tracer.radiance(ray, rng, local);
+    for (int first = 0; first < spp && !stop_requested(); first += per_pass) {
+      const int last = std::min(spp, first + per_pass);
+      std::atomic<bool> dropped{false};
+      tbb::parallel_for(tbb::blocked_range<int>(0, tiles, 1), [&](const tbb::blocked_range<int>& range) {
+        PathStats local;
+        for (int tile = range.begin(); tile != range.end(); ++tile) {
+          if (stop_requested()) {
+            dropped.store(true, std::memory_order_relaxed);
+            break;
+          }
+          const int x0 = (tile % tiles_x) * kTile, y0 = (tile / tiles_x) * kTile;
+          const int x1 = std::min(x0 + kTile, w), y1 = std::min(y0 + kTile, h);
+          for (int y = y0; y < y1; ++y) {
+            for (int x = x0; x < x1; ++x) {
+              const std::uint64_t pixel = static_cast<std::uint64_t>(y) * static_cast<std::uint64_t>(w) + static_cast<std::uint64_t>(x);
+              Pcg32& rng = rngs[pixel];
+              if (first == 0) rng = Pcg32(mix(scene.settings.seed ^ mix(pixel)), pixel);
+              Color sum = sums[pixel];
+              for (int i = first; i < last; ++i) {
+                const Float jx = rng.next_float(), jy = rng.next_float();
+                const Ray ray = scene.camera.generate(Float(x) + jx, Float(y) + jy);
+                sum += tracer.radiance(ray, rng, local);
+              }
+              next[pixel] = sum;
             }
-            image.at(x, y) = sum / Float(spp);
+          }
+          const std::uint64_t done = samples_done.fetch_add(std::uint64_t(x1 - x0) * std::uint64_t(y1 - y0) * std::uint64_t(last - first)) +
+                                     std::uint64_t(x1 - x0) * std::uint64_t(y1 - y0) * std::uint64_t(last - first);
+          if (options.progress) {
+            std::lock_guard lock(progress_mutex);
+            options.progress(double(done) / samples_total);
           }
         }
-        const int done = tiles_done.fetch_add(1) + 1;
-        if (options.progress) {
-          std::lock_guard lock(progress_mutex);
-          options.progress(double(done) / tiles);
-        }
-      }
-      rays += local.rays;
-    });
+        rays += local.rays;
+      });
+      // A pass cut short leaves some pixels with more samples than others: drop it.
+      if (dropped.load()) break;
+      sums.swap(next);
+      completed = last;
+    }
   });
+  Image image(w, h);
+  if (completed > 0)
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) image.at(x, y) = sums[size_t(y) * size_t(w) + size_t(x)] / Float(completed);
   if (stats) {
     stats->setup_seconds = setup;
     stats->seconds = std::chrono::duration<double>(clock::now() - t0).count() - setup;
-    stats->samples = static_cast<std::uint64_t>(w) * static_cast<std::uint64_t>(h) * static_cast<std::uint64_t>(spp);
+    stats->samples = std::uint64_t(pixels) * static_cast<std::uint64_t>(completed);
     stats->rays = rays.load();
+    stats->spp = completed;
+    stats->stopped = completed < spp;
   }
   return image;
 }

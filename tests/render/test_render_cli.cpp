@@ -100,10 +100,41 @@ TEST(RenderCli, BadCommandLineIsOneLineAndExit2) {
   expect_bad_input(run_gonio({"render", dir.path("missing.json")}), {"missing.json"});
   expect_bad_input(run_gonio({"render", scene, "-o", dir.path("x.jpg")}), {"x.jpg", ".exr"});
   expect_bad_input(run_gonio({"render", scene, "-o", dir.path("no/such/dir/x.png")}), {"no/such/dir"});
-  expect_bad_input(run_gonio({"render", scene, "--spp", "0"}), {"--spp"});
-  expect_bad_input(run_gonio({"render", scene, "--threads", "0"}), {"--threads"});
-  expect_bad_input(run_gonio({"render", scene, "--seed", "-5"}), {"--seed"});
   expect_bad_input(run_gonio({"render", dir.path("")}), {});
+}
+
+// SPEC §3: --spp 1–1,048,576, --threads 0–1024 (0: all cores), --seed 0–2,147,483,647,
+// decimal only; anything else is exit 2 with one line naming the option.
+TEST(RenderCli, IntegerOptionsAreRangeChecked) {
+  ScratchDir dir;
+  const std::string scene = dir.file("s.json", kSmallScene);
+  const std::string out = dir.path("x.png");
+  const std::vector<std::pair<std::string, std::string>> bad = {
+      {"--spp", "0"},          {"--spp", "-1"},         {"--spp", "1048577"},   {"--spp", "2147483647"},
+      {"--spp", "99999999999999999999"}, {"--spp", "0x10"}, {"--spp", "1e3"},   {"--spp", "2.5"},
+      {"--spp", ""},           {"--spp", " 4"},         {"--threads", "-1"},    {"--threads", "1025"},
+      {"--threads", "0x2"},    {"--seed", "-1"},        {"--seed", "-5"},       {"--seed", "2147483648"},
+      {"--seed", "0b11"},      {"--seed", "seven"},
+  };
+  for (const auto& [option, value] : bad) {
+    SCOPED_TRACE(option + " " + value);
+    expect_bad_input(run_gonio({"render", scene, "-o", out, option, value}), {option});
+    EXPECT_FALSE(fs::exists(out));
+  }
+  // The ends of each range are accepted: with a bad output extension after them, the
+  // error is about the output, so the option passed (and nothing is rendered).
+  const std::vector<std::pair<std::string, std::string>> good = {
+      {"--spp", "1"},    {"--spp", "1048576"},    {"--threads", "0"}, {"--threads", "1024"},
+      {"--seed", "0"},   {"--seed", "2147483647"}, {"--spp", "010"},
+  };
+  for (const auto& [option, value] : good) {
+    SCOPED_TRACE(option + " " + value);
+    expect_bad_input(run_gonio({"render", scene, "-o", dir.path("x.jpg"), option, value}), {"x.jpg"});
+  }
+  // Leading zeros are decimal, not octal: --spp 010 is 10 samples.
+  const RunResult r = run_gonio({"render", scene, "-o", dir.path("ten.exr"), "--spp", "010", "--threads", "0"});
+  ASSERT_EQ(r.status, 0) << describe(r);
+  EXPECT_NE(r.err.find("at 10 spp"), std::string::npos) << r.err;
 }
 
 }  // namespace

@@ -54,6 +54,9 @@ struct PngOptions {
   ToneMap tonemap = ToneMap::Filmic;
 };
 
+// Both writers go through ImageOutput (image_output.h): a temporary file of a unique name
+// next to `path`, renamed over it once complete.
+
 // Linear float OpenEXR: 32-bit FLOAT channels R, G, B, ZIP compression.
 void write_exr(const Image& img, const std::string& path);
 

@@ -2,7 +2,13 @@
 // Renders a whole image: tiles in parallel on oneTBB, one independent random stream per
 // pixel, so that the image depends on the seed only, not on the thread count or on which
 // thread rendered which tile.
+//
+// The samples are taken in passes over the whole image, each adding the same number of
+// samples to every pixel. A render asked to stop (options.stop) drops the pass in progress
+// and returns the passes completed: every pixel then holds the same number n of samples,
+// the very image a render with spp = n gives, bit for bit.
 
+#include <atomic>
 #include <cstdint>
 #include <functional>
 
@@ -16,15 +22,21 @@ struct RenderOptions {
   // Called now and then with the fraction done, from whichever thread finished a tile
   // (never concurrently).
   std::function<void(double)> progress;
+  // When it becomes true (a signal handler may set it), the render stops at the next tile.
+  const std::atomic<bool>* stop = nullptr;
 };
 
 struct RenderStats {
   double seconds = 0;        // rendering, after the scene was built
   double setup_seconds = 0;  // building the acceleration structure
-  std::uint64_t samples = 0; // camera samples
-  std::uint64_t rays = 0;    // closest-hit and shadow rays
+  std::uint64_t samples = 0; // camera samples in the image returned
+  std::uint64_t rays = 0;    // closest-hit and shadow rays, the dropped pass's included
+  int spp = 0;               // samples per pixel of the image returned (0: stopped before any)
+  bool stopped = false;      // true when `stop` cut the render short of the scene's spp
 };
 
+// The image at the scene's spp, or, when stopped, at stats->spp samples per pixel (all
+// black when no pass completed).
 Image render(const Scene& scene, const RenderOptions& options, RenderStats* stats = nullptr);
 
 }  // namespace gonio::render
