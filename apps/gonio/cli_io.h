@@ -26,10 +26,11 @@ inline constexpr std::int64_t kMaxSeed = 2'147'483'647;         // --seed 0 to 2
 inline constexpr std::int64_t kMaxSpp = 1'048'576;              // --spp 1 to 2^20
 inline constexpr std::int64_t kMaxThreads = 1024;               // --threads 0 to 1024
 
-// CLI11 validator for an integer option: decimal digits only (an optional leading '-',
-// so that a negative value is reported as out of range) and CLI::Range(lo, hi).
-// CLI11's own conversion would also take 0x10, 0b11, 0o7 and 1e3. Use it as
-//   cmd.add_option("--seed", seed)->check(decimal_in_range(0, kMaxSeed));
+// CLI11 transform for an integer option: decimal digits only (an optional sign, so that a
+// negative value is reported as out of range), leading zeros dropped, and
+// CLI::Range(lo, hi). CLI11's own conversion would also take 0x10, 0b11, 0o7 and 1e3,
+// and read 010 as octal. Use it as
+//   cmd.add_option("--seed", seed)->transform(decimal_in_range(0, kMaxSeed));
 // with an integer type that holds the whole range (std::int64_t).
 CLI::Validator decimal_in_range(std::int64_t lo, std::int64_t hi);
 

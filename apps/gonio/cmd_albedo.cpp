@@ -69,8 +69,8 @@ void register_albedo(CLI::App& app) {
   theta->excludes(hemi);
   cmd->add_flag("--inside", args->inside, "put wo on the z < 0 side");
   cmd->add_option("--samples", args->samples, "Monte Carlo samples, 1 to 10^12 (default 1048576)")
-      ->check(decimal_in_range(1, kMaxSamples));
-  cmd->add_option("--seed", args->seed, "random seed, 0 to 2147483647 (default 1)")->check(decimal_in_range(0, kMaxSeed));
+      ->transform(decimal_in_range(1, kMaxSamples));
+  cmd->add_option("--seed", args->seed, "random seed, 0 to 2147483647 (default 1)")->transform(decimal_in_range(0, kMaxSeed));
   cmd->callback([args, theta, hemi] {
     if (theta->count() == 0 && hemi->count() == 0)
       throw InputError("albedo: give --theta DEG or --hemispherical");

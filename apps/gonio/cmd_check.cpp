@@ -21,7 +21,6 @@ struct CheckArgs {
 
 void run_check(const CheckArgs& a) {
   const BxDF bxdf = load_bsdf(a.bsdf);
-  if (a.seed < 0) throw InputError("--seed must be >= 0, got " + std::to_string(a.seed));
   const ValidationReport report = validate(bxdf, {std::uint64_t(a.seed), 1.0});
   if (a.json) {
     std::string out = std::string("{\"pass\":") + (report.pass() ? "true" : "false") + ",\"properties\":[";
@@ -57,7 +56,8 @@ void register_check(CLI::App& app) {
       "linearity, weights. Exit 0 when all hold, 1 otherwise");
   cmd->add_option("--bsdf", args->bsdf, "material JSON text, or @path to a file holding it")->required();
   cmd->add_flag("--json", args->json, "print one JSON object instead of the table");
-  cmd->add_option("--seed", args->seed, "random seed (default 1)");
+  cmd->add_option("--seed", args->seed, "random seed, 0 to 2147483647 (default 1)")
+      ->transform(decimal_in_range(0, kMaxSeed));
   cmd->callback([args] { run_check(*args); });
 }
 

@@ -11,7 +11,6 @@
 
 #include <algorithm>
 #include <atomic>
-#include <cctype>
 #include <cstdint>
 #include <cstdio>
 #include <filesystem>
@@ -21,6 +20,7 @@
 #include <string>
 #include <thread>
 
+#include "cli_io.h"
 #include "commands.h"
 #include "gonio/error.h"
 #include "gonio/render/image_output.h"
@@ -37,10 +37,6 @@ struct RenderArgs {
   int threads = 0;     // 0: all cores
   std::int64_t seed = -1;  // -1: the scene's
 };
-
-// SPEC §3: the integer options' ranges.
-constexpr int kMaxSpp = 1 << 20, kMaxThreads = 1024;
-constexpr std::int64_t kMaxSeed = 2147483647;
 
 // Set by the signal handler, read by the renderer between tiles. Only lock-free atomics
 // may be touched in a handler.
@@ -140,22 +136,6 @@ void run_render(const RenderArgs& a) {
   std::cout << a.output << "\n";
 }
 
-// Decimal digits only, with an optional sign (SPEC §3): CLI11 reads integers with base
-// prefixes (0x10, 010 as octal), so the text is checked first and leading zeros dropped
-// before CLI::Range converts it.
-CLI::Validator decimal_integer() {
-  return CLI::Validator(
-      [](std::string& s) -> std::string {
-        size_t i = (!s.empty() && (s[0] == '-' || s[0] == '+')) ? 1 : 0;
-        if (i == s.size()) return "'" + s + "' is not a decimal integer";
-        for (size_t k = i; k < s.size(); ++k)
-          if (!std::isdigit(static_cast<unsigned char>(s[k]))) return "'" + s + "' is not a decimal integer";
-        const size_t nz = std::min(s.find_first_not_of('0', i), s.size() - 1);
-        s = (s[0] == '-' ? "-" : "") + s.substr(nz);
-        return {};
-      },
-      "DECIMAL");
-}
 }  // namespace
 
 void register_render(CLI::App& app) {
@@ -165,14 +145,11 @@ void register_render(CLI::App& app) {
   cmd->add_option("scene", args->scene, "scene file (JSON)");
   cmd->add_option("-o,--output", args->output, "output image: .exr (linear) or .png (tone-mapped sRGB); default gonio.png");
   cmd->add_option("--spp", args->spp, "samples per pixel, 1 to 1048576 (overrides the scene's)")
-      ->transform(decimal_integer())
-      ->check(CLI::Range(1, kMaxSpp));
+      ->transform(decimal_in_range(1, kMaxSpp));
   cmd->add_option("--threads", args->threads, "worker threads, 0 to 1024 (default 0: all cores)")
-      ->transform(decimal_integer())
-      ->check(CLI::Range(0, kMaxThreads));
+      ->transform(decimal_in_range(0, kMaxThreads));
   cmd->add_option("--seed", args->seed, "random seed, 0 to 2147483647 (overrides the scene's; default 0)")
-      ->transform(decimal_integer())
-      ->check(CLI::Range(std::int64_t(0), kMaxSeed));
+      ->transform(decimal_in_range(0, kMaxSeed));
   cmd->callback([args] { run_render(*args); });
 }
 
