@@ -41,10 +41,12 @@ struct DielectricFresnelParts {
   T rs() const { return a * a / (b * b); }  // |r_s|²
   T rp() const { return p * p / (d * d); }  // |r_p|²
   // Unpolarised R = (r_s² + r_p²)/2 over one division (1 if the denominators vanish, which
-  // needs c = ct = 0: grazing incidence at the critical angle).
+  // needs c = ct = 0: grazing incidence at the critical angle). At grazing incidence
+  // r_s = r_p = −1 and the rounded quotient can exceed 1 by an ulp, hence the clamp (1 − R
+  // must not turn negative).
   T r() const {
     const T bd = b * d;
-    return bd > 0 ? (a * a * d * d + p * p * b * b) / (2 * bd * bd) : T(1);
+    return bd > 0 ? std::min(T(1), (a * a * d * d + p * p * b * b) / (2 * bd * bd)) : T(1);
   }
   // T = 1 − R = 2 e c ct (b² + d²) / (b² d²): no cancellation where R → 1. As a quotient,
   // so that a caller can fold the division into its own.
