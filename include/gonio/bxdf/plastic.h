@@ -89,24 +89,12 @@ struct PlasticBxDF {
       wo.z = -wo.z;
       wi.z = -wi.z;
     }
-    const Float eo = coat_reflectance(wo);
-    Color f = base(eo, coat_reflectance(wi));
+    if (!smooth()) return eval_rough(wo, wi);
+    // Smooth coat: the base alone (the mirror lobe is a delta), kept small so that it
+    // inlines into the callers' loops.
+    const Float eo = fresnel_dielectric(wo.z, eta);
     const Float pc = coat_probability(wo, eo);
-    Float pdf = (1 - pc) * wi.z * kInvPi;
-    if (!smooth() && !grazing(wo) && !grazing(wi)) {
-      const Vec3 h = wo + wi;
-      const Float h2 = length_squared(h);
-      const Float D = coat->D_unnormalized(h, h2);
-      const Float to = coat->smith_t(wo), ti = coat->smith_t(wi);
-      // F at wo·wm = |wo + wi|/2 (symmetric in the pair); with T = smith_t,
-      // G2 / (4 cos θo cos θi) = 1 / (2 (cos θi T(wo) + cos θo T(wi))): no product of
-      // cosines that could underflow, no Λ that could overflow.
-      const Float F = fresnel_dielectric(std::min(std::sqrt(h2) / 2, Float(1)), eta);
-      f += Color(D * F / (2 * (wi.z * to + wo.z * ti)));
-      // Visible-normal density times dωm/dωi: D / (4 cos θo (1 + Λo)) = D / (2 (T(wo) + cos θo)).
-      pdf += pc * D / (2 * (to + wo.z));
-    }
-    return {f, pdf};
+    return {base(eo, fresnel_dielectric(wi.z, eta)), (1 - pc) * wi.z * kInvPi};
   }
   Color f(const Vec3& wo, const Vec3& wi, TransportMode mode = TransportMode::Radiance) const {
     return eval(wo, wi, mode).f;
@@ -139,6 +127,28 @@ struct PlasticBxDF {
     const Color weight = e.f * (wi.z / e.pdf);
     if (flip) wi.z = -wi.z;
     return BSDFSample{wi, weight, e.pdf, false, Lobe::Reflection, 1};
+  }
+
+  // The rough coat for wo.z, wi.z > 0: base coupled through E_coat, plus the coat's lobe.
+  [[gnu::noinline]] BSDFEval eval_rough(const Vec3& wo, const Vec3& wi) const {
+    const Float eo = coat_albedo.E(*coat, wo);
+    Color f = base(eo, coat_albedo.E(*coat, wi));
+    const Float pc = coat_probability(wo, eo);
+    Float pdf = (1 - pc) * wi.z * kInvPi;
+    if (!grazing(wo) && !grazing(wi)) {
+      const Vec3 h = wo + wi;
+      const Float h2 = length_squared(h);
+      const Float D = coat->D_unnormalized(h, h2);
+      const Float to = coat->smith_t(wo), ti = coat->smith_t(wi);
+      // F at wo·wm = |wo + wi|/2 (symmetric in the pair); with T = smith_t,
+      // G2 / (4 cos θo cos θi) = 1 / (2 (cos θi T(wo) + cos θo T(wi))): no product of
+      // cosines that could underflow, no Λ that could overflow.
+      const Float F = fresnel_dielectric(std::min(std::sqrt(h2) / 2, Float(1)), eta);
+      f += Color(D * F / (2 * (wi.z * to + wo.z * ti)));
+      // Visible-normal density times dωm/dωi: D / (4 cos θo (1 + Λo)) = D / (2 (T(wo) + cos θo)).
+      pdf += pc * D / (2 * (to + wo.z));
+    }
+    return {f, pdf};
   }
 
   // Closed form for the smooth coat: F(θo) + (1 − F(θo)) ρ (1 − F_dr) / (1 − ρ F_dr).
