@@ -14,6 +14,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "gonio/hemispherical_average.h"
 #include "gonio/json_text.h"
 #include "gonio/metals.h"
 
@@ -260,24 +261,34 @@ bool make_multiscatter_flag(Params& p) {
   return p.boolean("multiscatter");
 }
 
-// Cosine-weighted average 2 ∫ F(μ) μ dμ of a conductor Fresnel, by Simpson's rule.
+// Cosine-weighted average 2 ∫ F(μ) μ dμ of a conductor Fresnel (64 Simpson panels: F is
+// smooth in μ; this runs per hit for a textured index).
 Color average_fresnel(const ConductorFresnel& fr) {
-  constexpr int n = 64;
-  Color acc;
-  for (int i = 0; i <= n; ++i) {
-    const Float mu = Float(i) / n;
-    const Float w = (i == 0 || i == n) ? 1 : (i % 2 ? 4 : 2);
-    acc += fr(mu) * (w * 2 * mu);
-  }
-  return acc / Float(3 * n);
+  const auto avg = cosine_weighted_average(
+      [&](double mu) {
+        const Color f = fr(Float(mu));
+        std::array<double, kColorChannels> v{};
+        for (int i = 0; i < kColorChannels; ++i) v[size_t(i)] = f[i];
+        return v;
+      },
+      64);
+  Color out;
+  for (int i = 0; i < kColorChannels; ++i) out[i] = Float(avg[size_t(i)]);
+  return out;
 }
 
 BxDF make_roughconductor(Params& p) {
   RoughConductorBxDF m;
   m.distribution = make_distribution(p);
   m.fresnel = make_conductor_fresnel(p);
-  if (make_multiscatter_flag(p) && !m.distribution.effectively_smooth())
-    m.multiscatter = MultiscatterLobe::make(m.distribution, average_fresnel(m.fresnel));
+  if (make_multiscatter_flag(p)) {
+    // The albedo tables are for isotropic roughness; with sqrt(αx αy) standing in, a
+    // white furnace at α = [0.05, 1] lost 40 % (multiscatter.h).
+    if (!m.distribution.is_isotropic())
+      p.fail("multiscatter needs an isotropic alpha (a number), got [alpha_x, alpha_y]");
+    if (!m.distribution.effectively_smooth())
+      m.multiscatter = MultiscatterLobe::make(m.distribution, average_fresnel(m.fresnel));
+  }
   return m;
 }
 
@@ -609,11 +620,16 @@ void finish(RoughDielectricBxDF& m, const Changed& c) {
 void finish(ConductorBxDF& m, const Changed& c) {
   if (c.index) set_f0_from_index(m.fresnel);
 }
+void finish(PlasticBxDF& m, const Changed& c) {
+  if (c.alpha) m.update_coat();  // the rough coat's internal reflectance depends on α
+}
 void finish(RoughConductorBxDF& m, const Changed& c) {
   if (c.index) set_f0_from_index(m.fresnel);
   if (!m.multiscatter || !(c.alpha || c.fresnel)) return;
-  if (m.distribution.effectively_smooth()) {
-    m.multiscatter.reset();  // as material_from_json does for a smooth distribution
+  if (m.distribution.effectively_smooth() || !m.distribution.is_isotropic()) {
+    // As material_from_json does for a smooth distribution; an anisotropic one has no
+    // compensation (the tables are isotropic).
+    m.multiscatter.reset();
     return;
   }
   m.multiscatter = MultiscatterLobe::make(m.distribution, c.fresnel ? average_fresnel(m.fresnel) : m.multiscatter->f_avg);

@@ -44,6 +44,7 @@ Float microfacet_average_albedo(MicrofacetType type, Float alpha) {
 
 #include "gonio/dielectric_multiscatter.h"
 #include "gonio/fresnel.h"
+#include "gonio/hemispherical_average.h"
 
 namespace gonio {
 namespace {
@@ -95,16 +96,93 @@ Float dielectric_microfacet_average_albedo(MicrofacetType type, Float alpha, Flo
 }
 
 Float average_dielectric_fresnel(Float eta) {
-  // 2 ∫ F(μ) μ dμ by Simpson's rule in double; F has a kink at the critical angle when
-  // η < 1, so many intervals.
-  constexpr int n = 2048;
+  // F has a kink at the critical angle when η < 1, so many panels.
+  return Float(cosine_weighted_average([&](double mu) { return fresnel_dielectric(mu, double(eta)); }, 2048));
+}
+
+}  // namespace gonio
+
+// --- plastic coat --------------------------------------------------------------------
+
+#include "gonio/coat_albedo.h"
+
+namespace gonio {
+namespace {
+using namespace tables;
+
+struct CoatRow {
+  int r0;
+  Float tr;
+};
+CoatRow coat_row(Float alpha) {
+  const Float sa = std::sqrt(std::clamp(alpha, Float(0), Float(kCoatMaxAlpha)));
+  const Float fx = sa / (1 + sa) * Float((kCoatRoughnessSize - 1) / kCoatXMax);
+  const int r0 = std::min(int(fx), kCoatRoughnessSize - 2);
+  return {r0, std::min(fx - Float(r0), Float(1))};
+}
+}  // namespace
+
+CoatAlbedo CoatAlbedo::make(MicrofacetType type, Float eta) {
+  CoatAlbedo c;
+  c.type = type;
+  const double e = std::max(1.0, double(eta));
+  const double z = std::sqrt((e - 1) / (e + 1));
+  const double fk = z * (kCoatEtaSize - 1);
+  c.k0 = std::min(int(fk), kCoatEtaSize - 2);
+  c.tk = Float(std::min(fk - c.k0, 1.0));
+  return c;
+}
+
+Float CoatAlbedo::E(Float alpha, Float mu) const {
+  const auto& table = type == MicrofacetType::GGX ? kGgxCoatAlbedo : kBeckmannCoatAlbedo;
+  const CoatRow r = coat_row(alpha);
+  // Columns are uniform in s = √μ; the interpolation is linear in μ between them.
+  const Float m = std::clamp(mu, Float(0), Float(1));
+  const Float fs = std::sqrt(m) * Float(kCoatCosineSize - 1);
+  const int m0 = std::min(int(fs), kCoatCosineSize - 2);
+  const Float mu0 = Float(coat_table_mu_node(m0)), mu1 = Float(coat_table_mu_node(m0 + 1));
+  const Float tm = std::clamp((m - mu0) / (mu1 - mu0), Float(0), Float(1));
+  auto at = [&](int a, int k) {
+    const float* row = table[a][k];
+    return row[m0] + (row[m0 + 1] - row[m0]) * tm;
+  };
+  const Float lo = at(r.r0, k0) * (1 - tk) + at(r.r0, k0 + 1) * tk;
+  const Float hi = at(r.r0 + 1, k0) * (1 - tk) + at(r.r0 + 1, k0 + 1) * tk;
+  return lo * (1 - r.tr) + hi * r.tr;
+}
+
+Float CoatAlbedo::average(Float alpha) const {
+  const auto& t = type == MicrofacetType::GGX ? kGgxCoatAverage : kBeckmannCoatAverage;
+  const CoatRow r = coat_row(alpha);
+  const Float lo = t[r.r0][k0] * (1 - tk) + t[r.r0][k0 + 1] * tk;
+  const Float hi = t[r.r0 + 1][k0] * (1 - tk) + t[r.r0 + 1][k0 + 1] * tk;
+  return lo * (1 - r.tr) + hi * r.tr;
+}
+
+namespace {
+// α(φ)² = αx² cos²φ + αy² sin²φ for the azimuth of w (Heitz 2014, eq. 86); at normal
+// incidence, where φ is undefined, the mean of the two.
+Float projected_alpha(const MicrofacetDistribution& d, const Vec3& w) {
+  const Float s2 = w.x * w.x + w.y * w.y;
+  if (!(s2 > 0)) return std::sqrt((d.alpha_x * d.alpha_x + d.alpha_y * d.alpha_y) / 2);
+  return std::sqrt((w.x * w.x * d.alpha_x * d.alpha_x + w.y * w.y * d.alpha_y * d.alpha_y) / s2);
+}
+}  // namespace
+
+Float CoatAlbedo::E(const MicrofacetDistribution& d, const Vec3& w) const {
+  return E(d.is_isotropic() ? d.alpha_x : projected_alpha(d, w), std::abs(w.z));
+}
+
+Float CoatAlbedo::average(const MicrofacetDistribution& d) const {
+  if (d.is_isotropic()) return average(d.alpha_x);
+  // (1/2π) ∫ Ē(α(φ)) dφ, the midpoint rule over a quarter turn (α(φ) has its symmetry).
+  constexpr int n = 32;
   double acc = 0;
-  for (int i = 0; i <= n; ++i) {
-    const double mu = double(i) / n;
-    const double w = (i == 0 || i == n) ? 1 : (i % 2 ? 4 : 2);
-    acc += w * 2 * mu * fresnel_dielectric(mu, double(eta));
+  for (int i = 0; i < n; ++i) {
+    const double phi = (i + 0.5) / n * (kPiD / 2);
+    acc += average(projected_alpha(d, {Float(std::cos(phi)), Float(std::sin(phi)), 0}));
   }
-  return Float(acc / (3.0 * n));
+  return Float(acc / n);
 }
 
 }  // namespace gonio

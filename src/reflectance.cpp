@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "gonio/error.h"
+#include "gonio/hemispherical_average.h"
 #include "gonio/math/frame.h"
 #include "gonio/math/spherical.h"
 #include "gonio/math/warp.h"
@@ -87,25 +88,6 @@ std::optional<Color> exact_inner(const BxDF& bxdf, const Vec3& wi, bool exitant_
   if (wi.z == 0) return Color{};
   const bool reflection = (wi.z > 0) == exitant_upper;
   return reflection ? a->reflectance : a->transmittance;
-}
-
-// Composite Simpson over μ = cos θ ∈ [0, 1] of 2 μ g(μ): the cosine-weighted hemispherical
-// average of an isotropic directional quantity. 2^14 panels keep the error from the kink
-// at a critical angle near 1e-9.
-template <typename Fn>
-auto cosine_weighted_average(Fn&& g) {
-  constexpr int n = 1 << 14;
-  const double h = 1.0 / n;
-  using R = decltype(g(0.0));
-  R acc{};
-  for (int i = 0; i <= n; ++i) {
-    const double mu = i * h;
-    const double w = (i == 0 || i == n) ? 1 : (i % 2 ? 4 : 2);
-    const R v = g(mu);
-    for (size_t c = 0; c < v.size(); ++c) acc[c] += w * 2 * mu * v[c];
-  }
-  for (auto& x : acc) x *= h / 3;
-  return acc;
 }
 
 Vec3 direction_at_mu(double mu, bool upper) {

@@ -5,6 +5,10 @@
 // E(μ) = ∫ D_wo(wm) G2(wo, wi)/G1(wo) [wi.z > 0] dωm with wi = reflect(wo, wm): the
 // expected weight of visible-normal sampling. The integrand is smooth in the sampling
 // square, so a stratified midpoint rule of 96² points per entry is accurate to ~1e-5.
+// Also the rough dielectric's R + T tables and the plastic coat's reflection-only
+// E_coat(μ, α, η) (multiscatter_table_layout.h). Every mean over μ is the exact
+// cosine-weighted average of the table's linear interpolant (hemispherical_average.h),
+// so that a lobe built on 1 − E integrates to exactly what the table says is missing.
 //
 // Usage: gonio_make_albedo_tables OUT.cpp
 
@@ -13,6 +17,7 @@
 #include <string>
 
 #include "gonio/fresnel.h"
+#include "gonio/hemispherical_average.h"
 #include "gonio/microfacet.h"
 #include "gonio/multiscatter_table_layout.h"
 
@@ -93,16 +98,70 @@ void write_dielectric_tables(FILE* out, const char* name, MicrofacetType type) {
     for (int a = 0; a < kAlbedoRoughnessSize; ++a) {
       std::fprintf(out, "{");
       for (int k = 0; k < kDielectricEtaSize; ++k) {
-        // 2 ∫ E(μ) μ dμ of the linear interpolant, exactly: on [μa, μa + h] with
-        // E = Ea + (Eb − Ea)(μ − μa)/h the integral of E μ is h (Ea (2μa + μb) + Eb (μa + 2μb)) / 6.
-        double acc = 0;
-        for (int m = 0; m + 1 < kDielectricCosineSize; ++m) {
-          const double ma = m * h, mb = (m + 1) * h;
-          acc += h * (e[side][a][k][m] * (2 * ma + mb) + e[side][a][k][m + 1] * (ma + 2 * mb)) / 6;
-        }
-        std::fprintf(out, "%s%.9g", k ? ", " : "", 2 * acc);
+        double mu[kDielectricCosineSize];
+        for (int m = 0; m < kDielectricCosineSize; ++m) mu[m] = m * h;
+        const double acc = cosine_weighted_average_of_linear(mu, e[side][a][k], kDielectricCosineSize);
+        std::fprintf(out, "%s%.9g", k ? ", " : "", acc);
       }
       std::fprintf(out, "},");
+    }
+    std::fprintf(out, "},\n");
+  }
+  std::fprintf(out, "};\n\n");
+}
+
+// E_coat(μ, α, η) for every η node at once: one pass over the visible normals of wo, the
+// weight F(wo·wm) G2/G1(wo) [wi.z > 0] with each node's Fresnel (Walter et al. 2007,
+// eq. 20 sampled by visible normals, Heitz & d'Eon 2014). The last node, z = 1, is η = ∞
+// (F = 1).
+void coat_albedos(MicrofacetType type, double alpha, double mu, double (&e)[kCoatEtaSize]) {
+  double eta[kCoatEtaSize];
+  for (int k = 0; k < kCoatEtaSize; ++k) {
+    const double z2 = coat_table_z(k) * coat_table_z(k);
+    eta[k] = k + 1 < kCoatEtaSize ? (1 + z2) / (1 - z2) : 0;
+    e[k] = 0;
+  }
+  constexpr int n = 64;
+  mean_over_visible_normals(type, alpha, mu, n, [&](const Vec3& wo, const Vec3& wm, auto& g) {
+    const Vec3 wi = reflect(wo, wm);
+    if (!(wi.z > 0)) return 0.0;
+    const double c = dot(wo, wm), w = g(wi);
+    for (int k = 0; k < kCoatEtaSize; ++k) e[k] += w * (eta[k] > 0 ? fresnel_dielectric(c, eta[k]) : 1.0);
+    return 0.0;
+  });
+  for (double& x : e) x /= double(n) * n;
+}
+
+void write_coat_tables(FILE* out, const char* name, MicrofacetType type) {
+  static double e[kCoatRoughnessSize][kCoatEtaSize][kCoatCosineSize];
+  for (int a = 0; a < kCoatRoughnessSize; ++a) {
+    const double r = coat_table_sqrt_alpha(a);
+    for (int m = 0; m < kCoatCosineSize; ++m) {
+      double col[kCoatEtaSize];
+      coat_albedos(type, r * r, coat_table_mu(m), col);
+      for (int k = 0; k < kCoatEtaSize; ++k) e[a][k][m] = col[k];
+    }
+  }
+  std::fprintf(out, "const CoatAlbedoTable %sCoatAlbedo = {\n", name);
+  for (int a = 0; a < kCoatRoughnessSize; ++a) {
+    std::fprintf(out, " {\n");
+    for (int k = 0; k < kCoatEtaSize; ++k) {
+      std::fprintf(out, "  {");
+      for (int m = 0; m < kCoatCosineSize; ++m) std::fprintf(out, "%s%.7g", m ? ", " : "", e[a][k][m]);
+      std::fprintf(out, "},\n");
+    }
+    std::fprintf(out, " },\n");
+  }
+  std::fprintf(out, "};\n\nconst CoatAverageTable %sCoatAverage = {\n", name);
+  double mu[kCoatCosineSize];
+  for (int m = 0; m < kCoatCosineSize; ++m) mu[m] = coat_table_mu_node(m);
+  for (int a = 0; a < kCoatRoughnessSize; ++a) {
+    std::fprintf(out, " {");
+    for (int k = 0; k < kCoatEtaSize; ++k) {
+      // The stored values are rounded to float: average what the lookups will read.
+      float stored[kCoatCosineSize];
+      for (int m = 0; m < kCoatCosineSize; ++m) stored[m] = float(e[a][k][m]);
+      std::fprintf(out, "%s%.9g", k ? ", " : "", cosine_weighted_average_of_linear(mu, stored, kCoatCosineSize));
     }
     std::fprintf(out, "},\n");
   }
@@ -132,15 +191,10 @@ int main(int argc, char** argv) {
       const double alpha = albedo_table_alpha(a);
       double e[kAlbedoCosineSize];
       for (int m = 0; m < kAlbedoCosineSize; ++m) e[m] = albedo(types[t], alpha, albedo_table_mu(m));
-      // E_avg = 2 ∫ E(μ) μ dμ by Simpson's rule on the table's own nodes (an even number
-      // of intervals).
-      double acc = 0;
-      const double h = 1.0 / (kAlbedoCosineSize - 1);
-      for (int m = 0; m < kAlbedoCosineSize; ++m) {
-        const double w = (m == 0 || m == kAlbedoCosineSize - 1) ? 1 : (m % 2 ? 4 : 2);
-        acc += w * 2 * (m * h) * e[m];
-      }
-      avg[a] = acc * h / 3;
+      // E_avg: the exact mean of the linear interpolant that microfacet_albedo() evaluates.
+      double mu[kAlbedoCosineSize];
+      for (int m = 0; m < kAlbedoCosineSize; ++m) mu[m] = double(m) / (kAlbedoCosineSize - 1);
+      avg[a] = cosine_weighted_average_of_linear(mu, e, kAlbedoCosineSize);
       std::fprintf(out, "  {");
       for (int m = 0; m < kAlbedoCosineSize; ++m) std::fprintf(out, "%s%.9g", m ? ", " : "", e[m]);
       std::fprintf(out, "},\n");
@@ -151,6 +205,8 @@ int main(int argc, char** argv) {
   }
   write_dielectric_tables(out, "kGgx", MicrofacetType::GGX);
   write_dielectric_tables(out, "kBeckmann", MicrofacetType::Beckmann);
+  write_coat_tables(out, "kGgx", MicrofacetType::GGX);
+  write_coat_tables(out, "kBeckmann", MicrofacetType::Beckmann);
   std::fprintf(out, "}  // namespace gonio::tables\n");
   return std::fclose(out) == 0 ? 0 : 1;
 }

@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <cmath>
 #include <optional>
+#include <type_traits>
 
 #include "gonio/math/vec3.h"
 
@@ -25,9 +26,62 @@ struct FresnelTerms {
   T r() const { return (rs + rp) / 2; }  // unpolarised
 };
 
-// Exact dielectric Fresnel equations (Hecht, Optics, §4.6.2, eqs. 4.34 and 4.40, in the
-// cos form after substituting Snell's law n_i sin θi = n_t sin θt, lecture §5.3).
-// Total internal reflection when sin²θt ≥ 1 (SPEC §1: at the critical angle it is total).
+// The dielectric Fresnel equations (Hecht, Optics, §4.6.2, eqs. 4.34 and 4.40, in the cos
+// form after substituting Snell's law n_i sin θi = n_t sin θt, lecture §5.3) from the two
+// cosines: c = cos θi > 0 on the side of incidence, ct = cos θt ≥ 0 beyond, e = n_t / n_i.
+// The amplitude ratios are r_s = a/b = (c − e ct)/(c + e ct) and r_p = p/d = (e c − ct)/(e c + ct).
+// Every quantity below is homogeneous of degree 0 in (c, ct): any common scale of the two
+// cosines gives the same reflectance (the rough dielectric passes dot products with an
+// unnormalised half vector). This is gonio's one implementation of dielectric Fresnel;
+// every other form below and in the models is built on it.
+template <typename T>
+struct DielectricFresnelParts {
+  T a, b, p, d;  // r_s = a/b, r_p = p/d
+  T ecct;        // e c ct: b² − a² = d² − p² = 4 e c ct
+  T rs() const { return a * a / (b * b); }  // |r_s|²
+  T rp() const { return p * p / (d * d); }  // |r_p|²
+  // Unpolarised R = (r_s² + r_p²)/2 over one division (1 if the denominators vanish, which
+  // needs c = ct = 0: grazing incidence at the critical angle). At grazing incidence
+  // r_s = r_p = −1 and the rounded quotient can exceed 1 by an ulp, hence the clamp (1 − R
+  // must not turn negative).
+  T r() const {
+    const T bd = b * d;
+    return bd > 0 ? std::min(T(1), (a * a * d * d + p * p * b * b) / (2 * bd * bd)) : T(1);
+  }
+  // T = 1 − R = 2 e c ct (b² + d²) / (b² d²): no cancellation where R → 1. As a quotient,
+  // so that a caller can fold the division into its own.
+  T t_numerator() const { return 2 * ecct * (b * b + d * d); }
+  T t_denominator() const { return (b * b) * (d * d); }
+  T t() const {
+    const T den = t_denominator();
+    return den > 0 ? t_numerator() / den : T(0);
+  }
+};
+
+template <typename T>
+[[gnu::always_inline]] inline DielectricFresnelParts<T> fresnel_dielectric_parts(T c, T ct, T e) {
+  return {c - e * ct, c + e * ct, e * c - ct, e * c + ct, e * c * ct};
+}
+
+// cos²θt = 1 − sin²θi / e² for |cos θi| = c (c2 = c²) and inv_e = 1/e; ≤ 0 under total
+// internal reflection (SPEC §1: at the critical angle it is total).
+template <typename T>
+[[gnu::always_inline]] inline T dielectric_cos2_t(T c2, T inv_e) {
+  return 1 - std::max(T(0), 1 - c2) * (inv_e * inv_e);
+}
+
+// Unpolarised reflectance for |cos θi| = c (c2 = c²) on the side from which the relative
+// index to cross is e (inv_e = 1/e given too): the hot-path entry, 1 under total internal
+// reflection.
+template <typename T>
+[[gnu::always_inline]] inline T fresnel_dielectric_oriented(T c, T c2, T e, T inv_e) {
+  const T ct2 = dielectric_cos2_t(c2, inv_e);
+  if (!(ct2 > 0)) return T(1);
+  return fresnel_dielectric_parts(c, std::sqrt(ct2), e).r();
+}
+
+// Dielectric Fresnel terms for light arriving at cos_i (negative: from the other side of
+// the normal, eta inverted; SPEC §1: eta = n_inside / n_outside, the normal points outside).
 template <typename T>
 inline FresnelTerms<T> fresnel_dielectric_terms(T cos_i, T eta) {
   cos_i = std::clamp(cos_i, T(-1), T(1));
@@ -35,16 +89,15 @@ inline FresnelTerms<T> fresnel_dielectric_terms(T cos_i, T eta) {
     eta = 1 / eta;
     cos_i = -cos_i;
   }
-  const T sin2_t = (1 - cos_i * cos_i) / (eta * eta);
-  if (sin2_t >= 1) return {T(1), T(1), T(0), true};
-  const T cos_t = std::sqrt(1 - sin2_t);
-  // Both denominators are > 0 here: cos_i = 0 with sin2_t < 1 needs eta > 1, so cos_t > 0.
-  const T rs = (cos_i - eta * cos_t) / (cos_i + eta * cos_t);
-  const T rp = (eta * cos_i - cos_t) / (eta * cos_i + cos_t);
-  return {rs * rs, rp * rp, cos_t, false};
+  const T ct2 = dielectric_cos2_t(cos_i * cos_i, 1 / eta);
+  if (!(ct2 > 0)) return {T(1), T(1), T(0), true};
+  const T cos_t = std::sqrt(ct2);
+  // Both denominators are > 0 here: cos_i = 0 with ct2 > 0 needs eta > 1, so cos_t > 0.
+  const auto parts = fresnel_dielectric_parts(cos_i, cos_t, eta);
+  return {parts.rs(), parts.rp(), cos_t, false};
 }
 
-// Unpolarised dielectric reflectance; the hot-path form of fresnel_dielectric_terms.
+// Unpolarised dielectric reflectance for light arriving at cos_i (sign as above).
 template <typename T>
 inline T fresnel_dielectric(T cos_i, T eta) {
   cos_i = std::clamp(cos_i, T(-1), T(1));
@@ -52,40 +105,63 @@ inline T fresnel_dielectric(T cos_i, T eta) {
     eta = 1 / eta;
     cos_i = -cos_i;
   }
-  const T sin2_t = (1 - cos_i * cos_i) / (eta * eta);
-  if (sin2_t >= 1) return T(1);
-  const T cos_t = std::sqrt(1 - sin2_t);
-  const T rs = (cos_i - eta * cos_t) / (cos_i + eta * cos_t);
-  const T rp = (eta * cos_i - cos_t) / (eta * cos_i + cos_t);
-  return (rs * rs + rp * rp) / 2;
+  return fresnel_dielectric_oriented(cos_i, cos_i * cos_i, eta, 1 / eta);
+}
+
+// sqrt lane by lane: std::sqrt for a scalar, each lane of a GCC/Clang vector (which the
+// compiler turns into one sqrtps).
+template <typename V>
+[[gnu::always_inline]] inline V lane_sqrt(V x) {
+  if constexpr (std::is_floating_point_v<V>) {
+    return std::sqrt(x);
+  } else {
+    V r;
+    for (int i = 0; i < int(sizeof(V) / sizeof(x[0])); ++i) r[i] = std::sqrt(x[i]);
+    return r;
+  }
 }
 
 // Exact Fresnel reflectance of an absorbing medium with complex relative index eta + i k
 // (Born & Wolf, Principles of Optics, §14.2; Hecht §4.8). With w = sqrt(η² − sin²θi)
 // (principal root, η complex): r_s = (cos θi − w)/(cos θi + w),
-// r_p = (η² cos θi − w)/(η² cos θi + w). Light arrives from the outside; |cos_i| is used.
+// r_p = (η² cos θi − w)/(η² cos θi + w). c = |cos θi| ≤ 1, sin2 = 1 − c². Written once for
+// a scalar V (float, double) and for a GCC/Clang vector of floats (one channel per lane,
+// conductor.h): only arithmetic, comparisons and ?: selections, which mean the same in both.
+template <typename V>
+[[gnu::always_inline]] inline void fresnel_conductor_core(V c, V sin2, V eta, V k, V& rs, V& rp) {
+  const V zero{}, one = zero + 1;
+  const auto max0 = [zero](V x) { return x > zero ? x : zero; };
+  // η² = (n² − k²) + i 2nk
+  const V a = eta * eta - k * k;
+  const V b = 2 * eta * k;
+  // w = sqrt((a − sin²θ) + i b), principal branch (Re w ≥ 0, Im w of the sign of b).
+  const V zr = a - sin2;
+  // |η² − sin²θ|; a plain sqrt, not std::hypot (which guards against overflow at a
+  // large cost): indices are bounded to 10⁴, so the squares stay far inside range.
+  const V mod = lane_sqrt(zr * zr + b * b);
+  const V wr = lane_sqrt(max0((mod + zr) / 2));
+  const V wi_abs = lane_sqrt(max0((mod - zr) / 2));
+  const V wi = b < zero ? -wi_abs : wi_abs;
+  const V s_den = (c + wr) * (c + wr) + wi * wi;
+  const V s_num = (c - wr) * (c - wr) + wi * wi;
+  const V pr = a * c, pi = b * c;  // η² cos θi
+  const V p_den = (pr + wr) * (pr + wr) + (pi + wi) * (pi + wi);
+  const V p_num = (pr - wr) * (pr - wr) + (pi - wi) * (pi - wi);
+  // A zero denominator only occurs for η = 1, k = 0 at grazing, where there is no
+  // interface and the limit of R is 0.
+  const V s = s_den > zero ? s_num / (s_den > zero ? s_den : one) : zero;
+  const V p = p_den > zero ? p_num / (p_den > zero ? p_den : one) : zero;
+  rs = s < one ? s : one;
+  rp = p < one ? p : one;
+}
+
+// Light arrives from the outside; |cos_i| is used.
 template <typename T>
 inline FresnelTerms<T> fresnel_conductor_terms(T cos_i, T eta, T k) {
   const T c = std::min(std::abs(cos_i), T(1));
-  const T sin2 = 1 - c * c;
-  // η² = (n² − k²) + i 2nk
-  const T a = eta * eta - k * k;
-  const T b = 2 * eta * k;
-  // w = sqrt((a − sin²θ) + i b), principal branch (Re w ≥ 0, Im w ≥ 0 since b ≥ 0).
-  const T zr = a - sin2;
-  // |η² − sin²θ|; a plain sqrt, not std::hypot (which guards against overflow at a
-  // large cost): indices are bounded to 10⁴, so the squares stay far inside range.
-  const T mod = std::sqrt(zr * zr + b * b);
-  const T wr = std::sqrt(std::max(T(0), (mod + zr) / 2));
-  const T wi = std::copysign(std::sqrt(std::max(T(0), (mod - zr) / 2)), b);
-  const T s_den = (c + wr) * (c + wr) + wi * wi;
-  const T rs = s_den > 0 ? ((c - wr) * (c - wr) + wi * wi) / s_den : T(0);
-  const T pr = a * c, pi = b * c;  // η² cos θi
-  const T p_den = (pr + wr) * (pr + wr) + (pi + wi) * (pi + wi);
-  const T rp = p_den > 0 ? ((pr - wr) * (pr - wr) + (pi - wi) * (pi - wi)) / p_den : T(0);
-  // A zero denominator only occurs for η = 1, k = 0 at grazing, where there is no
-  // interface and the limit of R is 0.
-  return {std::min(rs, T(1)), std::min(rp, T(1)), T(0), false};
+  FresnelTerms<T> t;
+  fresnel_conductor_core(c, 1 - c * c, eta, k, t.rs, t.rp);
+  return t;
 }
 
 template <typename T>

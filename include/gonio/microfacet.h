@@ -83,17 +83,24 @@ struct MicrofacetDistribution {
   // along w's azimuth: α₀² tan²θ = (x² αx² + y² αy²) / z².
   //   GGX:      Λ = (−1 + sqrt(1 + 1/a²)) / 2
   //   Beckmann: Λ = (erf(a) − 1)/2 + exp(−a²) / (2 a sqrt(π))
-  // Grazing directions (z = 0) are fully masked: a large finite Λ.
+  // Grazing directions (z = 0) are fully masked: a large finite Λ. Where 1/a² = t/cos²θ
+  // leaves float range (|cos θ| below ~1e-19: cos² is denormal or 0), Λ takes its
+  // asymptote, (1/a)/2 (GGX) or (1/a)/(2√π) (Beckmann), capped at 1e30: the ratio would
+  // otherwise be ∞ and Λ ∞/∞ = NaN.
   Float Lambda(const Vec3& w) const {
     const Float cos2 = w.z * w.z;
     const Float t = (w.x * alpha_x) * (w.x * alpha_x) + (w.y * alpha_y) * (w.y * alpha_y);
-    if (cos2 == 0) return t > 0 ? Float(1e30) : Float(0);
+    if (!(t > 0)) return 0;
     const Float a2t2 = t / cos2;  // = 1/a²
+    if (!(a2t2 < Float(1e30))) {
+      const Float inv_a = std::sqrt(t) / std::abs(w.z);  // ∞ for w.z = 0
+      const Float asymptote = type == MicrofacetType::GGX ? inv_a / 2 : inv_a * Float(0.28209479177387814347);
+      return std::min(asymptote, Float(1e30));
+    }
     if (type == MicrofacetType::GGX) {
       // (sqrt(1 + x) − 1)/2 = x / (2 (sqrt(1 + x) + 1)), free of cancellation for small x
       return a2t2 / (2 * (std::sqrt(1 + a2t2) + 1));
     }
-    if (a2t2 == 0) return 0;
     const Float a = 1 / std::sqrt(a2t2);
     if (a > Float(7)) return 0;  // both terms below 1e-23
     return (-std::erfc(a) + std::exp(-a * a) / (a * Float(1.7724538509055160273))) / 2;

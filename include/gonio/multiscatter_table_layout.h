@@ -50,4 +50,43 @@ using DielectricAverageTable = float[2][kAlbedoRoughnessSize][kDielectricEtaSize
 extern const DielectricAlbedoTable kGgxDielectricAlbedo, kBeckmannDielectricAlbedo;
 extern const DielectricAverageTable kGgxDielectricAverage, kBeckmannDielectricAverage;
 
+// Rough dielectric coat (plastic) albedo E_coat(μ, α, η): the reflection alone (no
+// transmission) of the single-scattering microfacet BRDF with dielectric Fresnel, light
+// arriving from outside onto relative index η ≥ 1, isotropic α.
+//   rows by α ∈ [1e-4, 10], uniform in x = √α / (1 + √α) (fine at small α, which is where
+//     E changes fastest, and reaching the largest α the materials accept);
+//   η nodes uniform in z = ((η − 1)/(η + 1))^(1/2) on [0, 1], η from 1 to ∞ (the last
+//     node is F = 1);
+//   μ nodes μ = s², s uniform on [0, 1]: dense towards grazing, where E rises steeply.
+inline constexpr int kCoatRoughnessSize = 40;
+inline constexpr int kCoatEtaSize = 24;
+inline constexpr int kCoatCosineSize = 65;
+inline constexpr double kCoatMaxAlpha = 10;
+
+inline constexpr double kCoatXMax = 0.75976310729378174;  // √10 / (1 + √10)
+// √α at row a.
+constexpr double coat_table_sqrt_alpha(int a) {
+  const double x = kCoatXMax * double(a) / (kCoatRoughnessSize - 1);
+  const double r = x / (1 - x);
+  return r < 1e-2 ? 1e-2 : r;
+}
+// z at η node k (z = 1: η = ∞, total reflection).
+constexpr double coat_table_z(int k) { return double(k) / (kCoatEtaSize - 1); }
+// μ at column m; column 0 stands for grazing, evaluated just above it.
+constexpr double coat_table_mu(int m) {
+  const double s = double(m) / (kCoatCosineSize - 1);
+  return s * s < 1e-6 ? 1e-6 : s * s;
+}
+// The node's μ for interpolation (column 0 at μ = 0).
+constexpr double coat_table_mu_node(int m) {
+  const double s = double(m) / (kCoatCosineSize - 1);
+  return s * s;
+}
+
+using CoatAlbedoTable = float[kCoatRoughnessSize][kCoatEtaSize][kCoatCosineSize];
+// 2 ∫ E μ dμ of the piecewise-linear interpolant in μ (exact, hemispherical_average.h).
+using CoatAverageTable = float[kCoatRoughnessSize][kCoatEtaSize];
+extern const CoatAlbedoTable kGgxCoatAlbedo, kBeckmannCoatAlbedo;
+extern const CoatAverageTable kGgxCoatAverage, kBeckmannCoatAverage;
+
 }  // namespace gonio::tables

@@ -7,6 +7,8 @@
 #include <cmath>
 #include <complex>
 
+#include "gonio/bxdf/conductor.h"
+#include "gonio/bxdf/dielectric.h"
 #include "gonio/fresnel.h"
 
 namespace gonio {
@@ -154,6 +156,33 @@ TEST(Fresnel, ConductorMatchesIndependentImplementation) {
     EXPECT_NEAR(t.rs, c.rs, 1e-10) << c.n << " " << c.theta;
     EXPECT_NEAR(t.rp, c.rp, 1e-10) << c.n << " " << c.theta;
     EXPECT_NEAR(fresnel_conductor(float(ci), float(c.n), float(c.k)), (c.rs + c.rp) / 2, 1e-5);
+  }
+}
+
+// The models' hot paths use the same Fresnel (one implementation, fresnel.h): the smooth
+// dielectric's reflection probability, the cancellation-free transmittance the rough
+// dielectric uses, and the conductor's four-lane SIMD form, all against the reference.
+TEST(Fresnel, ModelHotPathsMatchIndependentImplementation) {
+  for (const auto& c : kDielectric) {
+    const double ci = std::cos(c.theta * kDeg), r = (c.rs + c.rp) / 2;
+    const float s = float(std::sqrt(1 - ci * ci));
+    const auto smp = DielectricBxDF{float(c.eta)}.sample({s, 0, float(ci)}, 0.f, 0.5f, 0.5f);
+    ASSERT_TRUE(smp);
+    EXPECT_NEAR(smp->pdf, r, 1e-5) << "eta " << c.eta << " theta " << c.theta;  // P(reflection) = F
+    if (r < 1) {
+      // cos θt by Snell's law, both cosines scaled by 3 (the form is homogeneous).
+      const double ct = std::sqrt(1 - (1 - ci * ci) / (c.eta * c.eta));
+      EXPECT_NEAR(fresnel_dielectric_parts(3 * ci, 3 * ct, c.eta).t(), 1 - r, 1e-12);
+      EXPECT_NEAR(fresnel_dielectric_parts(3 * ci, 3 * ct, c.eta).r(), r, 1e-12);
+    }
+  }
+  for (const auto& c : kConductor) {
+    const double ci = std::cos(c.theta * kDeg);
+    ConductorFresnel fr;
+    fr.eta = Color(float(c.n));
+    fr.k = Color(float(c.k));
+    const Color f = fr(float(ci));
+    for (int i = 0; i < Color::size(); ++i) EXPECT_NEAR(f[i], (c.rs + c.rp) / 2, 1e-5) << c.n << " " << c.theta;
   }
 }
 

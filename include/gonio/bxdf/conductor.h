@@ -3,10 +3,8 @@
 // reflectance of a metal with complex index eta + i k, exact or by Schlick's
 // approximation (lecture eq. 28). Reflects on whichever side wo lies (SPEC §1).
 
-#include <bit>
 #include <cmath>
 #include <cstdint>
-#include <limits>
 #include <optional>
 #include <string_view>
 
@@ -42,44 +40,20 @@ struct ConductorFresnel {
   }
 
 #if defined(__GNUC__)
-  // fresnel_conductor_terms (Born & Wolf §14.2) for all channels at once, the same
-  // operations in the same order per lane, in a GCC/Clang vector of 4 floats (SSE
-  // sqrtps/divps on x86-64): one channel's latency instead of three. Unused lanes repeat
-  // channel 0, so they never divide 0 by 0.
+  // fresnel_conductor_core (fresnel.h) for all channels at once, in a GCC/Clang vector of
+  // 4 floats (SSE sqrtps/divps on x86-64): one channel's latency instead of three. Unused
+  // lanes repeat channel 0, so they never divide 0 by 0.
   Color exact_simd(Float c, Float c2) const {
     using V = Float __attribute__((vector_size(16)));
-    using I = std::int32_t __attribute__((vector_size(16)));
     V n, kk;
     for (int i = 0; i < 4; ++i) {
       n[i] = eta[i < kColorChannels ? i : 0];
       kk[i] = k[i < kColorChannels ? i : 0];
     }
-    const auto vsqrt = [](V x) {
-      V r;
-      for (int i = 0; i < 4; ++i) r[i] = std::sqrt(x[i]);  // vectorised to sqrtps
-      return r;
-    };
-    const V zero{}, one = zero + 1;
-    const auto vmax0 = [zero](V x) { return x > zero ? x : zero; };
-    const V cv = zero + std::min(c, Float(1)), sin2 = zero + (1 - c2);
-    const V a = n * n - kk * kk;  // η² = a + i b
-    const V b = 2 * n * kk;
-    const V zr = a - sin2;
-    const V mod = vsqrt(zr * zr + b * b);
-    const V wr = vsqrt(vmax0((mod + zr) / 2));
-    // copysign(sqrt(...), b)
-    const I sign = std::bit_cast<I>(b) & std::numeric_limits<std::int32_t>::min();
-    const V wi_abs = vsqrt(vmax0((mod - zr) / 2));
-    const V wi = std::bit_cast<V>(std::bit_cast<I>(wi_abs) | sign);
-    const V s_den = (cv + wr) * (cv + wr) + wi * wi;
-    const V rs_num = (cv - wr) * (cv - wr) + wi * wi;
-    const V pr = a * cv, pi = b * cv;
-    const V p_den = (pr + wr) * (pr + wr) + (pi + wi) * (pi + wi);
-    const V rp_num = (pr - wr) * (pr - wr) + (pi - wi) * (pi - wi);
-    // A zero denominator only for η = 1, k = 0 at grazing: R = 0 (as in the scalar form).
-    const V rs = s_den > zero ? rs_num / (s_den > zero ? s_den : one) : zero;
-    const V rp = p_den > zero ? rp_num / (p_den > zero ? p_den : one) : zero;
-    const V r = ((rs < one ? rs : one) + (rp < one ? rp : one)) / 2;
+    const V zero{};
+    V rs, rp;
+    fresnel_conductor_core<V>(zero + std::min(c, Float(1)), zero + (1 - c2), n, kk, rs, rp);
+    const V r = (rs + rp) / 2;
     Color out;
     for (int i = 0; i < kColorChannels; ++i) out[i] = r[i];
     return out;

@@ -35,15 +35,8 @@ struct DielectricBxDF {
     const Float e = inside ? inv : eta;  // n(far side) / n(wo's side)
     const Float inv_e = inside ? eta : inv;
     const Float cos_o = std::abs(wo.z);
-    // Fresnel (Hecht §4.6.2) with both amplitude ratios over one division:
-    // rs = (c − e ct)/(c + e ct), rp = (e c − ct)/(e c + ct).
-    const Float sin2_t = std::max(Float(0), 1 - cos_o * cos_o) * (inv_e * inv_e);
-    const bool tir = sin2_t >= 1;
-    const Float cos_t = std::sqrt(std::max(Float(0), 1 - sin2_t));
-    const Float a = cos_o - e * cos_t, b = cos_o + e * cos_t;
-    const Float c = e * cos_o - cos_t, d = e * cos_o + cos_t;
-    const Float bd = b * d;
-    const Float r = tir || !(bd > 0) ? Float(1) : (a * a * d * d + c * c * b * b) / (2 * bd * bd);
+    // Fresnel (fresnel.h), 1 under total internal reflection.
+    const Float r = fresnel_dielectric_oriented(cos_o, cos_o * cos_o, e, inv_e);
     const bool reflect = u_lobe < r;
     // Refraction (lecture §5.3) in the local frame: wt = −wo/η + (cos θo/η − cos θt) n, n on
     // wo's side. Its z is taken from the tangential part, sqrt(1 − |wt_xy|²), rather than

@@ -1,20 +1,32 @@
 #pragma once
 // Plastic: a dielectric coat (index eta) over a Lambertian base of albedo ρ, with the
 // light that the coat reflects back inside accounted for (Weidlich & Wilkie 2007, §3;
-// Kelemen & Szirmay-Kalos 2001). The coat reflects F(θo) specularly — a delta lobe if
-// smooth, a microfacet lobe D G2 F / (4 cos θo cos θi) if `alpha` is given. Light
-// refracted in reaches the base, bounces between base and coat, and leaves:
-//   f_base = (1 − F(θi)) (1 − F(θo)) ρ / (π η² (1 − ρ F_dr)),
-// F_dr the coat's diffuse reflectance seen from inside (2 ∫ F μ dμ). Since
-// 1 − F_dr = (1 − F_dr,outside)/η², the base returns (1 − F(θo)) ρ(1 − F_dr)/(1 − ρ F_dr)
-// ≤ 1 − F(θo): energy is conserved by construction. Reciprocal. Two-sided.
+// Kelemen & Szirmay-Kalos 2001, §2). The coat reflects specularly — a delta lobe F(θo)
+// if smooth, the microfacet lobe D G2 F / (4 cos θo cos θi) (Walter et al. 2007, eq. 20,
+// height-correlated G2) if `alpha` is given. What the coat does not reflect reaches the
+// base, bounces between base and coat, and leaves:
+//   f_base = ρ (1 − E(wi)) (1 − E(wo)) / (π η² (1 − ρ F_dr)),
+// with E the coat's directional albedo and F_dr its diffuse reflectance seen from inside.
+//   Smooth coat: E = F(θ) and F_dr = 2 ∫ F_inside(μ) μ dμ.
+//   Rough coat: E = E_coat(wo), the albedo of the coat's own lobe (coat_albedo.h; the
+//     smooth 1 − F would couple in energy the rough lobe never reflects, and at grazing
+//     angles lose most of it), and, from the reciprocity of the coat, its hemispherical
+//     transmittance from inside (1 − Ē_coat)/η², i.e. 1 − F_dr = (1 − Ē_coat)/η²
+//     (Kelemen & Szirmay-Kalos 2001, §2.2, with their average albedo; the same balance as
+//     Kulla & Conty 2017's 1 − E_avg).
+// In both cases 1 − F_dr = (1 − Ē)/η² with Ē the coat's mean reflectance from outside, so
+// the base returns (1 − E(wo)) ρ (1 − F_dr)/(1 − ρ F_dr) ≤ 1 − E(wo): with a white base
+// the albedo is exactly E(wo) + 1 − E(wo) = 1 (up to the table's interpolation error).
+// Reciprocal. Two-sided.
 
 #include <cmath>
 #include <optional>
 #include <string_view>
 
 #include "gonio/bxdf/contract.h"
+#include "gonio/coat_albedo.h"
 #include "gonio/fresnel.h"
+#include "gonio/hemispherical_average.h"
 #include "gonio/math/warp.h"
 #include "gonio/microfacet.h"
 
@@ -25,20 +37,25 @@ struct PlasticBxDF {
   Color reflectance{0.5f};
   Float eta = 1.5f;
   std::optional<MicrofacetDistribution> coat;  // none: smooth coat
-  Float fdr_inside = 0.596345f;                // set by make()
+  Float fdr_smooth = 0.596345f;                // smooth coat's F_dr (set by make())
+  Float fdr_inside = 0.596345f;                // the F_dr in use (set by update_coat())
+  CoatAlbedo coat_albedo;                      // the rough coat's E_coat lookups
 
   static PlasticBxDF make(const Color& reflectance, Float eta, std::optional<MicrofacetDistribution> coat) {
-    PlasticBxDF m{reflectance, eta, coat, 0};
-    // F_dr = 2 ∫ F(μ) μ dμ for light inside the coat, composite Simpson (the kink at the
-    // critical angle costs ~1e-7 at this resolution).
-    constexpr int n = 2048;
-    double acc = 0;
-    for (int i = 0; i <= n; ++i) {
-      const double mu = double(i) / n, w = (i == 0 || i == n) ? 1 : (i % 2 ? 4 : 2);
-      acc += w * 2 * mu * fresnel_dielectric(-mu, double(eta));
-    }
-    m.fdr_inside = Float(acc / (3 * n));
+    PlasticBxDF m;
+    m.reflectance = reflectance;
+    m.eta = eta;
+    m.coat = coat;
+    // F_dr = 2 ∫ F(μ) μ dμ for light inside the coat (2048 panels: the kink at the
+    // critical angle costs ~1e-7).
+    m.fdr_smooth = Float(cosine_weighted_average([&](double mu) { return fresnel_dielectric(-mu, double(eta)); }, 2048));
+    if (coat) m.coat_albedo = CoatAlbedo::make(coat->type, eta);
+    m.update_coat();
     return m;
+  }
+  // After the coat's roughness changed (a textured alpha).
+  void update_coat() {
+    fdr_inside = smooth() ? fdr_smooth : 1 - (1 - coat_albedo.average(*coat)) / (eta * eta);
   }
 
   bool smooth() const { return !coat || coat->effectively_smooth(); }
@@ -47,15 +64,23 @@ struct PlasticBxDF {
   }
   bool is_isotropic() const { return !coat || coat->is_isotropic(); }
 
-  Color base(Float cos_o, Float cos_i) const {
-    const Float t = (1 - fresnel_dielectric(cos_i, eta)) * (1 - fresnel_dielectric(cos_o, eta));
+  // Directions this close to the tangent plane are fully shadowed for the rough coat's
+  // lobe (as in the other microfacet models): it is left out there.
+  static bool grazing(const Vec3& w) { return std::abs(w.z) < Float(1e-7); }
+
+  // The coat's reflectance for w on the upper side: F (smooth) or E_coat (rough).
+  Float coat_reflectance(const Vec3& w) const {
+    return smooth() ? fresnel_dielectric(w.z, eta) : coat_albedo.E(*coat, w);
+  }
+  Color base(Float eo, Float ei) const {
+    const Float t = (1 - ei) * (1 - eo);
     return map(reflectance, [&](Float r) { return r / (1 - r * fdr_inside); }) * (t * kInvPi / (eta * eta));
   }
   // Probability of sampling the coat's lobe rather than the base, by expected energy.
-  Float coat_probability(Float cos_o) const {
-    const Float F = fresnel_dielectric(cos_o, eta);
-    const Float b = (1 - F) * reflectance.average();
-    return F + b > 0 ? F / (F + b) : Float(1);
+  Float coat_probability(const Vec3& wo, Float eo) const {
+    if (!smooth() && grazing(wo)) return 0;
+    const Float b = (1 - eo) * reflectance.average();
+    return eo + b > 0 ? eo / (eo + b) : Float(1);
   }
 
   BSDFEval eval(Vec3 wo, Vec3 wi, TransportMode = TransportMode::Radiance) const {
@@ -64,17 +89,12 @@ struct PlasticBxDF {
       wo.z = -wo.z;
       wi.z = -wi.z;
     }
-    Color f = base(wo.z, wi.z);
-    const Float pc = coat_probability(wo.z);
-    Float pdf = (1 - pc) * wi.z * kInvPi;
-    if (!smooth()) {
-      const Vec3 wm = normalize(wo + wi);
-      const Float lo = coat->Lambda(wo), li = coat->Lambda(wi), D = coat->D(wm);
-      const Float F = fresnel_dielectric(dot(wo, wm), eta);
-      f += Color(D * F / ((1 + lo + li) * 4 * wo.z * wi.z));
-      pdf += pc * D / (4 * wo.z * (1 + lo));
-    }
-    return {f, pdf};
+    if (!smooth()) return eval_rough(wo, wi);
+    // Smooth coat: the base alone (the mirror lobe is a delta), kept small so that it
+    // inlines into the callers' loops.
+    const Float eo = fresnel_dielectric(wo.z, eta);
+    const Float pc = coat_probability(wo, eo);
+    return {base(eo, fresnel_dielectric(wi.z, eta)), (1 - pc) * wi.z * kInvPi};
   }
   Color f(const Vec3& wo, const Vec3& wi, TransportMode mode = TransportMode::Radiance) const {
     return eval(wo, wi, mode).f;
@@ -88,7 +108,7 @@ struct PlasticBxDF {
     if (wo.z == 0) return std::nullopt;
     const bool flip = wo.z < 0;
     if (flip) wo.z = -wo.z;
-    const Float pc = coat_probability(wo.z);
+    const Float pc = coat_probability(wo, coat_reflectance(wo));
     Vec3 wi;
     if (u_lobe < pc) {
       if (smooth()) {
@@ -97,6 +117,7 @@ struct PlasticBxDF {
         return BSDFSample{{-wo.x, -wo.y, flip ? -wo.z : wo.z}, Color(F / pc), pc, true, Lobe::Reflection, 1};
       }
       wi = reflect(wo, coat->sample_visible(wo, u1, u2));
+      if (grazing(wi)) return std::nullopt;  // the coat lobe is 0 there
     } else {
       wi = square_to_cosine_hemisphere(u1, u2);
     }
@@ -106,6 +127,28 @@ struct PlasticBxDF {
     const Color weight = e.f * (wi.z / e.pdf);
     if (flip) wi.z = -wi.z;
     return BSDFSample{wi, weight, e.pdf, false, Lobe::Reflection, 1};
+  }
+
+  // The rough coat for wo.z, wi.z > 0: base coupled through E_coat, plus the coat's lobe.
+  [[gnu::noinline]] BSDFEval eval_rough(const Vec3& wo, const Vec3& wi) const {
+    const Float eo = coat_albedo.E(*coat, wo);
+    Color f = base(eo, coat_albedo.E(*coat, wi));
+    const Float pc = coat_probability(wo, eo);
+    Float pdf = (1 - pc) * wi.z * kInvPi;
+    if (!grazing(wo) && !grazing(wi)) {
+      const Vec3 h = wo + wi;
+      const Float h2 = length_squared(h);
+      const Float D = coat->D_unnormalized(h, h2);
+      const Float to = coat->smith_t(wo), ti = coat->smith_t(wi);
+      // F at wo·wm = |wo + wi|/2 (symmetric in the pair); with T = smith_t,
+      // G2 / (4 cos θo cos θi) = 1 / (2 (cos θi T(wo) + cos θo T(wi))): no product of
+      // cosines that could underflow, no Λ that could overflow.
+      const Float F = fresnel_dielectric(std::min(std::sqrt(h2) / 2, Float(1)), eta);
+      f += Color(D * F / (2 * (wi.z * to + wo.z * ti)));
+      // Visible-normal density times dωm/dωi: D / (4 cos θo (1 + Λo)) = D / (2 (T(wo) + cos θo)).
+      pdf += pc * D / (2 * (to + wo.z));
+    }
+    return {f, pdf};
   }
 
   // Closed form for the smooth coat: F(θo) + (1 − F(θo)) ρ (1 − F_dr) / (1 − ρ F_dr).

@@ -157,7 +157,7 @@ struct RoughDielectricBxDF {
     const bool tir = !(t > 0);
     const Float st = std::sqrt(std::max(t, Float(0)));
     // Fresnel (Hecht §4.6.2) of the sampled facet chooses the lobe.
-    const Float F = tir ? Float(1) : reflectance(std::min(std::abs(om) * inv_m, Float(1)), st * inv_m, e);
+    const Float F = tir ? Float(1) : fresnel_dielectric_parts(std::min(std::abs(om) * inv_m, Float(1)), st * inv_m, e).r();
     // The weight f |cos θi| / pdf is G2/G1(wo) in closed form, times (n_wo/n_wi)² for a
     // refraction in radiance mode (Heitz & d'Eon 2014; Walter et al. 2007, eqs. 20, 21):
     // D, F and the Jacobian cancel. The pdf is that of the returned pair, computed as pdf()
@@ -190,24 +190,10 @@ struct RoughDielectricBxDF {
     return BSDFSample{wi, Color(cos_i * to_plus / (g2_den * scale)), pdf, false, Lobe::Transmission, e};
   }
 
-  // Unpolarised reflectance from the cosines on both sides, c on the side of incidence and
-  // ct beyond, e = n_t/n_i (Hecht, Optics, §4.6.2, eqs. 4.34 and 4.40, cos form): both
-  // amplitude ratios rs = (c − e ct)/(c + e ct), rp = (e c − ct)/(e c + ct) over one
-  // division, R = (rs² + rp²)/2 (as DielectricBxDF::sample).
-  [[gnu::always_inline]] static Float reflectance(Float c, Float ct, Float e) {
-    const Float a = c - e * ct, b = c + e * ct;
-    const Float p = e * c - ct, d = e * c + ct;
-    const Float bd = b * d;
-    return bd > 0 ? (a * a * d * d + p * p * b * b) / (2 * bd * bd) : Float(1);
-  }
-
-  // Dielectric Fresnel (as fresnel_dielectric) for |cos θ| = c (c2 = c²) on the side from
-  // which the relative index to cross is e = 1/inv_e; cos θt by Snell's law, and 1 under
-  // total internal reflection.
+  // Dielectric Fresnel (fresnel.h) for |cos θ| = c (c2 = c²) on the side from which the
+  // relative index to cross is e = 1/inv_e; 1 under total internal reflection.
   [[gnu::always_inline]] static Float fresnel(Float c, Float c2, Float e, Float inv_e) {
-    const Float sin2_t = std::max(Float(0), 1 - c2) * (inv_e * inv_e);
-    if (sin2_t >= 1) return 1;
-    return reflectance(c, std::sqrt(1 - sin2_t), e);
+    return fresnel_dielectric_oriented(c, c2, e, inv_e);
   }
 
   // The (unnormalised) half vector of a pair and its dot products.
@@ -275,17 +261,15 @@ struct RoughDielectricBxDF {
       return {Color(F * (D * g2_over_cos() / 4)), pdf};
     }
     // Transmittance 1 − F of the pair from its two cosines with the facet normal,
-    // ca = a·h > 0 outside and cb = −b·h > 0 inside (in the common scale |h|, which cancels:
-    // Snell's law holds for the pair by construction of h, so no sqrt is needed). With
-    // Hecht's denominators B = ca + η cb, Dd = η ca + cb, B² − A² = Dd² − P² = 4 η ca cb, so
-    // 1 − F = 2 η ca cb (B² + Dd²) / (B² Dd²): no cancellation where F → 1.
+    // ca = a·h > 0 outside and cb = −b·h > 0 inside, in the common scale |h| (which Fresnel
+    // ignores, fresnel.h: Snell's law holds for the pair by construction of h, so no sqrt
+    // is needed), in the cancellation-free form 1 − F = t_numerator / t_denominator.
     const Float ca = hv.ha, cb = -hv.hb;
-    const Float B = ca + eta * cb, Dd = eta * ca + cb;
-    const Float B2 = B * B, Dd2 = Dd * Dd;
+    const auto fr = fresnel_dielectric_parts(ca, cb, eta);
     const Float dots = ca * cb;
     const Float D = distribution.D_unnormalized<kType>(hv.h, hv.h2);
     // (1 − F) / |h|⁴ as one quotient (D kept apart: it can be huge for a narrow lobe)
-    const Float num = 2 * eta * dots * (B2 + Dd2), den = (B2 * Dd2) * (hv.h2 * hv.h2);
+    const Float num = fr.t_numerator(), den = fr.t_denominator() * (hv.h2 * hv.h2);
     // pdf = D_wo(wm) dωm/dωi (1 − F), with dωm/dωi = n_wi² |wi·wm| / S (eq. 17) and
     // S = (n_a a·wm + n_b b·wm)² = |h|² for h = n_a a + n_b b; in terms of h:
     // 2 (1 − F) (D/|h|⁴) |a·h| |b·h| n_wi² / (T(wo) + |cos θo|).

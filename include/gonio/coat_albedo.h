@@ -1,0 +1,37 @@
+#pragma once
+// Directional albedo of a rough dielectric coat's reflection: E_coat(μ) of the
+// single-scattering microfacet BRDF D G2 F / (4 cos θo cos θi) with dielectric Fresnel,
+// light arriving from outside onto relative index η ≥ 1 (Walter et al. 2007, eq. 20;
+// height-correlated G2, Heitz 2014), and its cosine-weighted mean Ē_coat = 2 ∫ E μ dμ.
+// 1 − E_coat(μ) is what the coat lets through towards a base layer, and (1 − Ē_coat)/η²
+// what it lets out of it (plastic.h). From tables computed at build time
+// (tools/make_albedo_tables.cpp, layout in multiscatter_table_layout.h).
+//
+// An anisotropic coat is looked up at the roughness it presents to each direction, the
+// projected roughness α(φ) = sqrt(αx² cos²φ + αy² sin²φ) that fixes Λ (Heitz 2014,
+// eq. 86), and its mean is averaged over φ as well.
+
+#include "gonio/microfacet.h"
+
+namespace gonio {
+
+// A coat prepared for lookups at one (distribution type, η): the η interpolation is done
+// once, so a lookup is bilinear in (α, μ).
+struct CoatAlbedo {
+  MicrofacetType type = MicrofacetType::GGX;
+  int k0 = 0;      // η node below
+  Float tk = 0;    // fraction towards node k0 + 1
+
+  static CoatAlbedo make(MicrofacetType type, Float eta);
+  // E_coat(μ) at isotropic roughness alpha (clamped to the table's [1e-4, 10]).
+  Float E(Float alpha, Float mu) const;
+  // Ē_coat at isotropic roughness alpha.
+  Float average(Float alpha) const;
+
+  // The same for the distribution's roughness seen from w (its projected roughness).
+  Float E(const MicrofacetDistribution& d, const Vec3& w) const;
+  // Ē_coat of the distribution: the mean over μ and φ.
+  Float average(const MicrofacetDistribution& d) const;
+};
+
+}  // namespace gonio
