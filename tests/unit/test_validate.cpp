@@ -106,7 +106,7 @@ INSTANTIATE_TEST_SUITE_P(
       R"({"type":"plastic","reflectance":0.8})",
       R"({"type":"plastic","reflectance":1,"eta":2.4})",
       R"({"type":"plastic","reflectance":[0.9,0.5,0.1],"alpha":0.2})",
-      R"({"type":"plastic","reflectance":0.5,"alpha":[0.02,0.3],"distribution":"beckmann"})",
+      R"({"type":"plastic","reflectance":0.5,"alpha":0.3,"distribution":"beckmann"})",
       R"({"type":"blend","weight":0.3,"bsdfs":[{"type":"diffuse"},{"type":"dielectric"}]})",
       R"({"type":"blend","weight":0.7,"bsdfs":[{"type":"roughconductor","alpha":0.2,"material":"Au"},{"type":"plastic"}]})"));
 
