@@ -19,11 +19,11 @@ struct DiffuseBxDF {
   // Branch-free: which side wi lies on is data, and a mispredicted branch costs more
   // than the model (docs/benchmarks.md).
   Color f(const Vec3& wo, const Vec3& wi, TransportMode = TransportMode::Radiance) const {
-    return reflectance * keep_if(wo.z * wi.z > 0, kInvPi);
+    return reflectance * keep_if(same_hemisphere(wo.z, wi.z), kInvPi);
   }
 
   Float pdf(const Vec3& wo, const Vec3& wi, TransportMode = TransportMode::Radiance) const {
-    return keep_if(wo.z * wi.z > 0, std::abs(wi.z) * kInvPi);
+    return keep_if(same_hemisphere(wo.z, wi.z), std::abs(wi.z) * kInvPi);
   }
 
   // Cosine-weighted hemisphere on wo's side; weight = (ρ/π) cos θ / (cos θ/π) = ρ.
