@@ -129,7 +129,9 @@ TEST(AdversarialRegression, AshikhminShirleyWeightsBounded) {
                              0.99999994f, 0.5f, 0.0954716802f}}) {
     const BxDF m = parse_material(std::string(R"({"type":"ashikhminshirley",)") + c.params + "}");
     const auto s = m.sample(c.wo, c.u0, c.u1, c.u2);
-    if (s) EXPECT_LE(std::max({s->weight[0], s->weight[1], s->weight[2]}), 6.6f) << c.params;
+    if (s) {
+      EXPECT_LE(std::max({s->weight[0], s->weight[1], s->weight[2]}), 6.6f) << c.params;
+    }
   }
 }
 
