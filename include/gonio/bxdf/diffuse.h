@@ -19,19 +19,21 @@ struct DiffuseBxDF {
   // Branch-free: which side wi lies on is data, and a mispredicted branch costs more
   // than the model (docs/benchmarks.md).
   Color f(const Vec3& wo, const Vec3& wi, TransportMode = TransportMode::Radiance) const {
-    return reflectance * keep_if(same_hemisphere(wo.z, wi.z), kInvPi);
+    return reflectance * keep_if(wo.z * wi.z > 0, kInvPi);
   }
 
   Float pdf(const Vec3& wo, const Vec3& wi, TransportMode = TransportMode::Radiance) const {
-    return keep_if(same_hemisphere(wo.z, wi.z), std::abs(wi.z) * kInvPi);
+    return keep_if(wo.z * wi.z > 0, std::abs(wi.z) * kInvPi);
   }
 
   // Cosine-weighted hemisphere on wo's side; weight = (ρ/π) cos θ / (cos θ/π) = ρ.
   std::optional<BSDFSample> sample(const Vec3& wo, Float /*u_lobe*/, Float u1, Float u2,
                                    TransportMode = TransportMode::Radiance) const {
     Vec3 wi = square_to_cosine_hemisphere(u1, u2);
-    // No direction for a grazing wo, nor at the rim of the disk (zero density).
-    if (wo.z == 0 || wi.z == 0) return std::nullopt;
+    // No direction for a grazing wo, nor at the rim of the disk (zero density), nor where
+    // f's side test wo.z · wi.z > 0 underflows (a denormal wo.z): a sample must evaluate
+    // to what it carries (issue 9), and the test stays one multiply in f and pdf.
+    if (!(std::abs(wo.z) * wi.z > 0)) return std::nullopt;
     const Float pdf = wi.z * kInvPi;
     wi.z = std::copysign(wi.z, wo.z);
     return BSDFSample{wi, reflectance, pdf, false, Lobe::Reflection, 1};

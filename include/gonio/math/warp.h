@@ -14,14 +14,6 @@ struct Vec2 {
   Float x = 0, y = 0;
 };
 
-// True when two cosines lie strictly on the same side of the surface. Not `a * b > 0`:
-// that product underflows to 0 when both are tiny (a denormal cos θo times a cosine
-// below 1e-7), and a sampled direction would then evaluate to 0 (issue 9). Four
-// comparisons combined without a branch.
-inline bool same_hemisphere(Float a, Float b) {
-  return ((a > 0) & (b > 0)) | ((a < 0) & (b < 0));
-}
-
 // Concentric map of the square onto the unit disk; preserves stratification and has low
 // distortion (Shirley & Chiu 1997, "A Low Distortion Map Between Disk and Square"):
 // in the wedge |a| > |b| the point is at radius a and angle (π/4)(b/a), else at radius b
