@@ -18,6 +18,9 @@ for t in ${GONIO_FUZZ_TARGETS:-material scene obj png exr}; do
   cp "$build/bin/fuzz_$t" "$out/$t/bin/"  # a rebuild must not replace the running binary
   dict=()
   case "$t" in material | scene) dict=(-dict="$src/json.dict") ;; esac
+  # Seeds without the known reproducers (crash-*), which would end every run at start.
+  mkdir -p "$out/$t/seeds"
+  find "$src/corpus/$t" -maxdepth 1 -type f ! -name 'crash-*' -exec cp {} "$out/$t/seeds/" \;
   (
     cd "$out/$t"
     end=$((SECONDS + seconds))
@@ -25,7 +28,10 @@ for t in ${GONIO_FUZZ_TARGETS:-material scene obj png exr}; do
     while ((SECONDS < end)); do
       n=$((n + 1))
       nice -n 10 "./bin/fuzz_$t" "${dict[@]}" -max_total_time=$((end - SECONDS)) -print_final_stats=1 -rss_limit_mb=1024 -timeout=60 \
-        -artifact_prefix="$out/$t/" corpus "$src/corpus/$t" >"run-$n.log" 2>&1 || true
+        -artifact_prefix="$out/$t/" corpus seeds >"run-$n.log" 2>&1 || true
+      # A reproducer is named <kind>-<sha1>, as its copy in the grown corpus is <sha1>:
+      # drop that copy so that the next run does not stop on it again.
+      for a in crash-* oom-* timeout-* leak-*; do [ -e "$a" ] && rm -f "corpus/${a#*-}"; done
     done
   ) </dev/null >/dev/null 2>&1 &
   disown
