@@ -8,6 +8,7 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   nlohmann-json3-dev libcli11-dev
   libembree-dev libtbb-dev libopenexr-dev libpng-dev libtinyobjloader-dev
+  clang libclang-rt-14-dev  # libFuzzer and the sanitizer runtimes of the fuzz pass
 )
 
 missing=()

@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # Sets up, builds and runs the whole test suite twice: a Release build, then a build
 # under AddressSanitizer + UndefinedBehaviorSanitizer (reduced sample counts) that fails
-# on any sanitizer report.
+# on any sanitizer report; then runs each libFuzzer target of fuzz/ for a fixed time
+# (GONIO_FUZZ_SECONDS, default 20) from the seed corpus in fuzz/corpus/. A crash fails
+# the command and leaves its reproducer in build-fuzz/artifacts/<target>/.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 jobs="$(nproc)"
@@ -22,4 +24,26 @@ ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 \
 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
 GONIO_TEST_SCALE=0.1 \
   ctest --test-dir build-sanitize --output-on-failure -j"$jobs"
+
+echo "== libFuzzer targets ==" >&2
+# clang, ASan + UBSan + libFuzzer; only the targets and the libraries they link.
+CC=clang CXX=clang++ cmake -S . -B build-fuzz -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_FLAGS_RELEASE="-O1" \
+  -DGONIO_FUZZ=ON -DGONIO_BUILD_TESTS=OFF -DGONIO_BUILD_BENCHMARKS=OFF >/dev/null
+cmake --build build-fuzz -j"$jobs" --target gonio_fuzz
+fuzz_seconds="${GONIO_FUZZ_SECONDS:-20}"
+for t in material scene obj png exr; do
+  dict=()
+  case "$t" in material | scene) dict=(-dict=fuzz/json.dict) ;; esac
+  # The grown corpus stays in build-fuzz; the repository's seeds are only read.
+  mkdir -p "build-fuzz/corpus/$t" "build-fuzz/artifacts/$t"
+  echo "fuzz_$t: ${fuzz_seconds} s" >&2
+  if ! build-fuzz/bin/fuzz_"$t" "${dict[@]}" -max_total_time="$fuzz_seconds" -print_final_stats=1 \
+      -artifact_prefix="build-fuzz/artifacts/$t/" "build-fuzz/corpus/$t" "fuzz/corpus/$t" \
+      >"build-fuzz/fuzz_$t.log" 2>&1; then
+    tail -n 60 "build-fuzz/fuzz_$t.log" >&2
+    echo "fuzz_$t failed: reproducer in build-fuzz/artifacts/$t/, log build-fuzz/fuzz_$t.log" >&2
+    exit 1
+  fi
+  grep -E "stat::number_of_executed_units" "build-fuzz/fuzz_$t.log" >&2 || true
+done
 echo "all tests passed" >&2

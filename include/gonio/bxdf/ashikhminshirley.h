@@ -6,6 +6,12 @@
 // with k = wo (h·wo = h·wi). Reciprocal. The half vector is sampled by their eq. 9,
 // density sqrt((nu+1)(nv+1))/(2π) (n·h)^(nu cos²φ + nv sin²φ), then reflected
 // (pdf(wi) = p(h)/(4 k·h)); the diffuse term cosine-weighted.
+//
+// Numerics (issue 9): h·k is written |wo + wi|/2 (exact for unit vectors, h = wo + wi
+// normalised) in f and pdf alike, so their ratio survives the digits wo + wi loses at
+// grazing. The lobe is chosen with probability at least 1/5 (diffuse_probability): its
+// Schlick factor reaches 1 at grazing even when Rs = 0, and a lobe never sampled gave
+// weights of 3e4.
 
 #include <cmath>
 #include <optional>
@@ -30,13 +36,15 @@ struct AshikhminShirleyBxDF : diffuse_glossy::Model<AshikhminShirleyBxDF> {
     return t > 0 ? (nu * h.x * h.x + nv * h.y * h.y) / t : (nu + nv) / 2;
   }
   Color f_upper(const Vec3& wo, const Vec3& wi) const {
-    const Vec3 h = normalize(wo + wi);
-    // h·wo = h·wi; their mean keeps f exactly symmetric in rounding too.
-    const Float hk = (dot(h, wo) + dot(h, wi)) / 2;
+    const Vec3 sum = wo + wi;
+    const Float len = length(sum);
+    const Vec3 h = sum / len;
+    // h·wo = h·wi = |wo + wi|/2: symmetric in wi and wo, and the same value as in pdf.
+    const Float hk = len / 2;
     const Float a = 1 - wi.z / 2, b = 1 - wo.z / 2;
     const Float a5 = a * a * a * a * a, b5 = b * b * b * b * b;
     Color value = rd * (Float(28) / (23 * kPi)) * (Color(1.f) - rs) * ((1 - a5) * (1 - b5));
-    if (hk > 0 && h.z > 0) {
+    if (len > 0 && h.z > 0) {
       const Float m = 1 - hk;
       const Float m5 = m * m * m * m * m;
       const Color F = rs + (Color(1.f) - rs) * m5;
@@ -64,12 +72,17 @@ struct AshikhminShirleyBxDF : diffuse_glossy::Model<AshikhminShirleyBxDF> {
     return reflect(wo, Vec3{s * cp, s * sp, c});
   }
   Float lobe_pdf(const Vec3& wo, const Vec3& wi) const {
-    const Vec3 h = normalize(wo + wi);
-    const Float hk = dot(wo, h);
-    if (!(hk > 0) || !(h.z > 0)) return 0;
-    return std::sqrt((nu + 1) * (nv + 1)) * kInv2Pi * std::pow(h.z, exponent(h)) / (4 * hk);
+    const Vec3 sum = wo + wi;
+    const Float len = length(sum);
+    if (!(len > 0) || !(sum.z > 0)) return 0;
+    const Vec3 h = sum / len;
+    return std::sqrt((nu + 1) * (nv + 1)) * kInv2Pi * std::pow(h.z, exponent(h)) / (2 * len);
   }
-  Float diffuse_probability() const { return diffuse_glossy::diffuse_share(rd, rs); }
+  // The diffuse term's share by its reflectance Rd (1 − Rs) against Rs, the lobe's
+  // share kept at least 1/5 (see the note at the top).
+  Float diffuse_probability() const {
+    return std::min(Float(0.8), diffuse_glossy::diffuse_share(rd * (Color(1.f) - rs), rs));
+  }
 
 };
 

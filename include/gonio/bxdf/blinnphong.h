@@ -26,8 +26,9 @@ struct BlinnPhongBxDF : diffuse_glossy::Model<BlinnPhongBxDF> {
     return (exponent + 2) * (exponent + 4) / (8 * kPi * (std::exp2(-exponent / 2) + exponent));
   }
   Color f_upper(const Vec3& wo, const Vec3& wi) const {
-    const Vec3 h = normalize(wo + wi);
-    return kd * kInvPi + ks * (normalization() * std::pow(std::max(Float(0), h.z), exponent));
+    const Vec3 h = wo + wi;
+    const Float cos_h = std::max(Float(0), h.z / length(h));
+    return kd * kInvPi + ks * (normalization() * std::pow(cos_h, exponent));
   }
   Vec3 sample_lobe(const Vec3& wo, Float u1, Float u2) const {
     // cos = u^(1/(n+1)); sin² = 1 − u^(2/(n+1)) through expm1, exact for narrow lobes.
@@ -37,11 +38,14 @@ struct BlinnPhongBxDF : diffuse_glossy::Model<BlinnPhongBxDF> {
     const Float ph = 2 * kPi * u2;
     return reflect(wo, Vec3{s * std::cos(ph), s * std::sin(ph), c});
   }
+  // wo·ĥ is written |h|/2 (exact for unit wo, wi: h = wo + wi = 2 (wo·ĥ) ĥ), not
+  // dot(wo, ĥ): where wo + wi loses digits (grazing, wi ≈ mirror of wo) the two disagree
+  // and weights reached 6e4 for n = 1e6 (issue 9).
   Float lobe_pdf(const Vec3& wo, const Vec3& wi) const {
-    const Vec3 h = normalize(wo + wi);
-    const Float oh = dot(wo, h);
-    if (!(oh > 0) || !(h.z > 0)) return 0;
-    return (exponent + 1) * kInv2Pi * std::pow(h.z, exponent) / (4 * oh);
+    const Vec3 h = wo + wi;
+    const Float len = length(h);
+    if (!(h.z > 0) || !(len > 0)) return 0;
+    return (exponent + 1) * kInv2Pi * std::pow(h.z / len, exponent) / (2 * len);
   }
   Float diffuse_probability() const { return diffuse_glossy::diffuse_share(kd, ks); }
 

@@ -30,8 +30,10 @@ struct DiffuseBxDF {
   std::optional<BSDFSample> sample(const Vec3& wo, Float /*u_lobe*/, Float u1, Float u2,
                                    TransportMode = TransportMode::Radiance) const {
     Vec3 wi = square_to_cosine_hemisphere(u1, u2);
-    // No direction for a grazing wo, nor at the rim of the disk (zero density).
-    if (wo.z == 0 || wi.z == 0) return std::nullopt;
+    // No direction for a grazing wo, nor at the rim of the disk (zero density), nor where
+    // f's side test wo.z · wi.z > 0 underflows (a denormal wo.z): a sample must evaluate
+    // to what it carries (issue 9), and the test stays one multiply in f and pdf.
+    if (!(std::abs(wo.z) * wi.z > 0)) return std::nullopt;
     const Float pdf = wi.z * kInvPi;
     wi.z = std::copysign(wi.z, wo.z);
     return BSDFSample{wi, reflectance, pdf, false, Lobe::Reflection, 1};

@@ -17,8 +17,10 @@
 
 namespace gonio::diffuse_glossy {
 
+inline constexpr Float kGrazing = 1e-7f;
+
 inline bool usable(const Vec3& wo, const Vec3& wi) {
-  return (wo.z > 0) == (wi.z > 0) && std::abs(wo.z) >= Float(1e-7) && std::abs(wi.z) >= Float(1e-7);
+  return (wo.z > 0) == (wi.z > 0) && std::abs(wo.z) >= kGrazing && std::abs(wi.z) >= kGrazing;
 }
 
 template <typename M>
@@ -44,12 +46,12 @@ Float pdf(const M& m, Vec3 wo, Vec3 wi) {
 
 template <typename M>
 std::optional<BSDFSample> sample(const M& m, Vec3 wo, Float u_lobe, Float u1, Float u2) {
-  if (std::abs(wo.z) < Float(1e-7)) return std::nullopt;
+  if (std::abs(wo.z) < kGrazing) return std::nullopt;
   const bool flip = wo.z < 0;
   if (flip) wo.z = -wo.z;
   const Float pd = m.diffuse_probability();
   Vec3 wi = u_lobe < pd ? square_to_cosine_hemisphere(u1, u2) : m.sample_lobe(wo, u1, u2);
-  if (!(wi.z >= Float(1e-7))) return std::nullopt;
+  if (!(wi.z >= kGrazing)) return std::nullopt;
   const Float p = pd * wi.z * kInvPi + (1 - pd) * m.lobe_pdf(wo, wi);
   if (!(p > 0)) return std::nullopt;
   const Color value = m.f_upper(wo, wi) * (wi.z / p);

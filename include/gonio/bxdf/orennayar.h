@@ -11,6 +11,11 @@
 //     C3 = 0.125 σ²/(σ²+0.09) (4αβ/π²)²
 // Both are symmetric in wi and wo (reciprocal). The full model's L1 is clamped at 0 (its
 // fitted C2 term goes negative at grazing angles). Sampled cosine-weighted. Two-sided.
+// tan β grows without bound as both directions graze, so, like the glossy models, the
+// model scatters nothing within 1e-7 of the tangent plane (diffuse_glossy::usable): f
+// stays finite (a denormal cos θo gave tan β = ∞ and NaN, issue 9). Known limit: π f,
+// the weight of cosine sampling, still reaches B ρ sin α tan β ≈ 1e7 B ρ there (the
+// model's f is unbounded, not its albedo); docs/robustness.md.
 
 #include <algorithm>
 #include <cmath>
@@ -18,6 +23,7 @@
 #include <string_view>
 
 #include "gonio/bxdf/contract.h"
+#include "gonio/bxdf/diffuse_glossy.h"
 #include "gonio/math/warp.h"
 
 namespace gonio {
@@ -31,7 +37,7 @@ struct OrenNayarBxDF {
   static constexpr BxDFFlags flags() { return BxDFFlags::DiffuseReflection; }
 
   Color f(Vec3 wo, Vec3 wi, TransportMode = TransportMode::Radiance) const {
-    if (!(wo.z * wi.z > 0)) return {};
+    if (!diffuse_glossy::usable(wo, wi)) return {};
     if (wo.z < 0) {
       wo.z = -wo.z;
       wi.z = -wi.z;
@@ -52,28 +58,33 @@ struct OrenNayarBxDF {
     if (!full) {
       return reflectance * (kInvPi * (A + Bc * std::max(Float(0), cos_dphi) * sin_alpha * tan_beta));
     }
-    const Float alpha = std::acos(std::min(wi.z, wo.z)), beta = std::acos(std::max(wi.z, wo.z));
+    // Clamped: a unit vector's z may round to just above 1 (acos would give NaN).
+    const Float alpha = std::acos(std::min({wi.z, wo.z, Float(1)}));
+    const Float beta = std::acos(std::min(std::max(wi.z, wo.z), Float(1)));
     const Float b2 = 2 * beta * kInvPi;
     const Float C2 = cos_dphi >= 0 ? Bc * sin_alpha : Bc * (sin_alpha - b2 * b2 * b2);
     const Float t = 4 * alpha * beta * kInvPi * kInvPi;
     const Float C3 = Float(0.125) * s2 / (s2 + Float(0.09)) * t * t;
+    // tan((α + β)/2) = (sin α + sin β)/(cos α + cos β): no tangent of an angle that float
+    // rounding can push past π/2 (where tan turns negative).
+    const Float sin_beta = i_larger ? sin_o : sin_i;
+    const Float tan_half_sum = (sin_alpha + sin_beta) / (wi.z + wo.z);
     // The fitted C2 term can drive L1 below 0 towards grazing with cos Δφ < 0 (tan β
     // grows without bound); a BRDF is never negative, so it is clamped (symmetrically in
     // wi and wo, which keeps reciprocity).
-    const Float L1 = std::max(Float(0), A + cos_dphi * C2 * tan_beta +
-                                            (1 - std::abs(cos_dphi)) * C3 * std::tan((alpha + beta) / 2));
+    const Float L1 = std::max(Float(0), A + cos_dphi * C2 * tan_beta + (1 - std::abs(cos_dphi)) * C3 * tan_half_sum);
     const Float L2 = Float(0.17) * s2 / (s2 + Float(0.13)) * (1 - cos_dphi * b2 * b2);
     return reflectance * (kInvPi * L1) + reflectance * reflectance * (kInvPi * L2);
   }
 
   Float pdf(const Vec3& wo, const Vec3& wi, TransportMode = TransportMode::Radiance) const {
-    return wo.z * wi.z > 0 ? std::abs(wi.z) * kInvPi : Float(0);
+    return diffuse_glossy::usable(wo, wi) ? std::abs(wi.z) * kInvPi : Float(0);
   }
 
   std::optional<BSDFSample> sample(const Vec3& wo, Float, Float u1, Float u2,
                                    TransportMode mode = TransportMode::Radiance) const {
     Vec3 wi = square_to_cosine_hemisphere(u1, u2);
-    if (wo.z == 0 || wi.z == 0) return std::nullopt;
+    if (std::abs(wo.z) < diffuse_glossy::kGrazing || wi.z < diffuse_glossy::kGrazing) return std::nullopt;
     const Float p = wi.z * kInvPi;
     wi.z = std::copysign(wi.z, wo.z);
     return BSDFSample{wi, f(wo, wi, mode) / kInvPi, p, false, Lobe::Reflection, 1};

@@ -1,0 +1,47 @@
+#pragma once
+// Helpers shared by the libFuzzer targets: a per-process scratch file for readers that
+// take a path, and checks that abort (a crash libFuzzer records) on a contract breach.
+
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <unistd.h>
+
+#include "gonio/color.h"
+
+namespace gonio_fuzz {
+
+// A file in the temporary directory, unique to this process (libFuzzer's -jobs run
+// several processes), rewritten for every input: the readers under test take paths.
+inline std::string write_scratch(const uint8_t* data, size_t size, const char* extension) {
+  static const std::string base = (std::filesystem::temp_directory_path() /
+                                   ("gonio_fuzz_" + std::to_string(::getpid()))).string();
+  const std::string path = base + extension;
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  out.write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size));
+  out.close();
+  if (!out) {
+    std::fprintf(stderr, "fuzz: cannot write scratch file %s\n", path.c_str());
+    std::abort();
+  }
+  return path;
+}
+
+[[noreturn]] inline void fail(const char* what, double value) {
+  std::fprintf(stderr, "fuzz: contract broken: %s (value %.9g)\n", what, value);
+  std::abort();
+}
+
+// Finite and >= 0, as every value a BxDF returns must be.
+inline void check_value(const char* what, double v) {
+  if (!std::isfinite(v) || v < 0) fail(what, v);
+}
+inline void check_color(const char* what, const gonio::Color& c) {
+  for (int i = 0; i < gonio::Color::size(); ++i) check_value(what, c[i]);
+}
+
+}  // namespace gonio_fuzz

@@ -1,0 +1,113 @@
+#!/usr/bin/env python3
+"""Writes the small generated seeds of fuzz/corpus/ (materials with direction records,
+PNG images of each colour type and bit depth, OBJ meshes). Run once; the output is
+committed. The EXR seeds and the scenes are written by hand or by gonio itself."""
+import os, struct, zlib
+
+here = os.path.dirname(os.path.abspath(__file__))
+corpus = os.path.join(here, "corpus")
+
+materials = [
+    '{"type":"diffuse","reflectance":[0.2,0.4,0.6]}',
+    '{"type":"mirror"}',
+    '{"type":"conductor","material":"Au"}',
+    '{"type":"conductor","fresnel":"schlick","f0":[1,0.8,0.3]}',
+    '{"type":"conductor","eta":[0.2,0.9,1.1],"k":[3.9,2.4,2.2]}',
+    '{"type":"dielectric","eta":1.5}',
+    '{"type":"roughconductor","alpha":[0.05,0.5],"material":"Cu","multiscatter":false}',
+    '{"type":"roughconductor","alpha":0.3,"distribution":"beckmann","fresnel":"schlick","f0":1,"multiscatter":true}',
+    '{"type":"roughdielectric","alpha":0.2,"eta":1.33,"distribution":"ggx"}',
+    '{"type":"roughdielectric","alpha":0.5,"eta":1.5,"multiscatter":true}',
+    '{"type":"orennayar","reflectance":0.8,"sigma":20,"model":"full"}',
+    '{"type":"phong","kd":0.3,"ks":0.7,"exponent":50}',
+    '{"type":"blinnphong","kd":[0.1,0.2,0.3],"ks":0.5,"exponent":200}',
+    '{"type":"ward","kd":0.2,"ks":0.8,"alpha":[0.05,0.3]}',
+    '{"type":"ashikhminshirley","rd":0.4,"rs":0.1,"nu":10,"nv":1000}',
+    '{"type":"plastic","eta":1.5,"reflectance":0.8}',
+    '{"type":"plastic","eta":1.5,"reflectance":0.8,"alpha":0.2,"distribution":"beckmann"}',
+    '{"type":"blend","weight":0.25,"bsdfs":[{"type":"diffuse"},{"type":"conductor","material":"Ag"}]}',
+]
+
+def record(wo, wi, u, mode):
+    return struct.pack("<3f3f3IB3x", *wo, *wi, *[int(x * (1 << 24)) << 8 for x in u], mode)
+
+records = (record((0.3, 0.1, 0.9), (0.6, 0.8, 1e-20), (0.5, 0.2, 0.7), 0)
+           + record((1, 0, 1e-40), (0, 1, 1e-40), (0, 0, 0), 1)
+           + record((0, 0, 1), (0, 0, -1), (0.999999, 0.999999, 0.999999), 0)
+           + record((0.5, 0.5, -0.7), (0.5, 0.5, -0.7), (0.1, 0.9, 0.3), 1))
+for i, m in enumerate(materials):
+    with open(os.path.join(corpus, "material", f"seed-{i:02d}"), "wb") as f:
+        f.write(m.encode() + b"\0" + records)
+
+def png(width, height, bit_depth, color_type, rows, palette=None):
+    def chunk(tag, data):
+        return struct.pack(">I", len(data)) + tag + data + struct.pack(">I", zlib.crc32(tag + data) & 0xFFFFFFFF)
+    raw = b"".join(b"\0" + r for r in rows)
+    out = b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", width, height, bit_depth, color_type, 0, 0, 0))
+    if palette:
+        out += chunk(b"PLTE", palette)
+    return out + chunk(b"IDAT", zlib.compress(raw)) + chunk(b"IEND", b"")
+
+pngs = {
+    "rgb8": png(2, 2, 8, 2, [bytes([255, 0, 0, 0, 255, 0]), bytes([0, 0, 255, 128, 128, 128])]),
+    "rgba8": png(2, 1, 8, 6, [bytes([10, 20, 30, 255, 40, 50, 60, 0])]),
+    "gray16": png(2, 2, 16, 0, [struct.pack(">HH", 0, 65535), struct.pack(">HH", 1000, 30000)]),
+    "gray1": png(8, 1, 1, 0, [bytes([0b10110010])]),
+    "palette": png(2, 2, 8, 3, [bytes([0, 1]), bytes([1, 0])], palette=bytes([255, 255, 255, 0, 0, 0])),
+    "grayalpha8": png(1, 1, 8, 4, [bytes([77, 200])]),
+}
+for name, data in pngs.items():
+    with open(os.path.join(corpus, "png", f"seed-{name}.png"), "wb") as f:
+        f.write(data)
+with open(os.path.join(here, "data", "tex.png"), "wb") as f:
+    f.write(pngs["rgb8"])
+
+objs = {
+    "triangle": "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n",
+    "quad_uv_normals": "# a quad\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"
+                       "vn 0 0 1\nf 1/1/1 2/2/1 3/3/1 4/4/1\n",
+    "negative_indices": "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf -4 -3 -2\nf -1 -2 -3\n",
+    "groups": "o a\ng g1\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nf 1/1 2/2 3/1\ns 1\nusemtl x\n",
+}
+for name, text in objs.items():
+    with open(os.path.join(corpus, "obj", f"seed-{name}.obj"), "w") as f:
+        f.write(text)
+with open(os.path.join(here, "data", "mesh.obj"), "w") as f:
+    f.write(objs["quad_uv_normals"])
+
+def exr(width, height, channels):
+    """Scanline OpenEXR, no compression. channels: list of (name, pixel_type, values per
+    row as bytes-producer); pixel types 0 = UINT, 1 = HALF, 2 = FLOAT."""
+    def attr(name, typ, data):
+        return name.encode() + b"\0" + typ.encode() + b"\0" + struct.pack("<i", len(data)) + data
+    chans = sorted(channels, key=lambda c: c[0])
+    chlist = b"".join(c[0].encode() + b"\0" + struct.pack("<iB3xii", c[1], 0, 1, 1) for c in chans) + b"\0"
+    box = struct.pack("<iiii", 0, 0, width - 1, height - 1)
+    header = (attr("channels", "chlist", chlist) + attr("compression", "compression", b"\0")
+              + attr("dataWindow", "box2i", box) + attr("displayWindow", "box2i", box)
+              + attr("lineOrder", "lineOrder", b"\0") + attr("pixelAspectRatio", "float", struct.pack("<f", 1))
+              + attr("screenWindowCenter", "v2f", struct.pack("<ff", 0, 0))
+              + attr("screenWindowWidth", "float", struct.pack("<f", 1)) + b"\0")
+    head = struct.pack("<ii", 20000630, 2) + header
+    blocks = []
+    for y in range(height):
+        data = b"".join(c[2](y) for c in chans)
+        blocks.append(struct.pack("<ii", y, len(data)) + data)
+    offset = len(head) + 8 * height
+    table = b""
+    for b in blocks:
+        table += struct.pack("<Q", offset)
+        offset += len(b)
+    return head + table + b"".join(blocks)
+
+exrs = {
+    "rgb_float": exr(2, 2, [(c, 2, lambda y, c=c: struct.pack("<2f", 0.25 * y, 1.5 if c == "G" else 0.5))
+                            for c in "RGB"]),
+    "y_half": exr(2, 1, [("Y", 1, lambda y: struct.pack("<2e", 0.5, 2.0))]),
+    "r_uint": exr(1, 2, [("R", 0, lambda y: struct.pack("<I", 7 + y))]),
+}
+for name, data in exrs.items():
+    with open(os.path.join(corpus, "exr", f"seed-{name}.exr"), "wb") as f:
+        f.write(data)
+with open(os.path.join(here, "data", "tex.exr"), "wb") as f:
+    f.write(exrs["rgb_float"])
