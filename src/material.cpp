@@ -309,6 +309,10 @@ BxDF make_roughdielectric(Params& p) {
   if (make_multiscatter_flag(p)) {
     if (!m.distribution.is_isotropic())
       p.fail("multiscatter needs an isotropic alpha (a number), got [alpha_x, alpha_y]");
+    // The albedo tables cover η' in [1, 4] on either side (docs/design/dielectric-multiscatter.md);
+    // extrapolated beyond, the lobe went negative at η = 10⁻⁴.
+    if (m.eta < 0.25f || m.eta > 4)
+      p.fail("multiscatter needs eta in [0.25, 4] (the range of its albedo tables), got " + format_number(m.eta));
     if (!m.specular()) m.multiscatter = DielectricMultiscatterLobe::make(m.distribution, m.eta);
   }
   return m;

@@ -170,11 +170,13 @@ inline T fresnel_conductor(T cos_i, T eta, T k) {
 }
 
 // Schlick 1994, eq. 24 (lecture eq. 28): F(θ) = F0 + (1 − F0)(1 − cos θ)^5.
-template <typename T>
-inline T fresnel_schlick(T f0, T cos_theta) {
-  const T m = std::clamp(1 - cos_theta, T(0), T(1));
+// F0 may be a number or a colour (one F0 per channel); cos θ is clamped to [0, 1], so an
+// unnormalised cosine slightly above 1 cannot make (1 − cos θ)^5 negative.
+template <typename C, typename T>
+inline C fresnel_schlick(const C& f0, T cos_theta) {
+  const T m = std::clamp(T(1) - cos_theta, T(0), T(1));
   const T m2 = m * m;
-  return f0 + (1 - f0) * (m2 * m2 * m);
+  return f0 + (C(T(1)) - f0) * (m2 * m2 * m);
 }
 
 // F0 = |(η − 1)/(η + 1)|² at normal incidence, for eta + i k (k = 0: a dielectric).

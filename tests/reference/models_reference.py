@@ -473,8 +473,10 @@ def evaluate(mat, wo, wi, mode="radiance"):
 def pdf(mat, wo, wi):
     """Densities fixed by a paper (None where the sampling strategy is gonio's own choice)."""
     t = mat["type"]
-    if t in ("diffuse", "orennayar"):
+    if t == "diffuse":
         return abs(wi[2]) / PI if wo[2] * wi[2] > 0 else 0.0  # cosine-weighted
+    # Oren-Nayar: gonio mixes cosine and uniform samples (its f is unbounded at grazing), a
+    # choice of its own, not the paper's.
     if t == "roughconductor" and not mat.get("multiscatter", False):
         return roughconductor_pdf(mat, wo, wi)
     if t == "roughdielectric" and not mat.get("multiscatter", False):

@@ -18,32 +18,37 @@
 namespace gonio {
 namespace {
 
-// The types whose numerics another change of issue 9 fixes (plastic NaN at |cos θ| ~ 1e-20,
-// rough dielectric wi off unit length at η = 1e-4, multiscatter weights of 1e4, a
-// negative Schlick weight); their sweep is DISABLED_ until that change is merged.
-bool fixed_elsewhere(const std::string& json) {
-  for (const char* type : {"\"plastic\"", "\"conductor\"", "\"dielectric\"", "\"roughconductor\"",
-                           "\"roughdielectric\""})
-    if (json.rfind(std::string(R"({"type":)") + type, 0) == 0) return true;
+// Materials whose sample weights are still unbounded at grazing — open in issue 9, listed
+// here one by one so that every other material, and any new failure kind of these, fails
+// the test: the Kulla–Conty lobe of a near-smooth rough conductor (its cosine sampling
+// meets (1 − E(μo))(1 − E(μi))/(1 − E_avg) with E_avg → 1), plastic with an
+// index-matched rough coat (η = 1, 1 + 10⁻⁶), and plastic at η = 10⁴, whose Brewster angle
+// lies within 0.01° of grazing, so that 1 − F(θi) there is ~10³ times its cosine-weighted
+// mean and cosine sampling of the base misses it. Value and agreement checks still apply.
+bool weights_still_open(const std::string& json) {
+  for (const char* prefix : {R"({"type":"roughconductor","fresnel":"schlick","f0":1,"multiscatter":true)",
+                             R"({"type":"plastic","reflectance":1,"eta":1,)",
+                             R"({"type":"plastic","reflectance":1,"eta":1.000001,)",
+                             R"({"type":"plastic","reflectance":1,"eta":10000)"})
+    if (json.rfind(prefix, 0) == 0) return true;
   return false;
 }
 
-void sweep_materials(bool elsewhere) {
+void sweep_materials() {
   const std::uint64_t draws = test::scaled(3000, 300);
   const auto materials = adversarial::extreme_materials();
   for (size_t k = 0; k < materials.size(); ++k) {
-    if (fixed_elsewhere(materials[k]) != elsewhere) continue;
     SCOPED_TRACE(materials[k]);
     BxDF m;
     ASSERT_NO_THROW(m = parse_material(materials[k]));
     const auto t = adversarial::sweep(m, draws, 77 + k);
-    EXPECT_EQ(t.failures(), 0u) << "value " << t.value << ", agree " << t.agree << ", weight " << t.weight
-                                << "; first: " << t.first_failure;
+    const bool open = weights_still_open(materials[k]);
+    EXPECT_EQ(t.value + t.agree + (open ? 0 : t.weight), 0u)
+        << "value " << t.value << ", agree " << t.agree << ", weight " << t.weight << "; first: " << t.first_failure;
   }
 }
 
-TEST(AdversarialSweep, ExtremeMaterialsAndDirections) { sweep_materials(false); }
-TEST(AdversarialSweep, DISABLED_ModelsFixedElsewhere) { sweep_materials(true); }
+TEST(AdversarialSweep, ExtremeMaterialsAndDirections) { sweep_materials(); }
 
 // --- Regression tests: one per finding, at the inputs that exposed it ---------------
 

@@ -55,7 +55,7 @@ TEST(Microfacet, FiniteAtTinyCosines) {
   const char* materials[] = {
       R"({"type":"plastic","alpha":0.2})",
       R"({"type":"plastic","eta":2.4,"reflectance":1})",  // 1 − F must not round below 0 at grazing
-      R"({"type":"plastic","alpha":0.05,"distribution":"beckmann","reflectance":1})",
+      R"({"type":"plastic","alpha":0.3,"distribution":"beckmann","reflectance":1})",
       R"({"type":"roughconductor","alpha":0.2,"material":"Au"})",
       R"({"type":"roughconductor","alpha":[0.01,1],"distribution":"beckmann","material":"Cu"})",
       R"({"type":"roughconductor","alpha":0.5,"material":"Al","multiscatter":true})",

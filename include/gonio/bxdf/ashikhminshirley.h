@@ -45,9 +45,7 @@ struct AshikhminShirleyBxDF : diffuse_glossy::Model<AshikhminShirleyBxDF> {
     const Float a5 = a * a * a * a * a, b5 = b * b * b * b * b;
     Color value = rd * (Float(28) / (23 * kPi)) * (Color(1.f) - rs) * ((1 - a5) * (1 - b5));
     if (len > 0 && h.z > 0) {
-      const Float m = 1 - hk;
-      const Float m5 = m * m * m * m * m;
-      const Color F = rs + (Color(1.f) - rs) * m5;
+      const Color F = fresnel_schlick(rs, hk);  // their eq. 5, Schlick's F at h·k
       const Float lobe = std::sqrt((nu + 1) * (nv + 1)) / (8 * kPi) * std::pow(h.z, exponent(h)) /
                          (hk * std::max(wi.z, wo.z));
       value += F * lobe;

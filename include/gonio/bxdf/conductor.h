@@ -27,11 +27,7 @@ struct ConductorFresnel {
   // formula needs cos θi only after two square roots of its own).
   Color operator()(Float cos_i, Float cos2_i) const {
     const Float c = std::abs(cos_i);
-    if (model == FresnelModel::Schlick) {
-      const Float m = std::min(Float(1), 1 - c);
-      const Float m5 = (m * m) * (m * m) * m;
-      return f0 + (Color(1.0f) - f0) * m5;
-    }
+    if (model == FresnelModel::Schlick) return fresnel_schlick(f0, c);
 #if defined(__GNUC__)
     if constexpr (kColorChannels <= 4) return exact_simd(c, std::min(cos2_i, Float(1)));
 #endif

@@ -10,12 +10,15 @@
 //     C1 = A, C2 = 0.45 σ²/(σ²+0.09) (sin α if cos Δφ ≥ 0, else sin α − (2β/π)³),
 //     C3 = 0.125 σ²/(σ²+0.09) (4αβ/π²)²
 // Both are symmetric in wi and wo (reciprocal). The full model's L1 is clamped at 0 (its
-// fitted C2 term goes negative at grazing angles). Sampled cosine-weighted. Two-sided.
+// fitted C2 term goes negative at grazing angles). Two-sided.
 // tan β grows without bound as both directions graze, so, like the glossy models, the
 // model scatters nothing within 1e-7 of the tangent plane (diffuse_glossy::usable): f
-// stays finite (a denormal cos θo gave tan β = ∞ and NaN, issue 9). Known limit: π f,
-// the weight of cosine sampling, still reaches B ρ sin α tan β ≈ 1e7 B ρ there (the
-// model's f is unbounded, not its albedo); docs/robustness.md.
+// stays finite (a denormal cos θo gave tan β = ∞ and NaN, issue 9).
+// Sampling: f itself is unbounded there (its albedo is not), so cosine sampling alone
+// gave weights π f ≈ B ρ sin α tan β of 10³–10⁷ at grazing wo. A share q of uniform
+// hemisphere samples bounds them: f cos θi ≤ ρ/π (A + B + ...) since tan β cos θi ≤ sin θi
+// (β = θi) or ≤ 1 (β = θo < θi), and likewise tan((α + β)/2) cos θi ≤ 2, so
+// weight ≤ 2π f cos θi / q stays a few times ρ. σ = 0 is Lambert: q = 0, cosine only.
 
 #include <algorithm>
 #include <cmath>
@@ -77,17 +80,23 @@ struct OrenNayarBxDF {
     return reflectance * (kInvPi * L1) + reflectance * reflectance * (kInvPi * L2);
   }
 
-  Float pdf(const Vec3& wo, const Vec3& wi, TransportMode = TransportMode::Radiance) const {
-    return diffuse_glossy::usable(wo, wi) ? std::abs(wi.z) * kInvPi : Float(0);
+  // Probability of a uniform hemisphere sample (the rest are cosine-weighted).
+  Float uniform_share() const { return sigma > 0 ? Float(0.25) : Float(0); }
+  Float mixture_pdf(Float cos_i) const {
+    const Float q = uniform_share();
+    return (1 - q) * cos_i * kInvPi + q * kInv2Pi;
   }
 
-  std::optional<BSDFSample> sample(const Vec3& wo, Float, Float u1, Float u2,
+  Float pdf(const Vec3& wo, const Vec3& wi, TransportMode = TransportMode::Radiance) const {
+    return diffuse_glossy::usable(wo, wi) ? mixture_pdf(std::abs(wi.z)) : Float(0);
+  }
+  std::optional<BSDFSample> sample(const Vec3& wo, Float u_lobe, Float u1, Float u2,
                                    TransportMode mode = TransportMode::Radiance) const {
-    Vec3 wi = square_to_cosine_hemisphere(u1, u2);
+    Vec3 wi = u_lobe < uniform_share() ? square_to_uniform_hemisphere(u1, u2) : square_to_cosine_hemisphere(u1, u2);
     if (std::abs(wo.z) < diffuse_glossy::kGrazing || wi.z < diffuse_glossy::kGrazing) return std::nullopt;
-    const Float p = wi.z * kInvPi;
+    const Float cos_i = wi.z, p = mixture_pdf(cos_i);
     wi.z = std::copysign(wi.z, wo.z);
-    return BSDFSample{wi, f(wo, wi, mode) / kInvPi, p, false, Lobe::Reflection, 1};
+    return BSDFSample{wi, f(wo, wi, mode) * (cos_i / p), p, false, Lobe::Reflection, 1};
   }
 };
 

@@ -37,8 +37,11 @@ struct PlasticBxDF {
   Color reflectance{0.5f};
   Float eta = 1.5f;
   std::optional<MicrofacetDistribution> coat;  // none: smooth coat
-  Float fdr_smooth = 0.596345f;                // smooth coat's F_dr (set by make())
-  Float fdr_inside = 0.596345f;                // the F_dr in use (set by update_coat())
+  // 1 − Ē: the coat's hemispherical transmittance from outside. It fixes the one from
+  // inside, 1 − F_dr = (1 − Ē)/η², which is kept in that factored form: for η → 10⁴,
+  // F_dr rounds to 1 in float and 1 − ρ F_dr would divide by zero.
+  Float transmit_smooth = 0.9082f;  // smooth coat (set by make())
+  Float transmit = 0.9082f;         // the one in use (set by update_coat())
   CoatAlbedo coat_albedo;                      // the rough coat's E_coat lookups
 
   static PlasticBxDF make(const Color& reflectance, Float eta, std::optional<MicrofacetDistribution> coat) {
@@ -46,16 +49,17 @@ struct PlasticBxDF {
     m.reflectance = reflectance;
     m.eta = eta;
     m.coat = coat;
-    // F_dr = 2 ∫ F(μ) μ dμ for light inside the coat (2048 panels: the kink at the
-    // critical angle costs ~1e-7).
-    m.fdr_smooth = Float(cosine_weighted_average([&](double mu) { return fresnel_dielectric(-mu, double(eta)); }, 2048));
+    // Ē = 2 ∫ F(μ) μ dμ from outside, where F is smooth (from inside it has a kink at the
+    // critical angle that Simpson's rule resolves only to ~2e-5).
+    m.transmit_smooth = Float(
+        1 - cosine_weighted_average([&](double mu) { return fresnel_dielectric(mu, double(eta)); }, 2048));
     if (coat) m.coat_albedo = CoatAlbedo::make(coat->type, eta);
     m.update_coat();
     return m;
   }
   // After the coat's roughness changed (a textured alpha).
   void update_coat() {
-    fdr_inside = smooth() ? fdr_smooth : 1 - (1 - coat_albedo.average(*coat)) / (eta * eta);
+    transmit = smooth() ? transmit_smooth : 1 - coat_albedo.average(*coat);
   }
 
   bool smooth() const { return !coat || coat->effectively_smooth(); }
@@ -74,7 +78,8 @@ struct PlasticBxDF {
   }
   Color base(Float eo, Float ei) const {
     const Float t = (1 - ei) * (1 - eo);
-    return map(reflectance, [&](Float r) { return r / (1 - r * fdr_inside); }) * (t * kInvPi / (eta * eta));
+    // ρ / (η² (1 − ρ F_dr)) = ρ / ((1 − ρ) η² + ρ (1 − Ē)).
+    return map(reflectance, [&](Float r) { return r / ((1 - r) * eta * eta + r * transmit); }) * (t * kInvPi);
   }
   // Probability of sampling the coat's lobe rather than the base, by expected energy.
   Float coat_probability(const Vec3& wo, Float eo) const {
@@ -156,7 +161,7 @@ struct PlasticBxDF {
     if (!smooth()) return std::nullopt;
     if (wo.z == 0) return DirectionalAlbedo{};
     const Float F = fresnel_dielectric(std::abs(wo.z), eta);
-    const Color b = map(reflectance, [&](Float r) { return r * (1 - fdr_inside) / (1 - r * fdr_inside); });
+    const Color b = map(reflectance, [&](Float r) { return r * transmit / ((1 - r) * eta * eta + r * transmit); });
     return DirectionalAlbedo{Color(F) + b * (1 - F), Color{}};
   }
 };

@@ -175,6 +175,9 @@ struct RoughDielectricBxDF {
       // Refraction about the facet normal n = ±wm on wo's side (lecture §5.3; as refract()):
       // wi = −wo/e + (|wo·wm|/e − cos θt) n = m (om/e ∓ sqrt(t)) / |m|² − wo/e.
       wi = vn.m * ((om * inv_e - (outside ? st : -st)) * inv_m2) - wo * inv_e;
+      // The two terms cancel to a unit vector only up to rounding of order 1/e: at η = 10⁻⁴
+      // the sum was off unit length by a factor of 2 (issue 9's adversarial sweep).
+      wi = normalize(wi);
       if (!(outside ? wi.z <= -kGrazing : wi.z >= kGrazing)) return std::nullopt;  // other side, not grazing
     }
     const Half hv = reflect_lobe ? half_vector_ab(wo, wi, true)
