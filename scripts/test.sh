@@ -2,7 +2,7 @@
 # Sets up, builds and runs the whole test suite twice: a Release build, then a build
 # under AddressSanitizer + UndefinedBehaviorSanitizer (reduced sample counts) that fails
 # on any sanitizer report; then runs each libFuzzer target of fuzz/ for a fixed time
-# (GONIO_FUZZ_SECONDS, default 20) from the seed corpus in fuzz/corpus/. A crash fails
+# (GONIO_FUZZ_SECONDS, default 10) from the seed corpus in fuzz/corpus/. A crash fails
 # the command and leaves its reproducer in build-fuzz/artifacts/<target>/.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -30,7 +30,7 @@ echo "== libFuzzer targets ==" >&2
 CC=clang CXX=clang++ cmake -S . -B build-fuzz -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_FLAGS_RELEASE="-O1" \
   -DGONIO_FUZZ=ON -DGONIO_BUILD_TESTS=OFF -DGONIO_BUILD_BENCHMARKS=OFF >/dev/null
 cmake --build build-fuzz -j"$jobs" --target gonio_fuzz
-fuzz_seconds="${GONIO_FUZZ_SECONDS:-20}"
+fuzz_seconds="${GONIO_FUZZ_SECONDS:-10}"
 for t in material scene obj png exr; do
   dict=()
   case "$t" in material | scene) dict=(-dict=fuzz/json.dict) ;; esac

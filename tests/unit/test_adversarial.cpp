@@ -29,7 +29,8 @@ bool weights_still_open(const std::string& json) {
   for (const char* prefix : {R"({"type":"roughconductor","fresnel":"schlick","f0":1,"multiscatter":true)",
                              R"({"type":"plastic","reflectance":1,"eta":1,)",
                              R"({"type":"plastic","reflectance":1,"eta":1.000001,)",
-                             R"({"type":"plastic","reflectance":1,"eta":10000)"})
+                             R"({"type":"plastic","reflectance":1,"eta":10000)",
+                             R"({"type":"plastic","reflectance":1,"eta":1.5,"alpha":1})"})
     if (json.rfind(prefix, 0) == 0) return true;
   return false;
 }
