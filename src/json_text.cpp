@@ -9,6 +9,8 @@
 #include <filesystem>
 #include <memory>
 #include <string>
+#include <unordered_set>
+#include <vector>
 
 #include "gonio/error.h"
 
@@ -60,6 +62,44 @@ void check_depth(std::string_view text, std::string_view source) {
   }
 }
 
+// Refuses an object that names a key twice. RFC 8259 §4 leaves duplicates to the
+// implementation and nlohmann keeps the last silently, so `{"eta": "x", "eta": 1.5}`
+// would pass a typo unseen. One linear pass over text the parser has accepted (so every
+// token is well formed); keys are compared decoded, "\u0065ta" being "eta".
+void check_unique_keys(std::string_view text, std::string_view source) {
+  struct Container {
+    bool object;
+    bool expect_key;
+    std::unordered_set<std::string> keys;
+  };
+  std::vector<Container> stack;
+  for (size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
+    if (c == '{' || c == '[') {
+      stack.push_back({c == '{', c == '{', {}});
+    } else if (c == '}' || c == ']') {
+      if (!stack.empty()) stack.pop_back();
+    } else if (c == ',') {
+      if (!stack.empty() && stack.back().object) stack.back().expect_key = true;
+    } else if (c == ':') {
+      if (!stack.empty()) stack.back().expect_key = false;
+    } else if (c == '"') {
+      const size_t start = i;
+      for (++i; i < text.size() && text[i] != '"'; ++i)
+        if (text[i] == '\\') ++i;
+      if (stack.empty() || !stack.back().expect_key) continue;
+      // Fast path: a key without escapes is its own spelling.
+      const std::string_view raw = text.substr(start + 1, i - start - 1);
+      std::string key = raw.find('\\') == std::string_view::npos
+                            ? std::string(raw)
+                            : nlohmann::json::parse(text.substr(start, i - start + 1)).get<std::string>();
+      if (!stack.back().keys.insert(key).second)
+        throw InputError(std::string(source) + ": duplicate key \"" + key + "\" at " + line_column(text, start) +
+                         " (a key may appear only once in an object)");
+    }
+  }
+}
+
 }  // namespace
 
 std::string read_text_file(const std::string& path, std::size_t limit, std::string_view kind) {
@@ -93,7 +133,9 @@ nlohmann::json parse_json_text(std::string_view text, std::string_view source) {
   using nlohmann::json;
   check_depth(text, source);
   try {
-    return json::parse(text.begin(), text.end());
+    json parsed = json::parse(text.begin(), text.end());
+    check_unique_keys(text, source);
+    return parsed;
   } catch (const json::parse_error& e) {
     std::string what = e.what();
     // nlohmann's text is "[json.exception.parse_error.101] parse error at line 1, column 2:

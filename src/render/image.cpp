@@ -7,6 +7,8 @@
 #include "gonio/render/image.h"
 #include "gonio/render/image_output.h"
 
+#include "exr_preflight.h"
+
 #include <fcntl.h>
 #include <png.h>
 #include <sys/stat.h>
@@ -46,9 +48,9 @@ static_assert(std::is_same_v<Float, float>, "EXR slices are 32-bit FLOAT");
 
 namespace {
 
-// Largest image read_image accepts (16384 x 8192): far above any texture, and it keeps a
-// corrupt header from requesting an allocation that exhausts memory.
-constexpr std::int64_t kMaxPixels = std::int64_t(1) << 27;
+// Largest image read_image accepts (exr_preflight.h): far above any texture, and it keeps
+// a corrupt header from requesting an allocation that exhausts memory.
+constexpr std::int64_t kMaxPixels = kMaxImagePixels;
 
 [[noreturn]] void fail(const std::string& path, const std::string& problem) {
   throw InputError(path + ": " + problem);
@@ -153,6 +155,10 @@ Image read_exr(const std::string& path) {
     fail(path, "not an OpenEXR file");
   }
   if (std::memcmp(magic, kMagic, 4) != 0) fail(path, "not an OpenEXR file");
+  struct stat st;
+  if (fstat(fileno(f.get()), &st) != 0) fail(path, "cannot read: " + errno_text(errno));
+  if (!S_ISREG(st.st_mode)) fail(path, "not a regular file");
+  preflight_exr(f.get(), std::uint64_t(st.st_size), path);
   if (std::fseek(f.get(), 0, SEEK_SET) != 0) fail(path, "cannot read: " + errno_text(errno));
 
   try {

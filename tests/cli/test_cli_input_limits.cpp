@@ -61,6 +61,21 @@ TEST(CliInputLimits, NestingLimitIsExactly64) {
   expect_bad_input(r, {"--bsdf", "nested deeper than 64", "column 86"});
 }
 
+TEST(CliInputLimits, DuplicateKeysAreRefused) {
+  // nlohmann keeps the last of two equal keys: {"eta": "x", "eta": 1.5} was accepted,
+  // the first value unseen (found by fuzz_material). Keys compare decoded.
+  expect_bad_input(run_gonio({"eval", "--bsdf", R"({"type":"plastic","eta":"x","eta":1.5})"}, kGoodEvalLine),
+                   {"--bsdf", "duplicate key \"eta\"", "line 1, column 29"});
+  expect_bad_input(run_gonio({"eval", "--bsdf", R"({"type":"diffuse","\u0074ype":"mirror"})"}, kGoodEvalLine),
+                   {"duplicate key \"type\"", "column 19"});
+  // The same key in two different objects, and a key's text inside a string value, are fine.
+  const auto objs = run_lines(
+      {"eval", "--bsdf", R"({"type":"blend","weight":0.5,"bsdfs":[{"type":"diffuse","reflectance":1},{"type":"diffuse","reflectance":0}]})"},
+      kGoodEvalLine, 1);
+  ASSERT_EQ(objs.size(), 1u);
+  EXPECT_NEAR(color3(objs[0]["f"])[0], 0.5 / kPi, 1e-6);
+}
+
 TEST(CliInputLimits, TenThousandNestedBlendsFailFast) {
   const TempFile blends(nested_blends(10000));
   const auto t0 = std::chrono::steady_clock::now();

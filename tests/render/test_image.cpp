@@ -158,8 +158,10 @@ void put_attr(std::string& s, const std::string& name, const std::string& type,
 
 // channels: (name, values row-major over the data window), names in ascending order as
 // the format requires.
+// `extra` is appended to the header as raw attribute bytes (put_attr).
 std::string make_exr(int x0, int y0, int width, int height,
-                     const std::vector<std::pair<std::string, std::vector<float>>>& channels) {
+                     const std::vector<std::pair<std::string, std::vector<float>>>& channels,
+                     const std::string& extra = "") {
   std::string s = "\x76\x2f\x31\x01";
   put_le32(s, 2);  // version 2, single-part scanline
   std::string chlist;
@@ -185,6 +187,7 @@ std::string make_exr(int x0, int y0, int width, int height,
   put_attr(s, "pixelAspectRatio", "float", one);
   put_attr(s, "screenWindowCenter", "v2f", zero2);
   put_attr(s, "screenWindowWidth", "float", one);
+  s += extra;
   s += '\0';
   const size_t block = 8 + size_t(width) * 4 * channels.size();
   const size_t first = s.size() + 8 * size_t(height);
@@ -580,6 +583,52 @@ TEST_F(ImageFiles, TextFilesThrow) {
   write_bytes(file("empty.exr"), "");
   expect_one_line_naming(input_error([&] { read_image(file("empty.exr")); }),
                          file("empty.exr"));
+}
+
+// What an OpenEXR header claims must fit in the file: OpenEXR allocates what it is told
+// before it finds the file short (fuzz_exr: 1.6–1.9 GB for files of a few hundred bytes,
+// 8 s for fuzz/corpus/exr/slow-attribute-317-bytes.exr, whose attribute claims 1.4 GB).
+TEST_F(ImageFiles, ExrHeaderClaimsBeyondTheFileAreRefused) {
+  const std::vector<std::pair<std::string, std::vector<float>>> red = {{"R", {0.5f, 0.25f}}};
+  auto refused = [&](const std::string& name, const std::string& bytes, const std::string& words) {
+    const std::string path = file(name);
+    write_bytes(path, bytes);
+    const std::string msg = input_error([&] { read_image(path); });
+    expect_one_line_naming(msg, path);
+    EXPECT_NE(msg.find(words), std::string::npos) << msg;
+  };
+  std::string huge_attr = std::string("screen") + '\0' + "x" + '\0';
+  put_le32(huge_attr, 1467444992);
+  huge_attr += std::string(60, '\0');
+  refused("attr.exr", make_exr(0, 0, 1, 2, red, huge_attr), "attribute 'screen' claims 1467444992 bytes");
+
+  // The data window of a valid 1 x 2 file, widened in place: (x1, y1) follow (x0, y0).
+  auto with_window = [](std::string bytes, int x1, int y1, char compression) {
+    const std::string key = std::string("dataWindow") + '\0' + "box2i" + '\0';
+    const size_t box = bytes.find(key) + key.size() + 4;
+    std::string corner;
+    put_le32(corner, uint32_t(x1));
+    put_le32(corner, uint32_t(y1));
+    bytes.replace(box + 8, 8, corner);
+    const std::string ckey = std::string("compression") + '\0' + "compression" + '\0';
+    bytes[bytes.find(ckey) + ckey.size() + 4] = compression;
+    return bytes;
+  };
+  const std::string small = make_exr(0, 0, 1, 2, red);
+  // 8192 scan lines need 8192 offsets (64 KiB) in a file of a few hundred bytes.
+  refused("lines.exr", with_window(small, 16383, 8191, 0), "chunk offsets do not fit");
+  // One ZIP chunk (16 lines) of 65536 x 16 FLOAT pixels: 4 MiB in a file of ~400 bytes,
+  // beyond any compression's ratio; uncompressed, even 2 lines of 4096 are too many.
+  refused("ratio.exr", with_window(small, 65535, 15, 3), "claims 65536 x 16 pixels");
+  refused("raw.exr", with_window(small, 4095, 1, 0), "claims 4096 x 2 pixels");
+  refused("window.exr", with_window(small, 1 << 20, 1 << 20, 3), "unsupported image size");
+
+  std::string multipart = small;
+  multipart[5] = 0x10;  // version field bit 12
+  refused("parts.exr", multipart, "multi-part");
+  std::string deep = small;
+  deep[5] = 0x08;  // bit 11
+  refused("deep.exr", deep, "deep");
 }
 
 TEST_F(ImageFiles, TruncatedExrThrows) {

@@ -138,6 +138,10 @@ TEST(InputLimits, SceneFileSizeAndNesting) {
   const std::string deep = R"({"comment": )" + std::string(70000, '[') + std::string(70000, ']') + "}";
   expect_error(load_error(dir.file("deep.json", deep)), {"deep.json", "nested deeper than 64", "line 1, column 76"});
 
+  // A key twice in one object is refused with its line and column (nlohmann kept the last).
+  expect_error(load_error(dir.file("dup.json", "{\"camera\": {\"width\": 4,\n \"width\": 8}}")),
+               {"dup.json", "duplicate key \"width\"", "line 2, column 2"});
+
   expect_error(load_error(dir.path("")), {});
   expect_error(load_error(dir.path("nothing.json")), {"nothing.json"});
 }
