@@ -14,6 +14,8 @@
 #include <optional>
 #include <string>
 #include <system_error>
+#include <utility>
+#include <vector>
 
 #include "gonio/error.h"
 
@@ -73,29 +75,70 @@ class HeaderReader {
 constexpr int kLinesPerChunk[] = {1, 1, 1, 16, 32, 16, 32, 32, 32, 256};
 constexpr int kCompressionNone = 0;
 
+// OpenEXR reads a value of a known fixed-size type by its type, whatever its size field
+// says, so a size that disagrees would put this reader and OpenEXR's out of step: it must
+// be the type's (OpenEXR's standard attribute types, their layouts in the document).
+int fixed_size(const std::string& type) {
+  static const std::pair<const char*, int> kSizes[] = {
+      {"box2i", 16}, {"box2f", 16},    {"chromaticities", 32}, {"compression", 1}, {"double", 8},
+      {"envmap", 1}, {"float", 4},     {"int", 4},             {"keycode", 28},    {"lineOrder", 1},
+      {"m33f", 36},  {"m33d", 72},     {"m44f", 64},           {"m44d", 128},      {"rational", 8},
+      {"tiledesc", 9}, {"timecode", 8}, {"v2i", 8},            {"v2f", 8},         {"v2d", 16},
+      {"v3i", 12},   {"v3f", 12},      {"v3d", 24},            {"deepImageState", 1}};
+  for (const auto& [name, size] : kSizes)
+    if (type == name) return size;
+  return -1;
+}
+
 struct Window {
   std::int64_t width, height;
 };
 
-// Uncompressed bytes of one full image: per channel its sampled pixel count (rounded down,
-// so that a subsampled channel is never over-counted) times its pixel size.
-std::int64_t channel_bytes(HeaderReader& in, std::uint32_t size, size_t max_name, const Window& w) {
-  const std::uint64_t end = in.position() + size;
-  std::int64_t bytes = 0;
+struct Channel {
+  std::int64_t pixel_bytes, x_sampling, y_sampling;
+};
+
+// A channel list, read by its content as OpenEXR reads it (names up to an empty one), which
+// must take exactly `size` bytes.
+std::vector<Channel> read_channels(HeaderReader& in, std::int32_t size, size_t max_name) {
+  const std::uint64_t end = in.position() + std::uint64_t(size);
+  std::vector<Channel> channels;
   for (;;) {
-    if (in.position() >= end) in.corrupt("channel list without its terminating NUL");
     const std::string channel = in.name(max_name, "channel name");
     if (channel.empty()) break;
     const std::int32_t type = in.i32("channel type");
     in.skip(4, "channel flags");
     const std::int32_t xs = in.i32("channel sampling"), ys = in.i32("channel sampling");
     if (type < 0 || type > 2) in.corrupt("channel '" + channel + "' has unknown pixel type " + std::to_string(type));
-    if (xs < 1 || ys < 1) in.corrupt("channel '" + channel + "' has sampling " + std::to_string(xs) + " x " + std::to_string(ys));
-    const std::int64_t pixel = type == 1 ? 2 : 4;  // HALF; UINT and FLOAT are 4 bytes
-    bytes += (w.width / xs) * (w.height / ys) * pixel;  // ≤ 2^27 · 4 per channel
+    if (xs < 1 || ys < 1)
+      in.corrupt("channel '" + channel + "' has sampling " + std::to_string(xs) + " x " + std::to_string(ys));
+    channels.push_back({type == 1 ? 2 : 4, xs, ys});  // HALF; UINT and FLOAT are 4 bytes
+    if (in.position() > end) break;
   }
-  if (in.position() != end) in.corrupt("channel list of the wrong size");
-  return bytes;
+  if (in.position() != end) in.corrupt("a channel list whose size field is not its size");
+  return channels;
+}
+
+// A preview image (uint32 width, height, then RGBA bytes) must be as large as it says:
+// OpenEXR allocates width x height x 4 bytes from the two numbers.
+void check_preview(HeaderReader& in, std::int32_t size) {
+  if (size < 8) in.corrupt("a preview attribute of " + std::to_string(size) + " bytes");
+  const std::uint64_t w = in.u32("preview size"), h = in.u32("preview size");
+  if ((h != 0 && w > std::uint64_t(size) / h) || w * h * 4 != std::uint64_t(size) - 8) in.corrupt("a preview image larger than its attribute");
+  in.skip(std::uint64_t(size) - 8, "preview image");
+}
+
+// A string vector (int32 length, then the characters, repeated): OpenEXR allocates each
+// length it reads, so each must lie within the attribute.
+void check_string_vector(HeaderReader& in, std::int32_t size) {
+  const std::uint64_t end = in.position() + std::uint64_t(size);
+  while (in.position() < end) {
+    if (end - in.position() < 4) in.corrupt("a string vector whose size field is not its size");
+    const std::int32_t length = in.i32("string length");
+    if (length < 0 || std::uint64_t(length) > end - in.position())
+      in.corrupt("a string of " + std::to_string(length) + " bytes beyond its attribute");
+    in.skip(std::uint64_t(length), "string");
+  }
 }
 
 }  // namespace
@@ -115,8 +158,7 @@ void preflight_exr(std::FILE* f, std::uint64_t file_size, const std::string& pat
   std::optional<Window> window;
   int compression = kCompressionNone;
   std::int64_t tile_x = 0, tile_y = 0;
-  std::uint64_t channels_at = 0;
-  std::uint32_t channels_size = 0;
+  std::vector<Channel> channels;
   for (;;) {
     const std::string name = in.name(max_name, "attribute name");
     if (name.empty()) break;
@@ -124,27 +166,36 @@ void preflight_exr(std::FILE* f, std::uint64_t file_size, const std::string& pat
     const std::int32_t size = in.i32("attribute size");
     if (size < 0 || std::uint64_t(size) > in.remaining())
       in.corrupt("attribute '" + name + "' claims " + std::to_string(size) + " bytes, more than the file holds");
-    if (name == "dataWindow" && type == "box2i" && size == 16) {
+    const int expected = fixed_size(type);
+    if (expected >= 0 && size != expected)
+      in.corrupt("attribute '" + name + "' of type " + type + " has size " + std::to_string(size) + ", not " +
+                 std::to_string(expected));
+    if (name == "dataWindow" && type == "box2i") {
       const std::int64_t x0 = in.i32("dataWindow"), y0 = in.i32("dataWindow");
       const std::int64_t x1 = in.i32("dataWindow"), y1 = in.i32("dataWindow");
       window = Window{x1 - x0 + 1, y1 - y0 + 1};
-    } else if (name == "compression" && type == "compression" && size == 1) {
+    } else if (name == "compression" && type == "compression") {
       compression = in.u8("compression");
       if (compression >= int(std::size(kLinesPerChunk))) in.corrupt("unknown compression " + std::to_string(compression));
-    } else if (name == "tiles" && type == "tiledesc" && size == 9) {
+    } else if (name == "tiles" && type == "tiledesc") {
       tile_x = in.u32("tiles");
       tile_y = in.u32("tiles");
       in.skip(1, "tiles");
-    } else if (name == "channels" && type == "chlist") {
-      // Read once the data window is known (attributes come in any order).
-      channels_at = in.position();
-      channels_size = std::uint32_t(size);
-      in.skip(std::uint64_t(size), "channel list");
+    } else if (type == "chlist") {
+      std::vector<Channel> list = read_channels(in, size, max_name);
+      if (name == "channels") channels = std::move(list);
+    } else if (type == "preview") {
+      check_preview(in, size);
+    } else if (type == "stringvector") {
+      check_string_vector(in, size);
+    } else if (type == "idmanifest") {
+      // Compressed, with sizes inside; no texture needs one.
+      in.fail("OpenEXR ID manifests are not supported");
     } else {
+      // Strings, float vectors and types OpenEXR does not know are read by their size.
       in.skip(std::uint64_t(size), "attribute value");
     }
   }
-  const std::uint64_t header_end = in.position();
   // Missing attributes are OpenEXR's to report; without a window nothing is allocated.
   if (!window) return;
   const auto [w, h] = *window;
@@ -164,12 +215,13 @@ void preflight_exr(std::FILE* f, std::uint64_t file_size, const std::string& pat
     in.corrupt("its " + std::to_string(chunks) + " chunk offsets do not fit in a file of " + std::to_string(file_size) +
                " bytes");
 
-  if (channels_at == 0) return;
-  HeaderReader list(f, header_end, path);
-  list.skip(channels_at, "channel list");
-  const std::int64_t raw = channel_bytes(list, channels_size, max_name, *window);
+  // Uncompressed bytes of the image: per channel its sampled pixel count (rounded down,
+  // so that a subsampled channel is never over-counted) times its pixel size.
   const std::int64_t size = std::int64_t(std::min<std::uint64_t>(file_size, std::uint64_t(1) << 40));
   const std::int64_t limit = compression == kCompressionNone ? size : size * kMaxExrCompressionRatio;
+  std::int64_t raw = 0;
+  for (const Channel& c : channels)
+    if (raw <= limit) raw += (w / c.x_sampling) * (h / c.y_sampling) * c.pixel_bytes;  // each ≤ 2^29
   if (raw > limit)
     in.corrupt("it claims " + std::to_string(w) + " x " + std::to_string(h) + " pixels (" + std::to_string(raw) +
                " bytes) in a file of " + std::to_string(file_size) + " bytes");

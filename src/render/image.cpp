@@ -206,6 +206,12 @@ Image read_exr(const std::string& path) {
         Color& c = img.at(x, y);
         if (!source[1]) c[1] = c[0];
         if (!source[2]) c[2] = c[0];
+        // A NaN or infinite texel would reach every shading point that filters it.
+        for (int i = 0; i < 3; ++i)
+          if (!std::isfinite(c[i]))
+            fail(path, std::string("channel ") + (source[i] ? source[i] : source[0]) + " of pixel (" +
+                           std::to_string(x) + ", " + std::to_string(y) + ") is " +
+                           (std::isnan(c[i]) ? "NaN" : "infinite"));
       }
     return img;
   } catch (const InputError&) {

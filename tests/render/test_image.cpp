@@ -631,6 +631,18 @@ TEST_F(ImageFiles, ExrHeaderClaimsBeyondTheFileAreRefused) {
   refused("deep.exr", deep, "deep");
 }
 
+// A NaN or infinite EXR pixel is refused, naming it (fuzz_exr found NaN passed through).
+TEST_F(ImageFiles, ExrNonFinitePixelsAreRefused) {
+  const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
+  write_bytes(file("nan.exr"), make_exr(0, 0, 2, 2, {{"B", {0, 0, 0, 0}}, {"G", {0, 0, 0, nan}}, {"R", {1, 1, 1, 1}}}));
+  std::string msg = input_error([&] { read_image(file("nan.exr")); });
+  expect_one_line_naming(msg, file("nan.exr"));
+  EXPECT_NE(msg.find("channel G of pixel (1, 1) is NaN"), std::string::npos) << msg;
+  write_bytes(file("inf.exr"), make_exr(0, 0, 2, 1, {{"Y", {-inf, 0}}}));
+  msg = input_error([&] { read_image(file("inf.exr")); });
+  EXPECT_NE(msg.find("channel Y of pixel (0, 0) is infinite"), std::string::npos) << msg;
+}
+
 TEST_F(ImageFiles, TruncatedExrThrows) {
   Image img(32, 32);
   for (int y = 0; y < 32; ++y)

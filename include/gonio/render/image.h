@@ -67,7 +67,8 @@ void write_png(const Image& img, const std::string& path, const PngOptions& opt 
 // Reads .exr (channels R, G, B or Y, any pixel type; a missing G or B copies R) or .png
 // (8 or 16 bit; gray, RGB, palette; alpha ignored). PNG codes are decoded from sRGB to
 // linear when `srgb` is true, else taken as linear code / (2^bits - 1) (data such as
-// roughness maps). The extension (case-insensitive) chooses the format.
+// roughness maps). The extension (case-insensitive) chooses the format. An EXR pixel that
+// is NaN or infinite is an error.
 Image read_image(const std::string& path, bool srgb = true);
 
 // sRGB transfer function of IEC 61966-2-1 (exposed for tests).
