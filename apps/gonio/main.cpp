@@ -12,6 +12,7 @@
 
 #include "commands.h"
 #include "gonio/error.h"
+#include "gonio/version.h"
 
 namespace {
 // The one way an error leaves gonio: one line on stderr, control characters the user
@@ -25,13 +26,18 @@ int fail(int status, const std::string& message) {
 int main(int argc, char** argv) {
   CLI::App app{"gonio: physically based reflection models, evaluated, sampled and measured"};
   app.require_subcommand(1);
+  // SPEC §3: `gonio --version` prints `gonio X.Y.Z` (the CMake project version) and exits 0.
+  app.set_version_flag("--version", std::string("gonio ") + GONIO_VERSION_STRING,
+                       "Print the version (gonio X.Y.Z) and exit");
   gonio::cli::register_eval(app);
   gonio::cli::register_sample(app);
   gonio::cli::register_albedo(app);
   gonio::cli::register_fresnel(app);
   gonio::cli::register_table(app);
   gonio::cli::register_check(app);
+#ifdef GONIO_HAVE_RENDERER
   gonio::cli::register_render(app);
+#endif
   // CLI11 reports an unknown first word only as "a subcommand is required"; name it.
   if (argc > 1 && argv[1][0] != '-') {
     const std::string word = argv[1];
@@ -41,6 +47,10 @@ int main(int argc, char** argv) {
       known |= sub->get_name() == word;
       names += (names.empty() ? "" : ", ") + sub->get_name();
     }
+#ifndef GONIO_HAVE_RENDERER
+    if (word == "render")
+      return fail(2, "render: this gonio was built without the renderer (GONIO_BUILD_RENDERER=OFF)");
+#endif
     if (!known) return fail(2, "unknown subcommand '" + word + "' (known: " + names + ")");
   }
   try {

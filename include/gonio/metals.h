@@ -14,10 +14,10 @@ struct ComplexIor {
   Color k;
 };
 
-// In RGB mode the channels (r, g, b) take the measured index at 650, 550 and 450 nm
-// (linear interpolation of the tables in data/metals/, which reproduce the measurements
-// tabulated in pbrt-v4's named spectra; see docs/metals.md). Returns nothing for an
-// unknown name.
+// In RGB mode the channels (r, g, b) take the measured index at 650, 550 and 450 nm,
+// linearly interpolated in the tables of data/metals/ (which reproduce the measurements
+// tabulated in pbrt-v4's named spectra) by tools/make_metal_table.cpp at build time.
+// Returns nothing for an unknown name.
 std::optional<ComplexIor> named_metal(std::string_view name);
 
 // The names named_metal() knows, for error messages and --help.
