@@ -241,6 +241,47 @@ Float CoatAlbedo::average(Float alpha) const {
 }
 
 namespace {
+// The four (α row, η node) rows around (alpha, this η) and their weights in the bilinear
+// interpolant, times each row's loss: the mixture weights of the complement's density.
+struct CoatMixture {
+  int r0, k0;
+  Float w[4];  // (r0, k0), (r0, k0 + 1), (r0 + 1, k0), (r0 + 1, k0 + 1)
+  Float total;
+};
+CoatMixture coat_mixture(MicrofacetType type, int k0, Float tk, Float alpha) {
+  const auto& loss = type == MicrofacetType::GGX ? kGgxCoatLoss : kBeckmannCoatLoss;
+  const CoatRow r = coat_row(alpha);
+  CoatMixture m{r.r0, k0, {}, 0};
+  m.w[0] = (1 - r.tr) * (1 - tk) * loss[r.r0][k0];
+  m.w[1] = (1 - r.tr) * tk * loss[r.r0][k0 + 1];
+  m.w[2] = r.tr * (1 - tk) * loss[r.r0 + 1][k0];
+  m.w[3] = r.tr * tk * loss[r.r0 + 1][k0 + 1];
+  m.total = (m.w[0] + m.w[1]) + (m.w[2] + m.w[3]);
+  return m;
+}
+}  // namespace
+
+Float CoatAlbedo::complement_loss(Float alpha) const { return coat_mixture(type, k0, tk, alpha).total; }
+
+Float CoatAlbedo::sample_complement(Float alpha, Float u) const {
+  const auto& table = type == MicrofacetType::GGX ? kGgxCoatAlbedo : kBeckmannCoatAlbedo;
+  const auto& cdf = type == MicrofacetType::GGX ? kGgxCoatCdf : kBeckmannCoatCdf;
+  const CoatMixture m = coat_mixture(type, k0, tk, alpha);
+  // Choose a row with probability w / total and reuse u within it.
+  Float x = u * m.total;
+  int j = 0;
+  while (j < 3 && !(x < m.w[j])) {
+    x -= m.w[j];
+    ++j;
+  }
+  while (!(m.w[j] > 0) && j > 0) --j;  // rounding past the last non-empty row
+  const Float v = m.w[j] > 0 ? std::clamp(x / m.w[j], Float(0), kOneMinusEpsilon) : u;
+  const int a = m.r0 + (j >> 1), k = m.k0 + (j & 1);
+  return sample_complement_row(table[a][k], cdf[a][k], kCoatCosineSize,
+                               [](int i) { return coat_table_mu_node(i); }, v);
+}
+
+namespace {
 // α(φ)² = αx² cos²φ + αy² sin²φ for the azimuth of w (Heitz 2014, eq. 86); at normal
 // incidence, where φ is undefined, the mean of the two.
 Float projected_alpha(const MicrofacetDistribution& d, const Vec3& w) {
