@@ -305,6 +305,10 @@ int main(int argc, char** argv) {
   register_model("phong_20", PhongBxDF{{}, Color(0.5f), Color(0.3f), 20});
   register_model("ward_0.1_0.3", WardBxDF{{}, Color(0.3f), Color(0.5f), 0.1f, 0.3f});
   register_model("plastic_smooth", PlasticBxDF::make(Color(0.5f), 1.5f, std::nullopt));
+  register_model("plastic_rough_ggx_0.2", PlasticBxDF::make(Color(0.5f), 1.5f, MicrofacetDistribution{MicrofacetType::GGX, 0.2f, 0.2f}));
+  // Extreme coats, whose sampling the weights work of issue 9 changed.
+  register_model("plastic_smooth_eta1e4", PlasticBxDF::make(Color(0.5f), 1e4f, std::nullopt));
+  register_model("plastic_rough_ggx_0.2_eta1e4", PlasticBxDF::make(Color(0.5f), 1e4f, MicrofacetDistribution{MicrofacetType::GGX, 0.2f, 0.2f}));
 
   static const DiffuseBxDF lambert{Color(0.5f)};
   add("method/copy_baseline", bench_copy);

@@ -30,6 +30,87 @@ Float microfacet_albedo(MicrofacetType type, Float alpha, Float mu) {
   return top * (1 - tr) + bottom * tr;
 }
 
+// --- sampling μ ∝ (1 − E(μ)) μ --------------------------------------------------------
+//
+// E is the linear interpolant of a table row at nodes μ_m, so on a node interval [a, b]
+// the density is ∝ (A + (B − A) v)(a + h v), h = b − a, μ = a + h v, with A, B the row's
+// 1 − E at the ends: its integral over [a, a + h v] is the cubic
+//   P(v) = h (A a v + (A h + (B − A) a) v²/2 + (B − A) h v³/3),
+// increasing on [0, 1]. The interval is found in the row's CDF (built by
+// tools/make_albedo_tables.cpp from the same stored values), and P(v) = t P(1) is solved
+// by Newton's method kept inside a bisection bracket.
+
+namespace {
+
+double solve_complement_interval(double a, double h, double A, double B, double t) {
+  const double d = B - A;
+  const double c1 = h * A * a, c2 = h * (A * h + d * a) / 2, c3 = h * d * h / 3;
+  const double target = t * (c1 + c2 + c3);
+  double lo = 0, hi = 1;
+  // Start from the root of the quadratic part (exact where 1 − E is constant on the interval).
+  double v = c2 > 0 ? (-c1 + std::sqrt(c1 * c1 + 4 * c2 * target)) / (2 * c2) : t;
+  v = std::clamp(v, 0.0, 1.0);
+  for (int it = 0; it < 24; ++it) {
+    const double p = ((c3 * v + c2) * v + c1) * v - target;
+    if (p > 0) hi = v;
+    else lo = v;
+    const double dp = (3 * c3 * v + 2 * c2) * v + c1;
+    double next = dp > 0 ? v - p / dp : (lo + hi) / 2;
+    if (!(next > lo && next < hi)) next = (lo + hi) / 2;
+    if (std::abs(next - v) <= 1e-9) return next;
+    v = next;
+  }
+  return v;
+}
+
+// One row: values e (1 − E clamped at 0), its CDF, nodes node(m), m < n.
+template <typename Node>
+Float sample_complement_row(const float* e, const float* cdf, int n, Node&& node, Float u) {
+  // The interval m with cdf[m] ≤ u < cdf[m + 1] (intervals of zero mass are never chosen).
+  int lo = 0, hi = n - 1;
+  while (hi - lo > 1) {
+    const int mid = (lo + hi) / 2;
+    if (cdf[mid] <= u) lo = mid;
+    else hi = mid;
+  }
+  const double c0 = cdf[lo], c1 = cdf[lo + 1];
+  const double t = c1 > c0 ? std::clamp((double(u) - c0) / (c1 - c0), 0.0, 1.0) : 0.5;
+  const double a = node(lo), b = node(lo + 1);
+  const double A = std::max(0.0, 1.0 - double(e[lo])), B = std::max(0.0, 1.0 - double(e[lo + 1]));
+  const double v = solve_complement_interval(a, b - a, A, B, t);
+  return Float(std::clamp(a + (b - a) * v, 0.0, 1.0));
+}
+
+}  // namespace
+
+AlbedoComplementSampler AlbedoComplementSampler::make(MicrofacetType type, Float alpha) {
+  const auto& loss = type == MicrofacetType::GGX ? kGgxAlbedoLoss : kBeckmannAlbedoLoss;
+  AlbedoComplementSampler s;
+  s.type = type;
+  const Float fr = row_of(alpha);  // as microfacet_albedo
+  s.row = std::min(int(fr), kAlbedoRoughnessSize - 2);
+  const Float tr = fr - Float(s.row);
+  const Float w0 = (1 - tr) * loss[s.row], w1 = tr * loss[s.row + 1];
+  s.loss = w0 + w1;
+  s.p_row = s.loss > 0 ? w0 / s.loss : Float(1);
+  return s;
+}
+
+Float AlbedoComplementSampler::sample(Float u) const {
+  const auto& table = type == MicrofacetType::GGX ? kGgxAlbedo : kBeckmannAlbedo;
+  const auto& cdf = type == MicrofacetType::GGX ? kGgxAlbedoCdf : kBeckmannAlbedoCdf;
+  int r = row;
+  if (u < p_row) {
+    u = u / p_row;
+  } else {
+    u = (u - p_row) / (1 - p_row);
+    r = row + 1;
+  }
+  u = std::min(u, kOneMinusEpsilon);
+  return sample_complement_row(table[r], cdf[r], kAlbedoCosineSize,
+                               [](int m) { return double(m) / (kAlbedoCosineSize - 1); }, u);
+}
+
 Float microfacet_average_albedo(MicrofacetType type, Float alpha) {
   const auto& table = type == MicrofacetType::GGX ? kGgxAverageAlbedo : kBeckmannAverageAlbedo;
   const Float fr = row_of(alpha);
@@ -157,6 +238,47 @@ Float CoatAlbedo::average(Float alpha) const {
   const Float lo = t[r.r0][k0] * (1 - tk) + t[r.r0][k0 + 1] * tk;
   const Float hi = t[r.r0 + 1][k0] * (1 - tk) + t[r.r0 + 1][k0 + 1] * tk;
   return lo * (1 - r.tr) + hi * r.tr;
+}
+
+namespace {
+// The four (α row, η node) rows around (alpha, this η) and their weights in the bilinear
+// interpolant, times each row's loss: the mixture weights of the complement's density.
+struct CoatMixture {
+  int r0, k0;
+  Float w[4];  // (r0, k0), (r0, k0 + 1), (r0 + 1, k0), (r0 + 1, k0 + 1)
+  Float total;
+};
+CoatMixture coat_mixture(MicrofacetType type, int k0, Float tk, Float alpha) {
+  const auto& loss = type == MicrofacetType::GGX ? kGgxCoatLoss : kBeckmannCoatLoss;
+  const CoatRow r = coat_row(alpha);
+  CoatMixture m{r.r0, k0, {}, 0};
+  m.w[0] = (1 - r.tr) * (1 - tk) * loss[r.r0][k0];
+  m.w[1] = (1 - r.tr) * tk * loss[r.r0][k0 + 1];
+  m.w[2] = r.tr * (1 - tk) * loss[r.r0 + 1][k0];
+  m.w[3] = r.tr * tk * loss[r.r0 + 1][k0 + 1];
+  m.total = (m.w[0] + m.w[1]) + (m.w[2] + m.w[3]);
+  return m;
+}
+}  // namespace
+
+Float CoatAlbedo::complement_loss(Float alpha) const { return coat_mixture(type, k0, tk, alpha).total; }
+
+Float CoatAlbedo::sample_complement(Float alpha, Float u) const {
+  const auto& table = type == MicrofacetType::GGX ? kGgxCoatAlbedo : kBeckmannCoatAlbedo;
+  const auto& cdf = type == MicrofacetType::GGX ? kGgxCoatCdf : kBeckmannCoatCdf;
+  const CoatMixture m = coat_mixture(type, k0, tk, alpha);
+  // Choose a row with probability w / total and reuse u within it.
+  Float x = u * m.total;
+  int j = 0;
+  while (j < 3 && !(x < m.w[j])) {
+    x -= m.w[j];
+    ++j;
+  }
+  while (!(m.w[j] > 0) && j > 0) --j;  // rounding past the last non-empty row
+  const Float v = m.w[j] > 0 ? std::clamp(x / m.w[j], Float(0), kOneMinusEpsilon) : u;
+  const int a = m.r0 + (j >> 1), k = m.k0 + (j & 1);
+  return sample_complement_row(table[a][k], cdf[a][k], kCoatCosineSize,
+                               [](int i) { return coat_table_mu_node(i); }, v);
 }
 
 namespace {

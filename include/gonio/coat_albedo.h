@@ -28,6 +28,15 @@ struct CoatAlbedo {
   // Ē_coat at isotropic roughness alpha.
   Float average(Float alpha) const;
 
+  // Sampling μ ∝ (1 − E_coat(μ)) μ at isotropic roughness alpha, the shape of the base
+  // lobe under the coat (plastic.h): E_coat is bilinear in (α row, η node), so the density
+  // is a mixture of four table rows' densities, each drawn by its tabulated CDF
+  // (tools/make_albedo_tables.cpp). complement_loss is its normalisation
+  // 2 ∫ (1 − E_coat) μ dμ (= 1 − Ē_coat up to the float rounding of Ē_coat), so that the
+  // density per solid angle is (1 − E_coat(μ)) μ / (π complement_loss).
+  Float complement_loss(Float alpha) const;
+  Float sample_complement(Float alpha, Float u) const;
+
   // The same for the distribution's roughness seen from w (its projected roughness).
   Float E(const MicrofacetDistribution& d, const Vec3& w) const;
   // Ē_coat of the distribution: the mean over μ and φ.

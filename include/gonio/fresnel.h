@@ -64,10 +64,14 @@ template <typename T>
 }
 
 // cos²θt = 1 − sin²θi / e² for |cos θi| = c (c2 = c²) and inv_e = 1/e; ≤ 0 under total
-// internal reflection (SPEC §1: at the critical angle it is total).
+// internal reflection (SPEC §1: at the critical angle it is total). Written
+// c²/e² + (1 − 1/e²): for e ≥ 1 a sum of two non-negative terms, so cos θt keeps its digits
+// at grazing incidence onto a nearly index-matched interface (1 − (1 − c²)/e² rounded
+// (1 − c²) to 1 for c < 2.4e-4 at e = 1: cos θt = 0 and F = 1 where it is 0).
 template <typename T>
 [[gnu::always_inline]] inline T dielectric_cos2_t(T c2, T inv_e) {
-  return 1 - std::max(T(0), 1 - c2) * (inv_e * inv_e);
+  const T ie2 = inv_e * inv_e;
+  return std::min(c2, T(1)) * ie2 + (1 - ie2);
 }
 
 // Unpolarised reflectance for |cos θi| = c (c2 = c²) on the side from which the relative

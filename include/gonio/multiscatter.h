@@ -9,6 +9,9 @@
 // after bouncing (F_avg = 2 ∫ F(μ) μ dμ). With F = 1 the added lobe returns exactly the
 // energy 1 − E(μo) the single-scattering lobe loses, for every wo.
 //
+// The lobe is importance-sampled by its own shape, μi ∝ (1 − E(μi)) μi (tabulated CDFs,
+// AlbedoComplementSampler), so that its weight is F_ms (1 − E(μo)) whatever wi is.
+//
 // E(μ, α) and E_avg(α) come from tables that gonio computes itself at build time
 // (tools/make_albedo_tables.cpp). They are indexed by the isotropic roughness, and α > 1
 // uses the α = 1 entries. Anisotropic roughness has no compensation: material parsing
@@ -16,6 +19,7 @@
 // normal incidence: the loss of an anisotropic surface is not that of one isotropic α).
 
 #include <algorithm>
+#include <cmath>
 
 #include "gonio/color.h"
 #include "gonio/math/warp.h"
@@ -28,6 +32,20 @@ namespace gonio {
 Float microfacet_albedo(MicrofacetType type, Float alpha, Float mu);
 Float microfacet_average_albedo(MicrofacetType type, Float alpha);
 
+// Sampling μ with density ∝ (1 − E(μ)) μ, E as microfacet_albedo interpolates it. The
+// interpolant is linear in the roughness between two table rows, so the density is the
+// mixture of the two rows' densities with weights (1 − t) L₀ and t L₁ (L the rows' losses
+// 1 − E_avg): prepared once per roughness, drawn per sample.
+struct AlbedoComplementSampler {
+  MicrofacetType type = MicrofacetType::GGX;
+  int row = 0;          // the lower row; the upper one is row + 1
+  Float p_row = 1;      // probability of drawing from the lower row
+  Float loss = 0;       // (1 − t) L₀ + t L₁ = 2 ∫ (1 − E) μ dμ
+  static AlbedoComplementSampler make(MicrofacetType type, Float alpha);
+  // μ in [0, 1] from one uniform number.
+  Float sample(Float u) const;
+};
+
 struct MultiscatterLobe {
   MicrofacetType type = MicrofacetType::GGX;
   Float alpha = 0.1f;
@@ -35,6 +53,8 @@ struct MultiscatterLobe {
   Color f_ms;             // F_ms times 1/(π (1 − E_avg))
   Float energy_ratio = 0; // avg(F_ms) / avg(F_avg): sets how often the lobe is sampled
   Color f_avg;            // the F_avg it was made with, to remake it for another roughness
+  AlbedoComplementSampler sampler;  // draws μi ∝ (1 − E(μi)) μi
+  Float inv_pi_loss = 0;  // 1 / (π (1 − E_avg)) of the sampler's normalisation (0: no lobe)
 
   // `f_avg`: the cosine-weighted average Fresnel reflectance 2 ∫ F(μ) μ dμ.
   static MultiscatterLobe make(const MicrofacetDistribution& d, const Color& f_avg) {
@@ -49,25 +69,39 @@ struct MultiscatterLobe {
     const Color fms = map(f_avg, [&](Float fa) { return fa * fa * e / (1 - fa * (1 - e)); });
     m.f_ms = fms / denom;
     m.energy_ratio = f_avg.average() > 0 ? fms.average() / f_avg.average() : Float(0);
+    m.sampler = AlbedoComplementSampler::make(m.type, m.alpha);
+    m.inv_pi_loss = m.sampler.loss > 0 ? 1 / (kPi * m.sampler.loss) : Float(0);
     return m;
   }
 
   Float E(Float mu) const { return microfacet_albedo(type, alpha, mu); }
 
-  Color f(Float cos_o, Float cos_i) const { return f_ms * ((1 - E(cos_o)) * (1 - E(cos_i))); }
+  // The lobe from E(μo) and E(μi).
+  Color f(Float e_o, Float e_i) const { return f_ms * ((1 - e_o) * (1 - e_i)); }
 
   // Probability of sampling this lobe rather than the single-scattering one: its share
   // of the expected energy, F_ms (1 − E(μo)) against F_avg E(μo).
-  Float probability(Float cos_o) const {
-    const Float e = E(cos_o);
-    const Float ms = energy_ratio * (1 - e);
-    return ms + e > 0 ? std::clamp(ms / (ms + e), Float(0), Float(0.9)) : Float(0);
+  Float probability(Float e_o) const {
+    if (!(inv_pi_loss > 0)) return 0;
+    const Float ms = energy_ratio * (1 - e_o);
+    return ms + e_o > 0 ? std::clamp(ms / (ms + e_o), Float(0), Float(0.9)) : Float(0);
   }
-  Float mix_pdf(Float cos_o, Float pdf_single, Float cos_i) const {
-    const Float p = probability(cos_o);
-    return (1 - p) * pdf_single + p * cosine_hemisphere_pdf(cos_i);
+  // Density of sample() per solid angle: (1 − E(μi)) μi / (π (1 − E_avg)), normalised
+  // since 2π ∫ (1 − E) μ dμ = π (1 − E_avg). With it the lobe's weight is
+  // f_ms cos θi / pdf = F_ms (1 − E(μo)) (1 − E_avg)/(1 − E_avg) — bounded, where cosine
+  // sampling gave (1 − E(μi))/(1 − E_avg), 10⁴ for a near-smooth surface at grazing μi.
+  Float lobe_pdf(Float cos_i, Float e_i) const { return std::max(Float(0), 1 - e_i) * cos_i * inv_pi_loss; }
+  Float mix_pdf(Float e_o, Float pdf_single, Float cos_i, Float e_i) const {
+    const Float p = probability(e_o);
+    return (1 - p) * pdf_single + p * lobe_pdf(cos_i, e_i);
   }
-  Vec3 sample(Float u1, Float u2) const { return square_to_cosine_hemisphere(u1, u2); }
+  // wi ∝ (1 − E(μi)) μi: μi from the tables, φ uniform.
+  Vec3 sample(Float u1, Float u2) const {
+    const Float mu = sampler.sample(u1);
+    const Float s = std::sqrt(std::max(Float(0), (1 - mu) * (1 + mu)));
+    const Float ph = 2 * kPi * u2;
+    return {s * std::cos(ph), s * std::sin(ph), mu};
+  }
 };
 
 }  // namespace gonio

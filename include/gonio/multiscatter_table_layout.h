@@ -24,6 +24,18 @@ extern const float kGgxAverageAlbedo[kAlbedoRoughnessSize];
 extern const float kBeckmannAlbedo[kAlbedoRoughnessSize][kAlbedoCosineSize];
 extern const float kBeckmannAverageAlbedo[kAlbedoRoughnessSize];
 
+// Sampling tables of the lobes shaped like (1 − E(μ)) μ: the Kulla–Conty compensation lobe
+// (multiscatter.h) and the base under a rough plastic coat (coat_albedo.h). Per row (and
+// per η node for the coat), from the values as stored (float) and their linear
+// interpolant in μ:
+//   Cdf[m]  = ∫₀^μm (1 − E) μ dμ / ∫₀¹ (1 − E) μ dμ  (0 at m = 0, 1 at the last node);
+//   Loss    = 2 ∫₀¹ (1 − E) μ dμ = 1 − Ē, kept apart from Ē so that it keeps its relative
+//             precision where Ē → 1 (a near-smooth surface, a coat of index 10⁴).
+using AlbedoCdfTable = float[kAlbedoRoughnessSize][kAlbedoCosineSize];
+using AlbedoLossTable = float[kAlbedoRoughnessSize];
+extern const AlbedoCdfTable kGgxAlbedoCdf, kBeckmannAlbedoCdf;
+extern const AlbedoLossTable kGgxAlbedoLoss, kBeckmannAlbedoLoss;
+
 // Rough dielectric albedo tables E(μ, α, η'): R + T of the single-scattering rough
 // dielectric in importance mode, for wo on the side of the lower index ("enter", light
 // going into the denser medium) and of the higher one ("exit"), with η' ≥ 1 the ratio of
@@ -88,5 +100,10 @@ using CoatAlbedoTable = float[kCoatRoughnessSize][kCoatEtaSize][kCoatCosineSize]
 using CoatAverageTable = float[kCoatRoughnessSize][kCoatEtaSize];
 extern const CoatAlbedoTable kGgxCoatAlbedo, kBeckmannCoatAlbedo;
 extern const CoatAverageTable kGgxCoatAverage, kBeckmannCoatAverage;
+// The coat's sampling tables (as for the albedo tables above).
+using CoatCdfTable = float[kCoatRoughnessSize][kCoatEtaSize][kCoatCosineSize];
+using CoatLossTable = float[kCoatRoughnessSize][kCoatEtaSize];
+extern const CoatCdfTable kGgxCoatCdf, kBeckmannCoatCdf;
+extern const CoatLossTable kGgxCoatLoss, kBeckmannCoatLoss;
 
 }  // namespace gonio::tables

@@ -18,8 +18,30 @@
 // the base returns (1 − E(wo)) ρ (1 − F_dr)/(1 − ρ F_dr) ≤ 1 − E(wo): with a white base
 // the albedo is exactly E(wo) + 1 − E(wo) = 1 (up to the table's interpolation error).
 // Reciprocal. Two-sided.
+//
+// Sampling: the coat's lobe (the mirror direction, or visible normals of the rough coat,
+// Heitz & d'Eon 2014) with probability P_c, else the base. A sample's weight is then at
+// most the larger of the two lobes' own weights over their probabilities,
+// f cos/pdf = (a + b)/(c + d) ≤ max(a/c, b/d):
+//   coat  F(wo·wm) G2/G1(wo) / P_c. The visible normals that reflect above the surface
+//         have wo·wm ≥ cos θo / 2 (wi.z = 2 (wo·wm) wm.z − wo.z > 0), so F(wo·wm) ≤
+//         F(cos θo / 2) + F(0°)/2 (Rs falls with the angle's cosine, Rp has one minimum, at
+//         Brewster's angle); P_c is kept at least a quarter of that. P_c = E_coat(wo)
+//         alone gave 1/E_coat(0) = 10.8 at grazing (α = 1, η = 1.5), where F → 1 on the
+//         facets seen edge-on and G2/G1 → 1, and far more for an index-matched coat
+//         (η → 1: E_coat → 0, yet F → 1 on those facets).
+//   base  (1 − E(wo)) (1 − E(wi)) cos θi / (π (1 − Ē) p_base(wi) (1 − P_c)) for a white
+//         base. With the cosine density p_base = cos θi/π it is up to 1/(1 − Ē) (as
+//         1 − P_c ≥ 1 − E(wo)), enough while the coat lets half of the light through;
+//         beyond (η ≳ 6, where 1 − F peaks at Brewster's angle within 0.01° of grazing at
+//         η = 10⁴, the weight was 530) the base is drawn ∝ (1 − E(μi)) μi: for the rough
+//         coat exactly, from the coat tables (CoatAlbedo::sample_complement); for the
+//         smooth one from an even mixture of the cosine density and
+//         k / (2π ln(1 + k) (1 + k cos θi)), k = 1/cos θ_Brewster = √(1 + η²), which
+//         carries the density towards Brewster's angle (weights ≤ 2.4 for η up to 10⁸).
 
 #include <cmath>
+#include <cstdint>
 #include <optional>
 #include <string_view>
 
@@ -43,6 +65,15 @@ struct PlasticBxDF {
   Float transmit_smooth = 0.9082f;  // smooth coat (set by make())
   Float transmit = 0.9082f;         // the one in use (set by update_coat())
   CoatAlbedo coat_albedo;                      // the rough coat's E_coat lookups
+  Float f0 = 0.04f;  // F at normal incidence, for the floor of the coat's probability
+  // How the base is sampled (see the top of the file): by the cosine, by the mixture that
+  // reaches Brewster's angle (smooth coat), or ∝ (1 − E_coat(μ)) μ (rough coat).
+  enum class BaseSampling : std::uint8_t { Cosine, Brewster, Complement };
+  BaseSampling base_sampling = BaseSampling::Cosine;
+  Float brewster_k = 1;         // k = √(1 + η²)
+  Float brewster_log = 0.693f;  // ln(1 + k)
+  Float brewster_c = 0;         // k / (2π ln(1 + k)): the grazing component's density times (1 + k μ)
+  Float complement_norm = 0;    // 1 / (π 2∫(1 − E_coat) μ dμ)
 
   static PlasticBxDF make(const Color& reflectance, Float eta, std::optional<MicrofacetDistribution> coat) {
     PlasticBxDF m;
@@ -54,12 +85,30 @@ struct PlasticBxDF {
     m.transmit_smooth = Float(
         1 - cosine_weighted_average([&](double mu) { return fresnel_dielectric(mu, double(eta)); }, 2048));
     if (coat) m.coat_albedo = CoatAlbedo::make(coat->type, eta);
+    m.f0 = fresnel_dielectric(Float(1), eta);
+    const double k = std::sqrt(1 + double(eta) * double(eta));
+    m.brewster_k = Float(k);
+    m.brewster_log = Float(std::log1p(k));
+    m.brewster_c = Float(k / (2 * kPiD * std::log1p(k)));
     m.update_coat();
     return m;
   }
   // After the coat's roughness changed (a textured alpha).
   void update_coat() {
     transmit = smooth() ? transmit_smooth : 1 - coat_albedo.average(*coat);
+    // Cosine sampling of the base has weights up to 1/(1 − Ē): keep it while that is ≤ 2.
+    base_sampling = BaseSampling::Cosine;
+    complement_norm = 0;
+    if (!(transmit < Float(0.5))) return;
+    if (smooth()) {
+      base_sampling = BaseSampling::Brewster;
+    } else if (coat->is_isotropic()) {
+      const Float loss = coat_albedo.complement_loss(coat->alpha_x);
+      if (loss > 0) {
+        base_sampling = BaseSampling::Complement;
+        complement_norm = 1 / (kPi * loss);
+      }
+    }
   }
 
   bool smooth() const { return !coat || coat->effectively_smooth(); }
@@ -81,11 +130,42 @@ struct PlasticBxDF {
     // ρ / (η² (1 − ρ F_dr)) = ρ / ((1 − ρ) η² + ρ (1 − Ē)).
     return map(reflectance, [&](Float r) { return r / ((1 - r) * eta * eta + r * transmit); }) * (t * kInvPi);
   }
-  // Probability of sampling the coat's lobe rather than the base, by expected energy.
+  // Probability of sampling the coat's lobe rather than the base, by expected energy; for
+  // the rough coat at least (F(cos θo / 2) + F(0°)/2)/4, which bounds the coat's weights
+  // by 4 (top of the file). The smooth coat's delta weight is F/P_c ≤ 1 as it is.
   Float coat_probability(const Vec3& wo, Float eo) const {
-    if (!smooth() && grazing(wo)) return 0;
     const Float b = (1 - eo) * reflectance.average();
-    return eo + b > 0 ? eo / (eo + b) : Float(1);
+    const Float p = eo + b > 0 ? eo / (eo + b) : Float(1);
+    if (smooth()) return p;
+    if (grazing(wo)) return 0;
+    const Float floor = (fresnel_dielectric(std::abs(wo.z) / 2, eta) + f0 / 2) / 4;
+    return std::max(p, floor);
+  }
+  // Density per solid angle of the base's sampling for cos θi = mu (> 0) and the coat's
+  // reflectance ei there.
+  Float base_pdf(Float mu, Float ei) const {
+    switch (base_sampling) {
+      case BaseSampling::Cosine: return mu * kInvPi;
+      case BaseSampling::Brewster: return Float(0.5) * (mu * kInvPi + brewster_c / (1 + brewster_k * mu));
+      case BaseSampling::Complement: return std::max(Float(0), 1 - ei) * mu * complement_norm;
+    }
+    return 0;
+  }
+  // A base direction (upper side).
+  Vec3 sample_base(Float u1, Float u2) const {
+    Float mu;
+    switch (base_sampling) {
+      case BaseSampling::Cosine: return square_to_cosine_hemisphere(u1, u2);
+      case BaseSampling::Brewster:
+        if (u1 < Float(0.5)) return square_to_cosine_hemisphere(2 * u1, u2);
+        // Inverse of the CDF ln(1 + k μ)/ln(1 + k) of the density ∝ 1/(1 + k μ) on [0, 1].
+        mu = std::min(Float(1), std::expm1((2 * u1 - 1) * brewster_log) / brewster_k);
+        break;
+      case BaseSampling::Complement: mu = coat_albedo.sample_complement(coat->alpha_x, u1); break;
+    }
+    const Float s = std::sqrt(std::max(Float(0), (1 - mu) * (1 + mu)));
+    const Float ph = 2 * kPi * u2;
+    return {s * std::cos(ph), s * std::sin(ph), mu};
   }
 
   BSDFEval eval(Vec3 wo, Vec3 wi, TransportMode = TransportMode::Radiance) const {
@@ -97,9 +177,9 @@ struct PlasticBxDF {
     if (!smooth()) return eval_rough(wo, wi);
     // Smooth coat: the base alone (the mirror lobe is a delta), kept small so that it
     // inlines into the callers' loops.
-    const Float eo = fresnel_dielectric(wo.z, eta);
+    const Float eo = fresnel_dielectric(wo.z, eta), ei = fresnel_dielectric(wi.z, eta);
     const Float pc = coat_probability(wo, eo);
-    return {base(eo, fresnel_dielectric(wi.z, eta)), (1 - pc) * wi.z * kInvPi};
+    return {base(eo, ei), (1 - pc) * base_pdf(wi.z, ei)};
   }
   Color f(const Vec3& wo, const Vec3& wi, TransportMode mode = TransportMode::Radiance) const {
     return eval(wo, wi, mode).f;
@@ -124,7 +204,7 @@ struct PlasticBxDF {
       wi = reflect(wo, coat->sample_visible(wo, u1, u2));
       if (grazing(wi)) return std::nullopt;  // the coat lobe is 0 there
     } else {
-      wi = square_to_cosine_hemisphere(u1, u2);
+      wi = sample_base(u1, u2);
     }
     if (!(wi.z > 0)) return std::nullopt;
     const BSDFEval e = eval(wo, wi, mode);
@@ -136,10 +216,10 @@ struct PlasticBxDF {
 
   // The rough coat for wo.z, wi.z > 0: base coupled through E_coat, plus the coat's lobe.
   [[gnu::noinline]] BSDFEval eval_rough(const Vec3& wo, const Vec3& wi) const {
-    const Float eo = coat_albedo.E(*coat, wo);
-    Color f = base(eo, coat_albedo.E(*coat, wi));
+    const Float eo = coat_albedo.E(*coat, wo), ei = coat_albedo.E(*coat, wi);
+    Color f = base(eo, ei);
     const Float pc = coat_probability(wo, eo);
-    Float pdf = (1 - pc) * wi.z * kInvPi;
+    Float pdf = (1 - pc) * base_pdf(wi.z, ei);
     if (!grazing(wo) && !grazing(wi)) {
       const Vec3 h = wo + wi;
       const Float h2 = length_squared(h);
