@@ -145,7 +145,9 @@ TEST(AdversarialRegression, MultiscatterLobeWeightsBounded) {
   const BxDF m = parse_material(
       R"({"type":"roughconductor","fresnel":"schlick","f0":1,"multiscatter":true,"distribution":"beckmann","alpha":0.001})");
   const auto s = m.sample({0.129205912f, 0.991576374f, -0.00906259101f}, 0.65532279f, 0.99999994f, 0);
-  if (s) EXPECT_LE(s->weight[0], 10.f);
+  if (s) {
+    EXPECT_LE(s->weight[0], 10.f);
+  }
 }
 
 // Plastic: an index-matched rough coat (η = 1: F rounded to 1 at grazing incidence, with
@@ -174,7 +176,9 @@ TEST(AdversarialRegression, PlasticWeightsBounded) {
                         Case{R"({"type":"plastic","reflectance":1,"eta":10000,"alpha":0.001})", {1.78453199e-17f, 0.291436225f, 0.956589878f}, 0.99999994f, 0.99999994f, 0.357218206f}}) {
     const BxDF m = parse_material(c.json);
     const auto s = m.sample(c.wo, c.u0, c.u1, c.u2);
-    if (s) EXPECT_LE(std::max({s->weight[0], s->weight[1], s->weight[2]}), 10.f) << c.json;
+    if (s) {
+      EXPECT_LE(std::max({s->weight[0], s->weight[1], s->weight[2]}), 10.f) << c.json;
+    }
   }
 }
 
