@@ -12,6 +12,7 @@
 #include <cerrno>
 #include <cstring>
 #include <optional>
+#include <set>
 #include <string>
 #include <system_error>
 #include <utility>
@@ -159,9 +160,13 @@ void preflight_exr(std::FILE* f, std::uint64_t file_size, const std::string& pat
   int compression = kCompressionNone;
   std::int64_t tile_x = 0, tile_y = 0;
   std::vector<Channel> channels;
+  // OpenEXR reads a repeated attribute into the same value (a second channel list adds to
+  // the first), which no writer produces and this reader would not follow.
+  std::set<std::string> seen;
   for (;;) {
     const std::string name = in.name(max_name, "attribute name");
     if (name.empty()) break;
+    if (!seen.insert(name).second) in.corrupt("attribute '" + name + "' appears twice");
     const std::string type = in.name(max_name, "attribute type");
     const std::int32_t size = in.i32("attribute size");
     if (size < 0 || std::uint64_t(size) > in.remaining())

@@ -623,6 +623,12 @@ TEST_F(ImageFiles, ExrHeaderClaimsBeyondTheFileAreRefused) {
   refused("raw.exr", with_window(small, 4095, 1, 0), "claims 4096 x 2 pixels");
   refused("window.exr", with_window(small, 1 << 20, 1 << 20, 3), "unsupported image size");
 
+  // A second channel list adds to the first in OpenEXR; repeated attributes are refused.
+  std::string twice = std::string("channels") + '\0' + "chlist" + '\0';
+  put_le32(twice, 1);
+  twice += '\0';
+  refused("twice.exr", make_exr(0, 0, 1, 2, red, twice), "attribute 'channels' appears twice");
+
   std::string multipart = small;
   multipart[5] = 0x10;  // version field bit 12
   refused("parts.exr", multipart, "multi-part");

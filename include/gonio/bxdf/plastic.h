@@ -153,7 +153,7 @@ struct PlasticBxDF {
   }
   // A base direction (upper side).
   Vec3 sample_base(Float u1, Float u2) const {
-    Float mu;
+    Float mu = 1;  // every case sets it; the initialiser quiets -Wmaybe-uninitialized
     switch (base_sampling) {
       case BaseSampling::Cosine: return square_to_cosine_hemisphere(u1, u2);
       case BaseSampling::Brewster:
