@@ -61,11 +61,16 @@ class SampledWavelengths {
   static SampledWavelengths sample_visible(Float u) {
     SampledWavelengths w;
     if (!(u >= 0 && u < 1)) u = u >= 1 ? kOneMinusEpsilon : Float(0);  // NaN -> 0
+    using namespace visible_density;
     for (int j = 0; j < kSpectrumSamples; ++j) {
       Float uj = u + Float(j) / kSpectrumSamples;
       if (uj >= 1) uj -= 1;
-      w.lambda_[size_t(j)] = sample_visible_wavelength(uj);
-      w.pdf_[size_t(j)] = visible_wavelength_pdf(w.lambda_[size_t(j)]);
+      // t = tanh(a (λ − μ)) = t0 + u (t1 − t0); then λ = μ + atanh(t)/a with
+      // atanh(t) = ½ log((1 + t)/(1 − t)), and p(λ) = a sech² / span = a (1 − t²) / span:
+      // one log per wavelength, no cosh.
+      const Float t = std::clamp(kT0 + uj * kSpan, kT0, kT1);
+      w.lambda_[size_t(j)] = std::clamp(kMu + Float(0.5) / kA * std::log((1 + t) / (1 - t)), kLambdaMin, kLambdaMax);
+      w.pdf_[size_t(j)] = kA * (1 - t * t) / kSpan;
     }
     return w;
   }
