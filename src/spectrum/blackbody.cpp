@@ -14,7 +14,7 @@ constexpr double kH = 6.62607015e-34, kC = 299792458.0, kKb = 1.380649e-23;
 }  // namespace
 
 double planck(double lambda_nm, double kelvin) {
-  if (!(lambda_nm > 0) || !(kelvin > 0)) return 0;
+  if (!(lambda_nm > 0 && lambda_nm < 1e12) || !(kelvin > 0)) return 0;  // B -> 0 at both ends (and for NaN)
   const double l = lambda_nm * 1e-9;
   const double x = kH * kC / (l * kKb * kelvin);
   if (x > 700) return 0;  // exp overflows double; B underflows long before

@@ -208,7 +208,15 @@ TEST(RgbToSpectrum, EmissionRoundTrip) {
 TEST(RgbToSpectrum, HostileInputsGiveFiniteSpectra) {
   const Float nan = std::nanf(""), inf = std::numeric_limits<Float>::infinity();
   const SigmoidPolynomial p = rgb_to_sigmoid_polynomial(nan, inf, -1);
-  for (const Float l : {360.0f, 555.0f, 830.0f, -5.0f, nan}) EXPECT_TRUE(std::isfinite(p.eval(l)) || std::isnan(l));
+  for (const Float l : {360.0f, 555.0f, 830.0f, -5.0f, 1e30f, nan}) EXPECT_TRUE(std::isfinite(p.eval(l))) << l;
+  // Every kind of spectrum stays finite at hostile wavelengths.
+  const std::vector<Spectrum> all = {ConstantSpectrum{0.5f}, PiecewiseLinearSpectrum::from_points({{400, 1}, {500, 2}}, "t"),
+                                     BlackbodySpectrum(3000), D65Spectrum{2}, *named_glass("SF11"),
+                                     SellmeierSpectrum({1.03961212, 0.231792344, 1.01046945}, {0.00600069867, 0.0200179144, 103.560653}),
+                                     RgbAlbedoSpectrum(0.9f, 0.1f, 0.4f), RgbIlluminantSpectrum(3, 1, 0)};
+  for (const auto& s : all)
+    for (const Float l : {-1e30f, -5.0f, 0.0f, 1e-30f, 359.0f, 831.0f, 1e30f, inf, -inf, nan})
+      EXPECT_TRUE(std::isfinite(s.eval(l))) << l << " variant " << s.variant().index();
   EXPECT_THROW(RgbAlbedoSpectrum(1.5f, 0, 0), InputError);
   EXPECT_THROW(RgbAlbedoSpectrum(nan, 0, 0), InputError);
   EXPECT_THROW(RgbIlluminantSpectrum(-1, 0, 0), InputError);

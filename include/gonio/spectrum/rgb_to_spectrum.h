@@ -17,9 +17,9 @@
 
 namespace gonio {
 
-// σ(x) = 1/2 + x / (2√(1 + x²)), with σ(±∞) = 1 or 0.
+// σ(x) = 1/2 + x / (2√(1 + x²)), with σ(±∞) = 1 or 0 (and 0 for NaN, e.g. a NaN λ).
 inline Float sigmoid_jh(Float x) {
-  if (std::isinf(x)) return x > 0 ? Float(1) : Float(0);
+  if (!(std::abs(x) < Float(1e18))) return x > 0 ? Float(1) : Float(0);  // ±∞, NaN, and x² overflow
   return Float(0.5) + x / (2 * std::sqrt(1 + x * x));
 }
 

@@ -2,6 +2,8 @@
 // Spectrum: any of gonio's spectral inputs as one value type. Evaluation dispatches on a
 // std::variant (no virtual call, no allocation); construction validates and may allocate.
 
+#include <type_traits>
+#include <utility>
 #include <variant>
 
 #include "gonio/spectrum/blackbody.h"
