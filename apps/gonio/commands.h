@@ -13,6 +13,7 @@ void register_fresnel(CLI::App& app);
 void register_table(CLI::App& app);
 void register_check(CLI::App& app);
 void register_render(CLI::App& app);
+void register_spectrum(CLI::App& app);
 
 // Exit status of a run that completed without an error (1 when a check failed).
 int& exit_status();

@@ -38,6 +38,7 @@ int main(int argc, char** argv) {
 #ifdef GONIO_HAVE_RENDERER
   gonio::cli::register_render(app);
 #endif
+  gonio::cli::register_spectrum(app);
   // CLI11 reports an unknown first word only as "a subcommand is required"; name it.
   if (argc > 1 && argv[1][0] != '-') {
     const std::string word = argv[1];

@@ -43,6 +43,7 @@ INSTANTIATE_TEST_SUITE_P(
                                {"--bsdf", "--theta", "--phi", "--hemispherical", "--inside",
                                 "--samples", "--seed"}},
                       HelpCase{"fresnel", {"--eta", "--k", "--theta", "--schlick"}},
+                      HelpCase{"spectrum", {"--rgb", "--emission"}},
                       HelpCase{"table", {}}),
     [](const ::testing::TestParamInfo<HelpCase>& p) {
       return p.param.subcommand.empty() ? std::string("toplevel") : p.param.subcommand;

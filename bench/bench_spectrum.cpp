@@ -1,0 +1,134 @@
+// Micro-benchmarks of the spectral layer (docs/spectral.md, figures in docs/benchmarks.md):
+// hero-wavelength sampling, RGB → spectrum (coefficient lookup, and evaluation at a path's
+// 4 wavelengths), spectrum → XYZ. Inputs are drawn before timing; each iteration visits
+// kCalls of them and stores every result, like bench_bxdf.cpp's harness.
+
+#include <benchmark/benchmark.h>
+
+#include <array>
+#include <vector>
+
+#include "gonio/rng.h"
+#include "gonio/spectrum/cie.h"
+#include "gonio/spectrum/spectrum.h"
+
+namespace {
+
+using namespace gonio;
+
+constexpr int kInputs = 4096;
+
+template <typename T>
+inline void escape(T* p) {
+  asm volatile("" : : "g"(p) : "memory");
+}
+
+struct Inputs {
+  std::vector<Float> u;
+  std::vector<std::array<Float, 3>> rgb;
+  std::vector<SampledWavelengths> w;
+  std::vector<SigmoidPolynomial> poly;
+  Inputs() {
+    Pcg32 rng(42);
+    for (int i = 0; i < kInputs; ++i) {
+      u.push_back(rng.next_float());
+      rgb.push_back({rng.next_float(), rng.next_float(), rng.next_float()});
+      w.push_back(SampledWavelengths::sample_visible(rng.next_float()));
+      poly.push_back(rgb_to_sigmoid_polynomial(rgb.back()[0], rgb.back()[1], rgb.back()[2]));
+    }
+  }
+};
+const Inputs& inputs() {
+  static const Inputs in;
+  return in;
+}
+
+void wavelengths_sample_visible(benchmark::State& state) {
+  const auto& in = inputs();
+  std::vector<SampledWavelengths> out(kInputs);
+  for (auto _ : state) {
+    for (int i = 0; i < kInputs; ++i) out[size_t(i)] = SampledWavelengths::sample_visible(in.u[size_t(i)]);
+    escape(out.data());
+  }
+  state.counters["ns_per_call"] = benchmark::Counter(double(state.iterations()) * kInputs,
+                                                     benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+}
+BENCHMARK(wavelengths_sample_visible);
+
+void rgb_to_coefficients(benchmark::State& state) {
+  const auto& in = inputs();
+  std::vector<SigmoidPolynomial> out(kInputs);
+  for (auto _ : state) {
+    for (int i = 0; i < kInputs; ++i) {
+      const auto& c = in.rgb[size_t(i)];
+      out[size_t(i)] = rgb_to_sigmoid_polynomial(c[0], c[1], c[2]);
+    }
+    escape(out.data());
+  }
+  state.counters["ns_per_call"] = benchmark::Counter(double(state.iterations()) * kInputs,
+                                                     benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+}
+BENCHMARK(rgb_to_coefficients);
+
+// The per-path cost of an RGB reflectance in spectral mode: S at the 4 wavelengths, from
+// coefficients looked up once per material (as a renderer stores them).
+void rgb_albedo_eval_4(benchmark::State& state) {
+  const auto& in = inputs();
+  std::vector<SampledSpectrum> out(kInputs);
+  for (auto _ : state) {
+    for (int i = 0; i < kInputs; ++i) out[size_t(i)] = in.poly[size_t(i)].eval(in.w[size_t(kInputs - 1 - i)]);
+    escape(out.data());
+  }
+  state.counters["ns_per_call"] = benchmark::Counter(double(state.iterations()) * kInputs,
+                                                     benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+}
+BENCHMARK(rgb_albedo_eval_4);
+
+// Lookup and evaluation together (a textured RGB: coefficients per hit).
+void rgb_lookup_and_eval_4(benchmark::State& state) {
+  const auto& in = inputs();
+  std::vector<SampledSpectrum> out(kInputs);
+  for (auto _ : state) {
+    for (int i = 0; i < kInputs; ++i) {
+      const auto& c = in.rgb[size_t(i)];
+      out[size_t(i)] = rgb_to_sigmoid_polynomial(c[0], c[1], c[2]).eval(in.w[size_t(i)]);
+    }
+    escape(out.data());
+  }
+  state.counters["ns_per_call"] = benchmark::Counter(double(state.iterations()) * kInputs,
+                                                     benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+}
+BENCHMARK(rgb_lookup_and_eval_4);
+
+// An RGB emission through the Spectrum variant (sigmoid × D65 lookup × scale).
+void spectrum_variant_illuminant_eval_4(benchmark::State& state) {
+  const auto& in = inputs();
+  const Spectrum s = RgbIlluminantSpectrum(4, 2, 1);
+  std::vector<SampledSpectrum> out(kInputs);
+  for (auto _ : state) {
+    for (int i = 0; i < kInputs; ++i) out[size_t(i)] = s.eval(in.w[size_t(i)]);
+    escape(out.data());
+  }
+  state.counters["ns_per_call"] = benchmark::Counter(double(state.iterations()) * kInputs,
+                                                     benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+}
+BENCHMARK(spectrum_variant_illuminant_eval_4);
+
+void spectrum_to_xyz(benchmark::State& state) {
+  const auto& in = inputs();
+  std::vector<XYZ> out(kInputs);
+  for (auto _ : state) {
+    for (int i = 0; i < kInputs; ++i) {
+      const auto& c = in.rgb[size_t(i)];
+      out[size_t(i)] = to_xyz(SampledSpectrum(c[0], c[1], c[2], c[0]), in.w[size_t(i)]);
+    }
+    escape(out.data());
+  }
+  state.counters["ns_per_call"] = benchmark::Counter(double(state.iterations()) * kInputs,
+                                                     benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+}
+BENCHMARK(spectrum_to_xyz);
+
+}  // namespace
+
+BENCHMARK_MAIN();

@@ -1,0 +1,116 @@
+#pragma once
+// The wavelengths of one path: hero-wavelength sampling (Wilkie, Nawaz, Droske, Weidlich
+// and Hanika 2014, "Hero Wavelength Spectral Sampling", EGSR), 4 wavelengths per path,
+// importance-sampled over the visible range [kLambdaMin, kLambdaMax].
+//
+// Density (the visible-importance function used by pbrt-v4, after Radziszewski et al.
+// 2009): p(λ) ∝ sech²(a (λ − μ)) with a = 0.0072 /nm, μ = 538 nm, restricted to
+// [360, 830] nm. It follows the luminous sensitivity (ȳ peaks at 555 nm) with heavier
+// tails than ȳ, so that blue and red are still sampled. Its CDF is closed-form:
+//   P(λ) = (tanh(a (λ − μ)) − t0) / (t1 − t0),  t0 = tanh(a (360 − μ)), t1 = tanh(a (830 − μ))
+//   p(λ) = a sech²(a (λ − μ)) / (t1 − t0)
+//   P⁻¹(u) = μ + atanh(t0 + u (t1 − t0)) / a
+// The rotations are taken in CDF space (Wilkie et al. 2014, §4, applied to the CDF):
+// λ_j = P⁻¹(frac(u + j/4)); every λ_j is distributed with density p on its own, so each
+// is weighted by its own p(λ_j) and the mean of the four estimates is unbiased.
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+#include "gonio/spectrum/sampled_spectrum.h"
+
+namespace gonio {
+
+namespace visible_density {
+inline constexpr Float kA = 0.0072f;   // 1/nm
+inline constexpr Float kMu = 538.0f;   // nm
+// tanh(a (360 − μ)) and tanh(a (830 − μ)), computed in double (tests recompute them).
+inline constexpr Float kT0 = -0.856910625469828f;
+inline constexpr Float kT1 = 0.9705913469402698f;
+inline constexpr Float kSpan = 1.8275019724100978f;  // t1 − t0
+}  // namespace visible_density
+
+// p(λ) in 1/nm; 0 outside [kLambdaMin, kLambdaMax].
+inline Float visible_wavelength_pdf(Float lambda) {
+  using namespace visible_density;
+  if (!(lambda >= kLambdaMin && lambda <= kLambdaMax)) return 0;
+  const Float c = std::cosh(kA * (lambda - kMu));
+  return kA / (kSpan * c * c);
+}
+
+// P(λ), clamped to [0, 1].
+inline Float visible_wavelength_cdf(Float lambda) {
+  using namespace visible_density;
+  if (!(lambda > kLambdaMin)) return 0;
+  if (!(lambda < kLambdaMax)) return 1;
+  return std::clamp((std::tanh(kA * (lambda - kMu)) - kT0) / kSpan, Float(0), Float(1));
+}
+
+// P⁻¹(u) for u in [0, 1] (other u are clamped), in [kLambdaMin, kLambdaMax].
+inline Float sample_visible_wavelength(Float u) {
+  using namespace visible_density;
+  u = std::clamp(u, Float(0), Float(1));
+  const Float t = std::clamp(kT0 + u * kSpan, kT0, kT1);
+  return std::clamp(kMu + std::atanh(t) / kA, kLambdaMin, kLambdaMax);
+}
+
+class SampledWavelengths {
+ public:
+  // Hero-wavelength sampling: λ_j = P⁻¹(frac(u + j/4)), pdf_j = p(λ_j). u in [0, 1).
+  static SampledWavelengths sample_visible(Float u) {
+    SampledWavelengths w;
+    if (!(u >= 0 && u < 1)) u = u >= 1 ? kOneMinusEpsilon : Float(0);  // NaN -> 0
+    using namespace visible_density;
+    for (int j = 0; j < kSpectrumSamples; ++j) {
+      Float uj = u + Float(j) / kSpectrumSamples;
+      if (uj >= 1) uj -= 1;
+      // t = tanh(a (λ − μ)) = t0 + u (t1 − t0); then λ = μ + atanh(t)/a with
+      // atanh(t) = ½ log((1 + t)/(1 − t)), and p(λ) = a sech² / span = a (1 − t²) / span:
+      // one log per wavelength, no cosh.
+      const Float t = std::clamp(kT0 + uj * kSpan, kT0, kT1);
+      w.lambda_[size_t(j)] = std::clamp(kMu + Float(0.5) / kA * std::log((1 + t) / (1 - t)), kLambdaMin, kLambdaMax);
+      w.pdf_[size_t(j)] = kA * (1 - t * t) / kSpan;
+    }
+    return w;
+  }
+  // Uniform over [kLambdaMin, kLambdaMax] with the same rotation (a reference to compare
+  // the importance density with): λ_j = 360 + 470 frac(u + j/4), pdf 1/470.
+  static SampledWavelengths sample_uniform(Float u) {
+    SampledWavelengths w;
+    if (!(u >= 0 && u < 1)) u = u >= 1 ? kOneMinusEpsilon : Float(0);
+    for (int j = 0; j < kSpectrumSamples; ++j) {
+      Float uj = u + Float(j) / kSpectrumSamples;
+      if (uj >= 1) uj -= 1;
+      w.lambda_[size_t(j)] = std::min(kLambdaMin + uj * (kLambdaMax - kLambdaMin), kLambdaMax);
+      w.pdf_[size_t(j)] = 1 / (kLambdaMax - kLambdaMin);
+    }
+    return w;
+  }
+
+  static constexpr int size() { return kSpectrumSamples; }
+  Float operator[](int j) const { return lambda_[size_t(j)]; }
+  Float pdf(int j) const { return pdf_[size_t(j)]; }
+  SampledSpectrum pdf() const { return {pdf_[0], pdf_[1], pdf_[2], pdf_[3]}; }
+
+  // For a wavelength-dependent scattering event (dispersion): the path goes on with the
+  // hero only. λ_1..3 get pdf 0 (their estimates count as 0) and the hero's density is
+  // divided by 4, so that the mean over the 4 slots, (1/4) f(λ_0) / (p(λ_0)/4), is still
+  // an unbiased estimate (Wilkie et al. 2014, §5; as pbrt-v4 does). Idempotent.
+  void terminate_secondary() {
+    if (secondary_terminated()) return;
+    for (int j = 1; j < kSpectrumSamples; ++j) pdf_[size_t(j)] = 0;
+    pdf_[0] /= kSpectrumSamples;
+  }
+  bool secondary_terminated() const {
+    for (int j = 1; j < kSpectrumSamples; ++j)
+      if (pdf_[size_t(j)] != 0) return false;
+    return true;
+  }
+
+ private:
+  std::array<Float, kSpectrumSamples> lambda_{};
+  std::array<Float, kSpectrumSamples> pdf_{};
+};
+
+}  // namespace gonio
