@@ -24,7 +24,7 @@ for t in ${GONIO_FUZZ_TARGETS:-material scene obj png exr}; do
   (
     cd "$out/$t"
     end=$((SECONDS + seconds))
-    n=0
+    n=$(find . -maxdepth 1 -name 'run-*.log' | wc -l)  # a resumed campaign keeps its logs
     while ((SECONDS < end)); do
       n=$((n + 1))
       nice -n 10 "./bin/fuzz_$t" "${dict[@]}" -max_total_time=$((end - SECONDS)) -print_final_stats=1 -rss_limit_mb=1024 -timeout=60 \

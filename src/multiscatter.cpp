@@ -195,11 +195,13 @@ struct CoatRow {
   int r0;
   Float tr;
 };
+// Rows log-uniform in α (multiscatter_table_layout.h).
+const Float kRowsPerLog = Float((kCoatRoughnessSize - 1) / std::log(kCoatMaxAlpha / kCoatMinAlpha));
 CoatRow coat_row(Float alpha) {
-  const Float sa = std::sqrt(std::clamp(alpha, Float(0), Float(kCoatMaxAlpha)));
-  const Float fx = sa / (1 + sa) * Float((kCoatRoughnessSize - 1) / kCoatXMax);
-  const int r0 = std::min(int(fx), kCoatRoughnessSize - 2);
-  return {r0, std::min(fx - Float(r0), Float(1))};
+  const Float a = std::clamp(alpha, Float(kCoatMinAlpha), Float(kCoatMaxAlpha));
+  const Float fx = std::log(a * Float(1 / kCoatMinAlpha)) * kRowsPerLog;
+  const int r0 = std::clamp(int(fx), 0, kCoatRoughnessSize - 2);
+  return {r0, std::clamp(fx - Float(r0), Float(0), Float(1))};
 }
 }  // namespace
 
@@ -208,18 +210,18 @@ CoatAlbedo CoatAlbedo::make(MicrofacetType type, Float eta) {
   c.type = type;
   const double e = std::max(1.0, double(eta));
   const double z = std::sqrt((e - 1) / (e + 1));
-  const double fk = z * (kCoatEtaSize - 1);
-  c.k0 = std::min(int(fk), kCoatEtaSize - 2);
-  c.tk = Float(std::min(fk - c.k0, 1.0));
+  c.k0 = coat_table_node_below(z);
+  const double z0 = coat_table_z(c.k0), z1 = coat_table_z(c.k0 + 1);
+  c.tk = Float(std::clamp((z - z0) / (z1 - z0), 0.0, 1.0));  // linear in z between nodes
   return c;
 }
 
 Float CoatAlbedo::E(Float alpha, Float mu) const {
   const auto& table = type == MicrofacetType::GGX ? kGgxCoatAlbedo : kBeckmannCoatAlbedo;
   const CoatRow r = coat_row(alpha);
-  // Columns are uniform in s = √μ; the interpolation is linear in μ between them.
+  // Columns are uniform in s = μ^(1/4); the interpolation is linear in μ between them.
   const Float m = std::clamp(mu, Float(0), Float(1));
-  const Float fs = std::sqrt(m) * Float(kCoatCosineSize - 1);
+  const Float fs = std::sqrt(std::sqrt(m)) * Float(kCoatCosineSize - 1);
   const int m0 = std::min(int(fs), kCoatCosineSize - 2);
   const Float mu0 = Float(coat_table_mu_node(m0)), mu1 = Float(coat_table_mu_node(m0 + 1));
   const Float tm = std::clamp((m - mu0) / (mu1 - mu0), Float(0), Float(1));

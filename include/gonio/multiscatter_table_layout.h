@@ -1,7 +1,10 @@
 #pragma once
+
 // Layout of the microfacet albedo tables (shared by the build-time generator and the
 // lookups): rows by roughness, nodes r = sqrt(α) uniform on [0, 1] (finer where the
 // albedo changes fastest), columns by μ = cos θ uniform on [0, 1].
+
+#include <cmath>
 
 namespace gonio::tables {
 
@@ -64,36 +67,66 @@ extern const DielectricAverageTable kGgxDielectricAverage, kBeckmannDielectricAv
 
 // Rough dielectric coat (plastic) albedo E_coat(μ, α, η): the reflection alone (no
 // transmission) of the single-scattering microfacet BRDF with dielectric Fresnel, light
-// arriving from outside onto relative index η ≥ 1, isotropic α.
-//   rows by α ∈ [1e-4, 10], uniform in x = √α / (1 + √α) (fine at small α, which is where
-//     E changes fastest, and reaching the largest α the materials accept);
-//   η nodes uniform in z = ((η − 1)/(η + 1))^(1/2) on [0, 1], η from 1 to ∞ (the last
-//     node is F = 1);
-//   μ nodes μ = s², s uniform on [0, 1]: dense towards grazing, where E rises steeply.
-inline constexpr int kCoatRoughnessSize = 40;
-inline constexpr int kCoatEtaSize = 24;
-inline constexpr int kCoatCosineSize = 65;
+// arriving from outside onto relative index η ≥ 1, isotropic α. Near grazing E_coat
+// changes on the scale μ ~ α (masking) and, for η near 1, on the scale μ ~ z (Fresnel
+// rises towards 1 only where cos θt = √(μ² + 4z²) is small), so the nodes are dense there
+// (issue 9: linear in √α, z and √μ they left the white furnace 2.5% off at α = 1e-3,
+// 89.94°, and 3% for η < 1.001):
+//   rows by α log-uniform on [1e-3, 10] (below 1e-3 the coat is smooth: kSmoothAlpha);
+//   η nodes in z = ((η − 1)/(η + 1))^(1/2) ∈ [0, 1]: 0; 25 geometric (ratio 1.3) from
+//     2^-12 (the z of the float next to 1) towards 0.16; uniform in steps of 0.04 from
+//     0.16 to 0.80; geometric in w = 1 − z (ratio 1.30) from w = 0.16 to w = 10⁻⁴
+//     (η ≈ 2·10⁴), where E_coat changes on the scale of Brewster's angle, c ~ 1/η ~ w;
+//     z = 1 (η = ∞: F = 1);
+//   μ nodes μ = s⁴, s uniform on [0, 1].
+inline constexpr int kCoatRoughnessSize = 48;
+inline constexpr int kCoatNearOneEtaNodes = 25;
+inline constexpr int kCoatUniformEtaNodes = 17;  // 0.16, 0.20, ..., 0.80
+inline constexpr int kCoatLargeEtaNodes = 29;    // w = 0.16 ... 1e-4
+inline constexpr int kCoatEtaSize = 1 + kCoatNearOneEtaNodes + kCoatUniformEtaNodes + kCoatLargeEtaNodes + 1;
+inline constexpr int kCoatCosineSize = 81;
+inline constexpr double kCoatMinAlpha = 1e-3;
 inline constexpr double kCoatMaxAlpha = 10;
+inline constexpr double kCoatMinZ = 1.0 / 4096;
+inline constexpr double kCoatUniformZ = 0.16;  // the first uniform node
+inline constexpr double kCoatZStep = 0.04;
+inline constexpr double kCoatLargeEtaW = 0.16;  // w = 1 − z of the first large-η node
+inline constexpr double kCoatMinW = 1e-4;
 
-inline constexpr double kCoatXMax = 0.75976310729378174;  // √10 / (1 + √10)
-// √α at row a.
-constexpr double coat_table_sqrt_alpha(int a) {
-  const double x = kCoatXMax * double(a) / (kCoatRoughnessSize - 1);
-  const double r = x / (1 - x);
-  return r < 1e-2 ? 1e-2 : r;
+// α at row a.
+inline double coat_table_alpha(int a) {
+  return kCoatMinAlpha * std::pow(kCoatMaxAlpha / kCoatMinAlpha, double(a) / (kCoatRoughnessSize - 1));
 }
-// z at η node k (z = 1: η = ∞, total reflection).
-constexpr double coat_table_z(int k) { return double(k) / (kCoatEtaSize - 1); }
-// μ at column m; column 0 stands for grazing, evaluated just above it.
-constexpr double coat_table_mu(int m) {
-  const double s = double(m) / (kCoatCosineSize - 1);
-  return s * s < 1e-6 ? 1e-6 : s * s;
+// z at η node k.
+inline double coat_table_z(int k) {
+  if (k <= 0) return 0;
+  if (k <= kCoatNearOneEtaNodes)
+    return kCoatMinZ * std::pow(kCoatUniformZ / kCoatMinZ, double(k - 1) / kCoatNearOneEtaNodes);
+  k -= kCoatNearOneEtaNodes + 1;
+  if (k < kCoatUniformEtaNodes) return kCoatUniformZ + kCoatZStep * k;
+  k -= kCoatUniformEtaNodes;
+  if (k < kCoatLargeEtaNodes)
+    return 1 - kCoatLargeEtaW * std::pow(kCoatMinW / kCoatLargeEtaW, double(k) / (kCoatLargeEtaNodes - 1));
+  return 1;
+}
+// The node index k ≤ kCoatEtaSize − 2 with z(k) ≤ z < z(k + 1) (bisection: only
+// CoatAlbedo::make calls it, once per material).
+inline int coat_table_node_below(double z) {
+  int lo = 0, hi = kCoatEtaSize - 1;
+  while (hi - lo > 1) {
+    const int mid = (lo + hi) / 2;
+    if (coat_table_z(mid) <= z) lo = mid;
+    else hi = mid;
+  }
+  return lo;
 }
 // The node's μ for interpolation (column 0 at μ = 0).
 constexpr double coat_table_mu_node(int m) {
   const double s = double(m) / (kCoatCosineSize - 1);
-  return s * s;
+  return (s * s) * (s * s);
 }
+// μ at column m; column 0 stands for grazing, evaluated just above it.
+constexpr double coat_table_mu(int m) { return m == 0 ? 1e-10 : coat_table_mu_node(m); }
 
 using CoatAlbedoTable = float[kCoatRoughnessSize][kCoatEtaSize][kCoatCosineSize];
 // 2 ∫ E μ dμ of the piecewise-linear interpolant in μ (exact, hemispherical_average.h).

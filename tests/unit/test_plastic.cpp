@@ -30,15 +30,19 @@ constexpr double kDeg = kPiD / 180;
 TEST(Plastic, WhiteFurnaceIsOneAtEveryAngle) {
   const ReflectanceOptions opt{test::scaled(40000), 11};
   struct Case { const char* dist; double alpha, eta; };
-  // α and η between the tables' nodes as well as on them; α > 1; η up to 4.
+  // α and η between the tables' nodes as well as on them; α > 1; η up to 4. The nearly
+  // smooth coats and the η just above 1 were 2.5–3% off near grazing with tables linear
+  // in √α, z and √μ (1.026 at 89.9° for GGX α = 1e-3, η = 1.5; 0.969 at 89.8° for
+  // α = 1e-3, η = 1 + 1e-5; 1.016 at 89° for α = 3e-3, η = 1.01).
   const Case cases[] = {{"ggx", 0.3, 1.5},  {"ggx", 1, 1.5},      {"ggx", 0.05, 2.4}, {"ggx", 3.7, 1.33},
                         {"beckmann", 0.3, 1.5}, {"beckmann", 0.8, 1.33}, {"beckmann", 0.12, 4},
-                        {"ggx", 0.47, 1.05}};
+                        {"ggx", 0.47, 1.05}, {"ggx", 1e-3, 1.5}, {"ggx", 1e-3, 1.00001}, {"ggx", 3e-3, 1.01},
+                        {"beckmann", 1.5e-3, 1.0003}};
   for (const auto& c : cases) {
     const std::string json = std::string(R"({"type":"plastic","reflectance":1,"distribution":")") + c.dist +
                              R"(","alpha":)" + std::to_string(c.alpha) + R"(,"eta":)" + std::to_string(c.eta) + "}";
     const BxDF m = parse_material(json);
-    for (double th : {0.0, 30.0, 60.0, 75.0, 85.0, 88.0, 89.5, 89.9}) {
+    for (double th : {0.0, 30.0, 60.0, 75.0, 85.0, 88.0, 89.0, 89.5, 89.8, 89.9, 89.97}) {
       const auto a = directional_albedo(m, direction_from_angles(Float(th * kDeg), 0.4f), opt);
       EXPECT_GE(a.albedo[0] + 4 * a.se_albedo[0], 0.99) << json << " theta " << th;
       EXPECT_LE(a.albedo[0] - 4 * a.se_albedo[0], 1.005) << json << " theta " << th;
