@@ -178,7 +178,7 @@ class Params {
     for (const auto& [key, value] : obj_.items()) {
       if (key == "type") continue;
       if (!find_param(type_, key) || !used_.count(key))
-        fail("unknown parameter '" + key + "'");
+        fail("unknown parameter '" + key + "'; " + std::string(type_.name) + " takes " + param_names(type_));
     }
   }
 

@@ -74,6 +74,29 @@ TEST(CliMaterials, UnknownTypeIsOneLineExitTwo) {
   expect_bad_input(run_gonio({"materials", "diffuse", "--markdown"}), {"--markdown"});
 }
 
+// Unknown parameters name the ones the type takes (one line, exit 2).
+TEST(CliMaterials, UnknownParameterListsTheValidOnes) {
+  const RunResult r = run_gonio({"eval", "--bsdf", R"({"type":"roughconductor","alpha":0.2,"material":"Au","distrib":"ggx"})"},
+                                "0 0 1 0 0 1\n");
+  expect_bad_input(r);
+  EXPECT_EQ(r.err,
+            "gonio: --bsdf: roughconductor: unknown parameter 'distrib'; roughconductor takes alpha, distribution, "
+            "fresnel, eta, k, material, f0, multiscatter\n");
+}
+
+TEST(CliMaterials, UnknownParameterInABlendComponent) {
+  const RunResult r = run_gonio(
+      {"albedo", "--theta", "0", "--bsdf",
+       R"({"type":"blend","weight":0.5,"bsdfs":[{"type":"mirror"},{"type":"diffuse","colour":0.5}]})"});
+  expect_bad_input(r);
+  EXPECT_EQ(r.err, "gonio: --bsdf: blend.bsdfs[1]: diffuse: unknown parameter 'colour'; diffuse takes reflectance\n");
+  const RunResult top = run_gonio(
+      {"albedo", "--theta", "0", "--bsdf",
+       R"({"type":"blend","weight":0.5,"wieght":0.5,"bsdfs":[{"type":"mirror"},{"type":"diffuse"}]})"});
+  expect_bad_input(top);
+  EXPECT_EQ(top.err, "gonio: --bsdf: blend: unknown parameter 'wieght'; blend takes weight, bsdfs\n");
+}
+
 // A description of each type that the parser accepts with nothing but its required
 // parameters (written here from SPEC §2, not from the registry).
 const std::map<std::string, nlohmann::json> kMinimal = {
