@@ -96,5 +96,25 @@ TEST(CliDocs, LinksStayInsideTheRepository) {
   EXPECT_GT(checked, 10u);
 }
 
+// NOTICE names every data file, and every data file names its source in its first lines.
+TEST(CliDocs, NoticeListsEveryDataFile) {
+  const std::string notice = read_source_file("NOTICE");
+  ASSERT_FALSE(notice.empty());
+  EXPECT_NE(notice.find("MIT"), std::string::npos);
+  size_t files = 0;
+  for (const auto& e : std::filesystem::recursive_directory_iterator(std::string(GONIO_SOURCE_DIR) + "/data")) {
+    if (!e.is_regular_file()) continue;
+    ++files;
+    const std::string name = e.path().filename().string();
+    EXPECT_NE(notice.find(name), std::string::npos) << "NOTICE does not list data file " << e.path();
+    std::ifstream in(e.path());
+    std::string line;
+    bool source = false;
+    for (int i = 0; i < 5 && std::getline(in, line); ++i) source |= line.rfind("# Source:", 0) == 0;
+    EXPECT_TRUE(source) << e.path() << " does not state its source (# Source: ...) in its first lines";
+  }
+  EXPECT_GE(files, 14u);
+}
+
 }  // namespace
 }  // namespace gonio_cli_test
