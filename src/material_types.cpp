@@ -152,19 +152,20 @@ const ParamSpec* find_param(const MaterialTypeSpec& type, std::string_view name)
 
 std::string range_text(const ParamRange& r, std::string_view unit) {
   if (!r.present) return {};
-  std::string s = std::string(r.lo_open ? "(" : "[") + number_text(r.lo) + ", " + number_text(r.hi) +
-                  (r.hi_open ? ")" : "]");
-  if (!unit.empty()) s += " " + std::string(unit);
+  // Appended piece by piece (GCC 12 warns falsely about "x" + string, bug 105651).
+  std::string s(r.lo_open ? "(" : "[");
+  s.append(number_text(r.lo)).append(", ").append(number_text(r.hi)).append(r.hi_open ? ")" : "]");
+  if (!unit.empty()) s.append(" ").append(unit);
   return s;
 }
 
 std::string range_requirement(const ParamRange& r, std::string_view unit) {
   std::string s;
   if (r.lo_open)
-    s = "> " + number_text(r.lo) + " and " + (r.hi_open ? "< " : "<= ") + number_text(r.hi);
+    s.append("> ").append(number_text(r.lo)).append(" and ").append(r.hi_open ? "< " : "<= ").append(number_text(r.hi));
   else
-    s = "in " + range_text(r);
-  if (!unit.empty()) s += " " + std::string(unit);
+    s.append("in ").append(range_text(r));
+  if (!unit.empty()) s.append(" ").append(unit);
   return s;
 }
 
