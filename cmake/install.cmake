@@ -35,7 +35,8 @@ install(FILES ${GONIO_GENERATED_INCLUDE}/gonio/version.h DESTINATION ${CMAKE_INS
 # for users to read and render.
 install(DIRECTORY data/metals DESTINATION ${CMAKE_INSTALL_DATADIR}/gonio)
 install(DIRECTORY scenes/ DESTINATION ${CMAKE_INSTALL_DATADIR}/gonio/scenes)
-install(FILES README.md LICENSE docs/spec.md DESTINATION ${CMAKE_INSTALL_DOCDIR})
+install(FILES README.md LICENSE NOTICE CHANGELOG.md docs/spec.md docs/materials.md docs/cli.md
+        DESTINATION ${CMAKE_INSTALL_DOCDIR})
 
 # --- CMake package ----------------------------------------------------------------------
 configure_package_config_file(cmake/gonioConfig.cmake.in

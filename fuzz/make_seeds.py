@@ -67,7 +67,7 @@ objs = {
     "quad_uv_normals": "# a quad\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"
                        "vn 0 0 1\nf 1/1/1 2/2/1 3/3/1 4/4/1\n",
     "negative_indices": "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf -4 -3 -2\nf -1 -2 -3\n",
-    "groups": "o a\ng g1\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nf 1/1 2/2 3/1\ns 1\nusemtl x\n",
+    "groups": "o a\ng g1\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nf 1/1 2/2 3/1\ns 1\n",
 }
 for name, text in objs.items():
     with open(os.path.join(corpus, "obj", f"seed-{name}.obj"), "w") as f:

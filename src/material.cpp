@@ -9,13 +9,16 @@
 #include <type_traits>
 #include <variant>
 #include <memory>
+#include <map>
 #include <set>
+#include <stdexcept>
 #include <sstream>
 
 #include <nlohmann/json.hpp>
 
 #include "gonio/hemispherical_average.h"
 #include "gonio/json_text.h"
+#include "gonio/material_types.h"
 #include "gonio/metals.h"
 
 namespace gonio {
@@ -23,11 +26,6 @@ namespace {
 
 using nlohmann::json;
 
-// Accepted range of refractive indices (real part and extinction). Far wider than any
-// material (0.01 to ~10); the limits keep every Fresnel term well inside float range.
-constexpr double kMinIndex = 1e-4, kMaxIndex = 1e4;
-// Largest microfacet roughness accepted (the energy-compensation tables end at 1).
-constexpr double kMaxAlpha = 10;
 // Deepest nesting of blends: a blend evaluates every part, so a tree of blends costs
 // up to 2^depth evaluations per call (256 here); and 10,000 levels took a minute and
 // 4 GB to parse (each level's error prefix copies the one above).
@@ -52,41 +50,74 @@ std::string show(const json& v) {
   return s;
 }
 
-// Reads the parameters of one material and tracks which ones were used, so that any
-// left over can be reported as unknown.
+// Reads the parameters of one material as its entry in the registry (material_types.h)
+// declares them: defaults, ranges and choices come from there, and any key the entry
+// does not list, or that the type did not read, is reported as unknown with the list of
+// the keys it takes.
 class Params {
  public:
-  Params(const json& obj, std::string prefix) : obj_(obj), prefix_(std::move(prefix)) {}
+  Params(const json& obj, std::string prefix, const MaterialTypeSpec& type)
+      : obj_(obj), prefix_(std::move(prefix)), type_(type) {}
 
   [[noreturn]] void fail(const std::string& msg) const { throw InputError(prefix_ + msg); }
 
+  // The registry's entry for `key`; reading a key the registry does not declare is a
+  // programming error (the reference would not show it).
+  const ParamSpec& spec(const char* key) const {
+    const ParamSpec* s = find_param(type_, key);
+    if (!s) throw std::logic_error("material registry: " + std::string(type_.name) + " does not declare '" + key + "'");
+    return *s;
+  }
+
+  // Whether the description gives `key` (a default does not count).
   bool has(const char* key) {
+    spec(key);
     if (!obj_.contains(key)) return false;
     used_.insert(key);
     return true;
   }
 
+  // The value given, else the registry's default; a missing parameter without one is an error.
+  const json& value(const char* key) {
+    const ParamSpec& s = spec(key);
+    if (obj_.contains(key)) {
+      used_.insert(key);
+      return obj_.at(key);
+    }
+    if (s.default_json.empty()) {
+      std::string hint;
+      if (s.kind == ParamKind::Roughness) hint = " (a number, or [alpha_x, alpha_y])";
+      else if (s.kind == ParamKind::Materials) hint = " (an array of 2 materials)";
+      else if (s.range.present) hint = " (" + range_text(s.range, s.unit) + ")";
+      fail(std::string("missing parameter '") + key + "'" + hint);
+    }
+    auto [it, inserted] = defaults_.try_emplace(key);
+    if (inserted) it->second = json::parse(s.default_json);
+    return it->second;
+  }
+
+  // A number within the registry's range.
   double number(const char* key) {
-    used_.insert(key);
-    const json& v = obj_.at(key);
+    const json& v = value(key);
     if (!v.is_number()) fail(std::string(key) + " must be a number, got " + show(v));
-    const double d = v.get<double>();
-    if (!std::isfinite(d)) fail(std::string(key) + " must be finite, got " + show(v));
+    const double d = finite(key, v);
+    check_range(key, d);
     return d;
   }
 
-  // A colour parameter: a number (grey) or [r, g, b].
+  // A colour: a number (grey) or [r, g, b], each channel within the registry's range
+  // (checked on the value as written, so the message shows it even when it does not fit
+  // in a float).
   Color color(const char* key) {
-    used_.insert(key);
-    const json& v = obj_.at(key);
+    const json& v = value(key);
     Color c;
     if (v.is_number()) {
-      c = Color(static_cast<Float>(finite(key, v)));
+      c = Color(static_cast<Float>(checked(key, v)));
     } else if (v.is_array() && v.size() == static_cast<size_t>(Color::size())) {
       for (int i = 0; i < Color::size(); ++i) {
         const json& e = v[static_cast<size_t>(i)];
         if (!e.is_number()) fail(std::string(key) + " must be a number or [r, g, b], got " + show(v));
-        c[i] = static_cast<Float>(finite(key, e));
+        c[i] = static_cast<Float>(checked(key, e));
       }
     } else {
       fail(std::string(key) + " must be a number or [r, g, b], got " + show(v));
@@ -95,62 +126,59 @@ class Params {
   }
 
   bool boolean(const char* key) {
-    used_.insert(key);
-    const json& v = obj_.at(key);
+    const json& v = value(key);
     if (!v.is_boolean()) fail(std::string(key) + " must be true or false, got " + show(v));
     return v.get<bool>();
   }
 
-  // A roughness: a number (isotropic) or [alpha_x, alpha_y].
-  std::pair<double, double> alpha(const char* key) {
-    used_.insert(key);
-    const json& v = obj_.at(key);
+  // A roughness: a number (isotropic) or [alpha_x, alpha_y], each within the range.
+  std::pair<double, double> roughness(const char* key) {
+    const json& v = value(key);
+    double a = 0, b = 0;
     if (v.is_number()) {
-      const double a = finite(key, v);
-      return {a, a};
+      a = b = finite(key, v);
+    } else if (v.is_array() && v.size() == 2 && v[0].is_number() && v[1].is_number()) {
+      a = finite(key, v[0]);
+      b = finite(key, v[1]);
+    } else {
+      fail(std::string(key) + " must be a number or [alpha_x, alpha_y], got " + show(v));
     }
-    if (v.is_array() && v.size() == 2 && v[0].is_number() && v[1].is_number())
-      return {finite(key, v[0]), finite(key, v[1])};
-    fail(std::string(key) + " must be a number or [alpha_x, alpha_y], got " + show(v));
+    check_range(key, a);
+    check_range(key, b);
+    return {a, b};
   }
 
-  const json& raw(const char* key) {
-    used_.insert(key);
-    return obj_.at(key);
-  }
+  const json& raw(const char* key) { return value(key); }
 
   std::string string(const char* key) {
-    used_.insert(key);
-    const json& v = obj_.at(key);
+    const json& v = value(key);
     if (!v.is_string()) fail(std::string(key) + " must be a string, got " + show(v));
     return v.get<std::string>();
   }
 
-  // Range checks that print the offending value.
-  void check_color_range(const char* key, const Color& c, double lo, double hi) const {
-    for (int i = 0; i < Color::size(); ++i)
-      if (c[i] < lo || c[i] > hi)
-        fail(std::string(key) + " must be in [" + format_number(lo) + ", " + format_number(hi) +
-             "], got " + format_number(c[i]));
-  }
-  // Raw JSON values, so the message shows what the user wrote even when it does not fit
-  // in a float.
-  void check_color_index(const char* key, double lo, double hi) const {
-    const json& v = obj_.at(key);
-    auto one = [&](const json& e) {
-      const double d = e.get<double>();
-      if (!(d >= lo && d <= hi))
-        fail(std::string(key) + " must be in [" + format_number(lo) + ", " + format_number(hi) +
-             "], got " + format_number(d));
-    };
-    if (v.is_array()) for (const auto& e : v) one(e);
-    else one(v);
+  // One of the registry's choices for `key`.
+  std::string choice(const char* key) {
+    const std::string got = string(key);
+    const std::string_view choices = spec(key).choices;
+    std::string list;
+    size_t start = 0;
+    while (start <= choices.size()) {
+      const size_t bar = std::min(choices.find('|', start), choices.size());
+      const std::string_view c = choices.substr(start, bar - start);
+      if (c == got) return got;
+      const bool last = bar == choices.size();
+      if (!list.empty()) list.append(last ? " or " : ", ");
+      list.append("\"").append(c).append("\"");
+      start = bar + 1;
+    }
+    fail(std::string(key) + " must be " + list + ", got \"" + got + "\"");
   }
 
   void reject_unknown() const {
     for (const auto& [key, value] : obj_.items()) {
       if (key == "type") continue;
-      if (!used_.count(key)) fail("unknown parameter '" + key + "'");
+      if (!find_param(type_, key) || !used_.count(key))
+        fail("unknown parameter '" + key + "'; " + std::string(type_.name) + " takes " + param_names(type_));
     }
   }
 
@@ -160,22 +188,37 @@ class Params {
     if (!std::isfinite(d)) fail(std::string(key) + " must be finite, got " + show(v));
     return d;
   }
+  double checked(const char* key, const json& v) const {
+    const double d = finite(key, v);
+    check_range(key, d);
+    return d;
+  }
+  void check_range(const char* key, double d) const {
+    const ParamSpec& s = spec(key);
+    if (!s.range.present) return;
+    if (!s.range.contains(d))
+      fail(std::string(key) + " must be " + range_requirement(s.range, s.unit) + ", got " + format_number(d));
+    // An open lower end at 0 means "positive", which must survive the cast to float.
+    if (s.range.lo_open && s.range.lo == 0 && !positive_float(d))
+      fail(std::string(key) + " must be > 0, got " + format_number(d) + kTooSmallForFloat);
+  }
+
   const json& obj_;
   std::string prefix_;
+  const MaterialTypeSpec& type_;
   std::set<std::string> used_;
+  std::map<std::string, json> defaults_;
 };
 
 BxDF make_diffuse(Params& p) {
   DiffuseBxDF m;
-  if (p.has("reflectance")) m.reflectance = p.color("reflectance");
-  p.check_color_range("reflectance", m.reflectance, 0, 1);
+  m.reflectance = p.color("reflectance");
   return m;
 }
 
 BxDF make_mirror(Params& p) {
   MirrorBxDF m;
-  if (p.has("reflectance")) m.reflectance = p.color("reflectance");
-  p.check_color_range("reflectance", m.reflectance, 0, 1);
+  m.reflectance = p.color("reflectance");
   return m;
 }
 
@@ -186,12 +229,7 @@ void set_f0_from_index(ConductorFresnel& fr) {
 
 ConductorFresnel make_conductor_fresnel(Params& p) {
   ConductorFresnel fr;
-  if (p.has("fresnel")) {
-    const std::string mode = p.string("fresnel");
-    if (mode == "exact") fr.model = FresnelModel::Exact;
-    else if (mode == "schlick") fr.model = FresnelModel::Schlick;
-    else p.fail("fresnel must be \"exact\" or \"schlick\", got \"" + mode + "\"");
-  }
+  fr.model = p.choice("fresnel") == "schlick" ? FresnelModel::Schlick : FresnelModel::Exact;
   const bool has_material = p.has("material");
   const bool has_eta = p.has("eta");
   const bool has_k = p.has("k");
@@ -208,7 +246,6 @@ ConductorFresnel make_conductor_fresnel(Params& p) {
                                              : "missing parameter: give material or eta (+ k)");
   if (has_f0) {
     fr.f0 = p.color("f0");
-    p.check_color_range("f0", fr.f0, 0, 1);
     return fr;
   }
   if (has_material) {
@@ -223,11 +260,7 @@ ConductorFresnel make_conductor_fresnel(Params& p) {
     fr.k = metal->k;
   } else {
     fr.eta = p.color("eta");
-    p.check_color_index("eta", kMinIndex, kMaxIndex);
-    if (has_k) {
-      fr.k = p.color("k");
-      p.check_color_index("k", 0, kMaxIndex);
-    }
+    fr.k = p.color("k");
   }
   set_f0_from_index(fr);
   return fr;
@@ -235,30 +268,14 @@ ConductorFresnel make_conductor_fresnel(Params& p) {
 
 BxDF make_conductor(Params& p) { return ConductorBxDF{make_conductor_fresnel(p)}; }
 
-// alpha (number or [alpha_x, alpha_y], required) and distribution (default ggx).
+// alpha (number or [alpha_x, alpha_y]) and distribution.
 MicrofacetDistribution make_distribution(Params& p) {
   MicrofacetDistribution d;
-  if (p.has("distribution")) {
-    const std::string name = p.string("distribution");
-    if (name == "ggx") d.type = MicrofacetType::GGX;
-    else if (name == "beckmann") d.type = MicrofacetType::Beckmann;
-    else p.fail("distribution must be \"ggx\" or \"beckmann\", got \"" + name + "\"");
-  }
-  if (!p.has("alpha")) p.fail("missing parameter 'alpha' (a number, or [alpha_x, alpha_y])");
-  const auto [ax, ay] = p.alpha("alpha");
-  for (double a : {ax, ay}) {
-    if (!(a > 0 && a <= kMaxAlpha))
-      p.fail("alpha must be > 0 and <= " + format_number(kMaxAlpha) + ", got " + format_number(a));
-    if (!positive_float(a)) p.fail("alpha must be > 0, got " + format_number(a) + kTooSmallForFloat);
-  }
+  d.type = p.choice("distribution") == "beckmann" ? MicrofacetType::Beckmann : MicrofacetType::GGX;
+  const auto [ax, ay] = p.roughness("alpha");
   d.alpha_x = static_cast<Float>(ax);
   d.alpha_y = static_cast<Float>(ay);
   return d;
-}
-
-bool make_multiscatter_flag(Params& p) {
-  if (!p.has("multiscatter")) return false;
-  return p.boolean("multiscatter");
 }
 
 // Cosine-weighted average 2 ∫ F(μ) μ dμ of a conductor Fresnel (64 Simpson panels: F is
@@ -281,7 +298,7 @@ BxDF make_roughconductor(Params& p) {
   RoughConductorBxDF m;
   m.distribution = make_distribution(p);
   m.fresnel = make_conductor_fresnel(p);
-  if (make_multiscatter_flag(p)) {
+  if (p.boolean("multiscatter")) {
     // The albedo tables are for isotropic roughness; with sqrt(αx αy) standing in, a
     // white furnace at α = [0.05, 1] lost 40 % (multiscatter.h).
     if (!m.distribution.is_isotropic())
@@ -292,21 +309,11 @@ BxDF make_roughconductor(Params& p) {
   return m;
 }
 
-// The relative index of a dielectric interface: `eta`, default 1.5, within the index range.
-Float dielectric_eta(Params& p) {
-  if (!p.has("eta")) return 1.5f;
-  const double eta = p.number("eta");
-  if (!(eta >= kMinIndex && eta <= kMaxIndex))
-    p.fail("eta must be in [" + format_number(kMinIndex) + ", " + format_number(kMaxIndex) + "], got " +
-           format_number(eta));
-  return static_cast<Float>(eta);
-}
-
 BxDF make_roughdielectric(Params& p) {
   RoughDielectricBxDF m;
   m.distribution = make_distribution(p);
-  m.eta = dielectric_eta(p);
-  if (make_multiscatter_flag(p)) {
+  m.eta = Float(p.number("eta"));
+  if (p.boolean("multiscatter")) {
     if (!m.distribution.is_isotropic())
       p.fail("multiscatter needs an isotropic alpha (a number), got [alpha_x, alpha_y]");
     // The albedo tables cover η' in [1, 4] on either side (docs/design/dielectric-multiscatter.md);
@@ -320,16 +327,8 @@ BxDF make_roughdielectric(Params& p) {
 
 BxDF make_dielectric(Params& p) {
   DielectricBxDF m;
-  m.eta = dielectric_eta(p);
+  m.eta = Float(p.number("eta"));
   return m;
-}
-
-// A colour parameter that must be given, in [0, 1].
-Color required_unit_color(Params& p, const char* key) {
-  if (!p.has(key)) p.fail(std::string("missing parameter '") + key + "'");
-  const Color c = p.color(key);
-  p.check_color_range(key, c, 0, 1);
-  return c;
 }
 
 // kd + ks ≤ 1 per channel, the energy bound of the two-lobe models (SPEC §2).
@@ -339,58 +338,33 @@ void check_sum_at_most_one(Params& p, const char* a, const Color& ca, const char
       p.fail(std::string(a) + " + " + b + " must be <= 1 per channel, got " + format_number(ca[i] + cb[i]));
 }
 
-double required_number(Params& p, const char* key, double lo, double hi, bool open_lo = true) {
-  if (!p.has(key)) p.fail(std::string("missing parameter '") + key + "'");
-  const double v = p.number(key);
-  const bool ok = (open_lo ? v > lo : v >= lo) && v <= hi;
-  if (!ok)
-    p.fail(std::string(key) + " must be in " + (open_lo ? "(" : "[") + format_number(lo) + ", " + format_number(hi) +
-           "], got " + format_number(v));
-  if (open_lo && lo == 0 && !positive_float(v))
-    p.fail(std::string(key) + " must be > 0, got " + format_number(v) + kTooSmallForFloat);
-  return v;
-}
-
 // Oren–Nayar's σ is given in degrees and kept in radians.
 Float sigma_radians(double degrees) { return Float(degrees * kPiD / 180); }
 
 BxDF make_orennayar(Params& p) {
   OrenNayarBxDF m;
-  if (p.has("reflectance")) m.reflectance = p.color("reflectance");
-  p.check_color_range("reflectance", m.reflectance, 0, 1);
-  if (!p.has("sigma")) p.fail("missing parameter 'sigma' (degrees in [0, 90))");
-  const double sigma = p.number("sigma");
-  if (!(sigma >= 0 && sigma < 90)) p.fail("sigma must be in [0, 90) degrees, got " + format_number(sigma));
-  m.sigma = sigma_radians(sigma);
-  if (p.has("model")) {
-    const std::string model = p.string("model");
-    if (model == "full") m.full = true;
-    else if (model != "qualitative") p.fail("model must be \"qualitative\" or \"full\", got \"" + model + "\"");
-  }
+  m.reflectance = p.color("reflectance");
+  m.sigma = sigma_radians(p.number("sigma"));
+  m.full = p.choice("model") == "full";
   return m;
 }
 
 template <typename M>
 BxDF make_phong_like(Params& p) {
   M m;
-  m.kd = required_unit_color(p, "kd");
-  m.ks = required_unit_color(p, "ks");
+  m.kd = p.color("kd");
+  m.ks = p.color("ks");
   check_sum_at_most_one(p, "kd", m.kd, "ks", m.ks);
-  m.exponent = Float(required_number(p, "exponent", 0, 1e6, false));
+  m.exponent = Float(p.number("exponent"));
   return m;
 }
 
 BxDF make_ward(Params& p) {
   WardBxDF m;
-  m.kd = required_unit_color(p, "kd");
-  m.ks = required_unit_color(p, "ks");
+  m.kd = p.color("kd");
+  m.ks = p.color("ks");
   check_sum_at_most_one(p, "kd", m.kd, "ks", m.ks);
-  if (!p.has("alpha")) p.fail("missing parameter 'alpha' (a number, or [alpha_x, alpha_y])");
-  const auto [ax, ay] = p.alpha("alpha");
-  for (double a : {ax, ay}) {
-    if (!(a > 0 && a <= 1)) p.fail("alpha must be > 0 and <= 1, got " + format_number(a));
-    if (!positive_float(a)) p.fail("alpha must be > 0, got " + format_number(a) + kTooSmallForFloat);
-  }
+  const auto [ax, ay] = p.roughness("alpha");
   m.alpha_x = Float(ax);
   m.alpha_y = Float(ay);
   return m;
@@ -398,19 +372,16 @@ BxDF make_ward(Params& p) {
 
 BxDF make_ashikhminshirley(Params& p) {
   AshikhminShirleyBxDF m;
-  m.rd = required_unit_color(p, "rd");
-  m.rs = required_unit_color(p, "rs");
-  m.nu = Float(required_number(p, "nu", 0, 1e6));
-  m.nv = Float(required_number(p, "nv", 0, 1e6));
+  m.rd = p.color("rd");
+  m.rs = p.color("rs");
+  m.nu = Float(p.number("nu"));
+  m.nv = Float(p.number("nv"));
   return m;
 }
 
 BxDF make_plastic(Params& p) {
-  Color reflectance(0.5f);
-  if (p.has("reflectance")) reflectance = p.color("reflectance");
-  p.check_color_range("reflectance", reflectance, 0, 1);
-  Float eta = 1.5f;
-  if (p.has("eta")) eta = Float(required_number(p, "eta", 1, kMaxIndex, false));
+  const Color reflectance = p.color("reflectance");
+  const Float eta = Float(p.number("eta"));
   std::optional<MicrofacetDistribution> coat;
   if (p.has("alpha")) coat = make_distribution(p);
   else if (p.has("distribution")) p.fail("distribution needs alpha (a rough coat)");
@@ -424,11 +395,12 @@ BxDF make_plastic(Params& p) {
 BxDF make_blend(Params& p, const std::string& where, int depth);
 BxDF parse_description(const json& description, const std::string& where, int blend_depth);
 
+// The constructor of each type of the registry but blend (which needs its place and depth).
 struct TypeEntry {
   std::string_view name;
   BxDF (*make)(Params&);
 };
-constexpr TypeEntry kTypes[] = {
+constexpr TypeEntry kMakers[] = {
     {"diffuse", make_diffuse},
     {"mirror", make_mirror},
     {"conductor", make_conductor},
@@ -448,8 +420,7 @@ constexpr TypeEntry kTypes[] = {
 const std::vector<std::string_view>& material_type_names() {
   static const std::vector<std::string_view> names = [] {
     std::vector<std::string_view> v;
-    for (const auto& t : kTypes) v.push_back(t.name);
-    v.push_back("blend");
+    for (const auto& t : material_types()) v.push_back(t.name);
     return v;
   }();
   return names;
@@ -460,8 +431,7 @@ namespace {
 BxDF make_blend(Params& p, const std::string& where, int depth) {
   if (depth >= kMaxBlendDepth)
     p.fail("blends nested deeper than " + std::to_string(kMaxBlendDepth) + " levels (each level doubles the cost of an evaluation)");
-  const double w = required_number(p, "weight", 0, 1, false);
-  if (!p.has("bsdfs")) p.fail("missing parameter 'bsdfs' (an array of 2 materials)");
+  const double w = p.number("weight");
   const json& arr = p.raw("bsdfs");
   if (!arr.is_array() || arr.size() != 2) p.fail("bsdfs must be an array of 2 materials, got " + show(arr));
   auto parts = std::make_shared<std::array<BxDF, 2>>();
@@ -486,26 +456,29 @@ BxDF parse_description(const json& description, const std::string& where, int bl
   if (it == description.end()) throw InputError(at + "material: missing field 'type'");
   if (!it->is_string()) throw InputError(at + "material: type must be a string, got " + show(*it));
   const std::string type = it->get<std::string>();
+  const MaterialTypeSpec* spec = find_material_type(type);
+  if (!spec) {
+    std::string known;
+    for (auto n : material_type_names()) known += (known.empty() ? "" : ", ") + std::string(n);
+    throw InputError(at + "material: unknown type \"" + type + "\" (known: " + known + ")");
+  }
   if (type == "blend") {
-    Params p(description, at + "blend: ");
+    Params p(description, at + "blend: ", *spec);
     BxDF m = make_blend(p, where.empty() ? "blend" : where + ": blend", blend_depth);
     p.reject_unknown();
     return m;
   }
-  for (const auto& t : kTypes) {
+  for (const auto& t : kMakers) {
     if (t.name == type) {
-      Params p(description, at + type + ": ");
+      Params p(description, at + type + ": ", *spec);
       BxDF m = t.make(p);
       p.reject_unknown();
       return m;
     }
   }
-  std::string known;
-  for (auto n : material_type_names()) known += (known.empty() ? "" : ", ") + std::string(n);
-  throw InputError(at + "material: unknown type \"" + type + "\" (known: " + known + ")");
+  throw std::logic_error("material registry: no constructor for type " + type);
 }
 }  // namespace
-
 // --- Spatially varying parameters (material.h) -----------------------------------
 
 namespace {

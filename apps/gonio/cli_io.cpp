@@ -3,7 +3,13 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <cerrno>
 #include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <system_error>
+
+#include <unistd.h>
 #include <stdexcept>
 
 #include "gonio/json_text.h"
@@ -14,6 +20,18 @@ namespace gonio::cli {
 BxDF load_bsdf(const std::string& arg) {
   if (!arg.empty() && arg[0] == '@') {
     const std::string path = arg.substr(1);
+    // Say why a file cannot be used, in words, before the reader's own checks.
+    if (!path.empty() && path.find('\0') == std::string::npos) {
+      std::error_code ec;
+      const auto st = std::filesystem::status(path, ec);
+      if (st.type() == std::filesystem::file_type::not_found)
+        throw InputError("--bsdf: " + path + ": file not found");
+      if (st.type() == std::filesystem::file_type::directory)
+        throw InputError("--bsdf: " + path + ": is a directory, not a material file");
+      if (ec || ::access(path.c_str(), R_OK) != 0)
+        throw InputError("--bsdf: " + path + ": not readable (" +
+                         std::strerror(ec ? ec.value() : errno) + ")");
+    }
     std::string text;
     try {
       text = read_text_file(path, kMaxJsonFileBytes, "a material file");
@@ -50,7 +68,9 @@ void add_mode_option(CLI::App& cmd, std::string& mode) {
       ->check(CLI::IsMember({"radiance", "importance"}));
 }
 
-std::vector<std::array<double, 6>> read_six_numbers(std::istream& in) {
+std::vector<std::array<double, 6>> read_six_numbers(std::istream& in) { return read_numbers(in, 6); }
+
+std::vector<std::array<double, 6>> read_numbers(std::istream& in, size_t n, const char* what) {
   std::vector<std::array<double, 6>> rows;
   std::string line;
   size_t line_no = 0;
@@ -67,7 +87,7 @@ std::vector<std::array<double, 6>> read_six_numbers(std::istream& in) {
       const char* tok = p;
       while (p < end && !(*p == ' ' || *p == '\t' || *p == '\r' || *p == ',')) ++p;
       const std::string token(tok, p);
-      if (count == 6) throw InputError(where + "expected 6 numbers, got more");
+      if (count == n) throw InputError(where + "expected " + std::to_string(n) + " numbers" + what + ", got more");
       const char* first = tok;
       if (*first == '+') ++first;
       double v = 0;
@@ -78,8 +98,8 @@ std::vector<std::array<double, 6>> read_six_numbers(std::istream& in) {
       row[count++] = v;
     }
     if (count == 0) continue;  // blank line
-    if (count != 6)
-      throw InputError(where + "expected 6 numbers, got " + std::to_string(count));
+    if (count != n)
+      throw InputError(where + "expected " + std::to_string(n) + " numbers" + what + ", got " + std::to_string(count));
     rows.push_back(row);
   }
   if (in.bad()) throw InputError("stdin: read error");
@@ -96,6 +116,24 @@ Vec3 unit_vector(double x, double y, double z, size_t line, const char* name) {
   z /= m;
   const double inv = 1 / std::sqrt(x * x + y * y + z * z);
   return {Float(x * inv), Float(y * inv), Float(z * inv)};
+}
+
+std::vector<double> angle_range(const std::vector<double>& v, const char* option, double lo, double hi) {
+  const std::string name(option);
+  if (v.size() != 3) throw InputError(name + " needs FROM TO COUNT");
+  for (int i = 0; i < 2; ++i)
+    if (!(v[size_t(i)] >= lo && v[size_t(i)] <= hi))
+      throw InputError(name + ": " + (i == 0 ? "FROM" : "TO") + " must be in [" + show_number(lo) + ", " +
+                       show_number(hi) + "] degrees, got " + show_number(v[size_t(i)]));
+  const double count = v[2];
+  if (!(count >= 1 && count <= kMaxRangeCount && count == std::floor(count)))
+    throw InputError(name + ": COUNT must be an integer from 1 to " + show_number(kMaxRangeCount) + ", got " +
+                     show_number(count));
+  const auto n = static_cast<size_t>(count);
+  std::vector<double> angles(n);
+  for (size_t i = 0; i < n; ++i)
+    angles[i] = i + 1 == n && n > 1 ? v[1] : v[0] + (v[1] - v[0]) * double(i) / double(n > 1 ? n - 1 : 1);
+  return angles;
 }
 
 namespace {

@@ -45,9 +45,18 @@ inline constexpr double kMinIndex = 1e-4, kMaxIndex = 1e4;
 // naming the line on anything else. All input is validated before anything is printed,
 // so a bad line never leaves partial output behind.
 std::vector<std::array<double, 6>> read_six_numbers(std::istream& in);
+// The same for lines of `n` <= 6 numbers (the rest of each array is 0); `what` follows
+// "expected n numbers" in the error ("" or e.g. " (wo only: --count draws the u's)").
+std::vector<std::array<double, 6>> read_numbers(std::istream& in, size_t n, const char* what = "");
 
 // Direction read from stdin line `line`, normalised in double; a zero vector is bad input.
 Vec3 unit_vector(double x, double y, double z, size_t line, const char* name);
+
+// The angles of an option FROM TO COUNT (`--theta-range`): COUNT (an integer, 1 to
+// kMaxRangeCount) evenly spaced angles from FROM to TO degrees, both ends included (COUNT 1:
+// FROM alone); FROM and TO in [lo, hi]. Throws InputError naming `option` otherwise.
+inline constexpr double kMaxRangeCount = 100000;
+std::vector<double> angle_range(const std::vector<double>& from_to_count, const char* option, double lo, double hi);
 
 // A number for an error message: like json_number, but nan and inf print as words.
 std::string show_number(double v);

@@ -5,6 +5,7 @@
 #include <iostream>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "cli_io.h"
 #include "commands.h"
@@ -16,6 +17,7 @@ namespace {
 struct AlbedoArgs {
   std::string bsdf;
   double theta = 0, phi = 0;
+  std::vector<double> theta_range;
   bool hemispherical = false, inside = false;
   std::int64_t samples = 1 << 20;
   std::int64_t seed = 1;
@@ -28,30 +30,39 @@ double checked_degrees(double v, double lo, double hi, const char* name) {
   return v * kPiD / 180;
 }
 
+std::string albedo_line(const AlbedoEstimate& e, const std::string& theta) {
+  return "{\"theta\":" + theta + ",\"reflectance\":" + json_color(e.reflectance) +
+         ",\"transmittance\":" + json_color(e.transmittance) + ",\"albedo\":" + json_color(e.albedo) +
+         ",\"stderr\":" + json_color(e.se_albedo) + ",\"stderr_reflectance\":" + json_color(e.se_reflectance) +
+         ",\"stderr_transmittance\":" + json_color(e.se_transmittance) + ",\"exact\":" +
+         (e.exact ? "true" : "false") + "}\n";
+}
+
 void run_albedo(const AlbedoArgs& a) {
   const BxDF bxdf = load_bsdf(a.bsdf);
   const ReflectanceOptions opt{std::uint64_t(a.samples), std::uint64_t(a.seed)};
-  AlbedoEstimate e;
-  std::string theta = "null";
   if (a.hemispherical) {
-    e = hemispherical_albedo(bxdf, a.inside, opt);
-  } else {
-    const double t = checked_degrees(a.theta, 0, 90, "--theta");
-    const double p = checked_degrees(a.phi, -360, 360, "--phi");
-    const double z = std::cos(t);
-    const Vec3 wo{Float(std::sin(t) * std::cos(p)), Float(std::sin(t) * std::sin(p)),
-                  Float(a.inside ? -z : z)};
-    e = directional_albedo(bxdf, wo, opt);
-    theta = json_number(a.theta);
+    std::cout << albedo_line(hemispherical_albedo(bxdf, a.inside, opt), "null");
+    return;
   }
-  // The whole line is formatted before anything is written.
-  const std::string line = "{\"theta\":" + theta + ",\"reflectance\":" + json_color(e.reflectance) +
-                           ",\"transmittance\":" + json_color(e.transmittance) +
-                           ",\"albedo\":" + json_color(e.albedo) + ",\"stderr\":" + json_color(e.se_albedo) +
-                           ",\"stderr_reflectance\":" + json_color(e.se_reflectance) +
-                           ",\"stderr_transmittance\":" + json_color(e.se_transmittance) +
-                           ",\"exact\":" + (e.exact ? "true" : "false") + "}\n";
-  std::cout << line;
+  const double p = checked_degrees(a.phi, -360, 360, "--phi");
+  std::vector<double> thetas;
+  if (!a.theta_range.empty()) {
+    thetas = angle_range(a.theta_range, "--theta-range", 0, 90);
+  } else {
+    checked_degrees(a.theta, 0, 90, "--theta");
+    thetas.push_back(a.theta);
+  }
+  // Each angle with the same seed, so a line equals the --theta run at its angle; every
+  // line is formatted before anything is written.
+  std::string out;
+  for (double theta : thetas) {
+    const double t = theta * kPiD / 180;
+    const double z = std::cos(t);
+    const Vec3 wo{Float(std::sin(t) * std::cos(p)), Float(std::sin(t) * std::sin(p)), Float(a.inside ? -z : z)};
+    out += albedo_line(directional_albedo(bxdf, wo, opt), json_number(theta));
+  }
+  std::cout << out;
 }
 }  // namespace
 
@@ -63,17 +74,23 @@ void register_albedo(CLI::App& app) {
       "wo at --theta (and --phi), or their cosine-weighted average with --hemispherical");
   cmd->add_option("--bsdf", args->bsdf, "material JSON text, or @path to a file holding it")->required();
   auto* theta = cmd->add_option("--theta", args->theta, "polar angle of wo in degrees, [0, 90]");
-  cmd->add_option("--phi", args->phi, "azimuth of wo in degrees (default 0)")->needs(theta);
+  auto* range = cmd->add_option("--theta-range", args->theta_range,
+                                "FROM TO COUNT: COUNT polar angles from FROM to TO degrees, evenly spaced, one line each")
+                    ->expected(3);
+  range->excludes(theta);
+  auto* phi = cmd->add_option("--phi", args->phi, "azimuth of wo in degrees (default 0)");
   auto* hemi = cmd->add_flag("--hemispherical", args->hemispherical,
                              "rho_hh: average over all wo on one side, cosine-weighted (theta ignored)");
   theta->excludes(hemi);
+  range->excludes(hemi);
+  phi->excludes(hemi);
   cmd->add_flag("--inside", args->inside, "put wo on the z < 0 side");
   cmd->add_option("--samples", args->samples, "Monte Carlo samples, 1 to 10^12 (default 1048576)")
       ->transform(decimal_in_range(1, kMaxSamples));
   cmd->add_option("--seed", args->seed, "random seed, 0 to 2147483647 (default 1)")->transform(decimal_in_range(0, kMaxSeed));
-  cmd->callback([args, theta, hemi] {
-    if (theta->count() == 0 && hemi->count() == 0)
-      throw InputError("albedo: give --theta DEG or --hemispherical");
+  cmd->callback([args, theta, range, hemi] {
+    if (theta->count() == 0 && range->count() == 0 && hemi->count() == 0)
+      throw InputError("albedo: give --theta DEG, --theta-range FROM TO COUNT or --hemispherical");
     run_albedo(*args);
   });
 }

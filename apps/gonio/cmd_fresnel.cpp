@@ -1,45 +1,105 @@
-// gonio fresnel: exact (and Schlick) Fresnel reflectance for one incidence angle (SPEC §3).
+// gonio fresnel: exact (and Schlick) Fresnel reflectance at one angle or a range of
+// angles, for an index given as numbers or as a named metal or glass (SPEC §3).
 
+#include <array>
 #include <cmath>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <string>
+#include <vector>
 
 #include "cli_io.h"
 #include "commands.h"
 #include "gonio/fresnel.h"
+#include "gonio/metals.h"
+#include "gonio/spectrum/glasses.h"
 
 namespace gonio::cli {
 
 namespace {
 struct FresnelArgs {
   double eta = 1.5, k = 0, theta = 0;
+  std::vector<double> theta_range;
+  std::string material;
   bool schlick = false;
 };
 
+// One channel's results, formatted.
+struct FresnelLine {
+  std::string rs, rp, r, t, cos_t, schlick;
+};
+
+FresnelLine fresnel_at(double eta, double k, double theta_deg) {
+  const double cos_i = theta_deg == 90 ? 0.0 : std::cos(theta_deg * kPiD / 180);
+  const bool conductor = k > 0;
+  FresnelTerms<double> t;
+  if (conductor) t = fresnel_conductor_terms(cos_i, eta, k);
+  else t = fresnel_dielectric_terms(cos_i, eta);
+  const double r = t.r();
+  FresnelLine l{json_number(t.rs), json_number(t.rp), json_number(r), json_number(1 - r),
+                (conductor || t.tir) ? std::string("null") : json_number(t.cos_t), ""};
+  l.schlick = json_number(conductor ? fresnel_schlick(fresnel_f0(eta, k), cos_i) : fresnel_schlick_dielectric(cos_i, eta));
+  return l;
+}
+
+std::string object(const std::vector<FresnelLine>& channels, bool schlick) {
+  // One channel: numbers (SPEC §3); three (a named material in RGB mode): arrays.
+  auto field = [&](std::string FresnelLine::*member) {
+    if (channels.size() == 1) return channels[0].*member;
+    std::string s = "[";
+    for (size_t i = 0; i < channels.size(); ++i) s += (i ? "," : "") + channels[i].*member;
+    return s + "]";
+  };
+  std::string out = "{\"Rs\":" + field(&FresnelLine::rs) + ",\"Rp\":" + field(&FresnelLine::rp) +
+                    ",\"R\":" + field(&FresnelLine::r) + ",\"T\":" + field(&FresnelLine::t) +
+                    ",\"cos_t\":" + field(&FresnelLine::cos_t);
+  if (schlick) out += ",\"schlick\":" + field(&FresnelLine::schlick);
+  return out + "}\n";
+}
+
+// The wavelengths of the RGB channels for named materials (as for the metals of SPEC §2
+// in RGB mode: metals.h).
+constexpr std::array<float, 3> kChannelNm = {650, 550, 450};
+
 void run_fresnel(const FresnelArgs& a) {
   const std::string index_range = "[" + show_number(kMinIndex) + ", " + show_number(kMaxIndex) + "]";
-  if (!(a.eta >= kMinIndex && a.eta <= kMaxIndex))
-    throw InputError("--eta must be in " + index_range + ", got " + show_number(a.eta));
-  if (!(a.k >= 0 && a.k <= kMaxIndex))
-    throw InputError("--k must be in [0, " + show_number(kMaxIndex) + "], got " + show_number(a.k));
-  if (!(a.theta >= 0 && a.theta <= 90))
-    throw InputError("--theta must be in [0, 90] degrees, got " + show_number(a.theta));
-  const double cos_i = a.theta == 90 ? 0.0 : std::cos(a.theta * kPiD / 180);
-  const bool conductor = a.k > 0;
-  FresnelTerms<double> t;
-  if (conductor) t = fresnel_conductor_terms(cos_i, a.eta, a.k);
-  else t = fresnel_dielectric_terms(cos_i, a.eta);
-  const double r = t.r();
-  std::string out = "{\"Rs\":" + json_number(t.rs) + ",\"Rp\":" + json_number(t.rp) +
-                    ",\"R\":" + json_number(r) + ",\"T\":" + json_number(1 - r) + ",\"cos_t\":" +
-                    ((conductor || t.tir) ? std::string("null") : json_number(t.cos_t));
-  if (a.schlick) {
-    const double s = conductor ? fresnel_schlick(fresnel_f0(a.eta, a.k), cos_i)
-                               : fresnel_schlick_dielectric(cos_i, a.eta);
-    out += ",\"schlick\":" + json_number(s);
+  // (eta, k) per channel.
+  std::vector<std::pair<double, double>> index;
+  if (!a.material.empty()) {
+    if (const auto metal = named_metal(a.material)) {
+      for (int c = 0; c < 3; ++c) index.emplace_back(metal->eta[c], metal->k[c]);
+    } else if (const auto glass = named_glass(a.material)) {
+      for (float nm : kChannelNm) index.emplace_back(glass->eval(nm), 0.0);
+    } else {
+      std::string known;
+      for (auto n : named_metal_names()) known += (known.empty() ? "" : ", ") + std::string(n);
+      for (auto n : named_glass_names()) known += ", " + std::string(n);
+      throw InputError("--material: unknown material \"" + a.material + "\" (known: " + known + ")");
+    }
+  } else {
+    if (!(a.eta >= kMinIndex && a.eta <= kMaxIndex))
+      throw InputError("--eta must be in " + index_range + ", got " + show_number(a.eta));
+    if (!(a.k >= 0 && a.k <= kMaxIndex))
+      throw InputError("--k must be in [0, " + show_number(kMaxIndex) + "], got " + show_number(a.k));
+    index.emplace_back(a.eta, a.k);
   }
-  std::cout << out << "}\n";
+  std::vector<double> thetas;
+  if (!a.theta_range.empty()) {
+    thetas = angle_range(a.theta_range, "--theta-range", 0, 90);
+  } else {
+    if (!(a.theta >= 0 && a.theta <= 90))
+      throw InputError("--theta must be in [0, 90] degrees, got " + show_number(a.theta));
+    thetas.push_back(a.theta);
+  }
+  // Everything is computed before anything is written.
+  std::string out;
+  for (double theta : thetas) {
+    std::vector<FresnelLine> channels;
+    for (const auto& [eta, k] : index) channels.push_back(fresnel_at(eta, k, theta));
+    out += object(channels, a.schlick);
+  }
+  std::cout << out;
 }
 }  // namespace
 
@@ -47,13 +107,28 @@ void register_fresnel(CLI::App& app) {
   auto args = std::make_shared<FresnelArgs>();
   auto* cmd = app.add_subcommand(
       "fresnel",
-      "Fresnel reflectance at incidence --theta from the outside onto relative index --eta "
-      "(+ i --k for a conductor); prints {\"Rs\",\"Rp\",\"R\",\"T\",\"cos_t\"}");
-  cmd->add_option("--eta", args->eta, "relative index n_inside / n_outside (> 0)")->required();
-  cmd->add_option("--k", args->k, "extinction coefficient (conductor); 0 or absent: dielectric");
-  cmd->add_option("--theta", args->theta, "incidence angle in degrees, [0, 90]")->required();
+      "Fresnel reflectance at incidence --theta (or each angle of --theta-range) from the outside onto "
+      "relative index --eta (+ i --k for a conductor) or a named --material; prints "
+      "{\"Rs\",\"Rp\",\"R\",\"T\",\"cos_t\"} per angle");
+  auto* eta = cmd->add_option("--eta", args->eta, "relative index n_inside / n_outside (> 0)");
+  auto* k = cmd->add_option("--k", args->k, "extinction coefficient (conductor); 0 or absent: dielectric");
+  auto* material = cmd->add_option(
+      "--material", args->material,
+      "a named metal (Au, Ag, Cu, Al, CuZn) or glass (BK7, ...) instead of --eta/--k: every field becomes "
+      "[r, g, b], the index at 650, 550, 450 nm");
+  material->excludes(eta)->excludes(k);
+  auto* theta = cmd->add_option("--theta", args->theta, "incidence angle in degrees, [0, 90]");
+  auto* range = cmd->add_option("--theta-range", args->theta_range,
+                                "FROM TO COUNT: COUNT angles from FROM to TO degrees, evenly spaced, one line each")
+                    ->expected(3);
+  range->excludes(theta);
   cmd->add_flag("--schlick", args->schlick, "also print Schlick's approximation");
-  cmd->callback([args] { run_fresnel(*args); });
+  cmd->callback([args, eta, material, theta, range] {
+    if (eta->count() == 0 && material->count() == 0) throw InputError("fresnel: give --eta N (or --material NAME)");
+    if (theta->count() == 0 && range->count() == 0)
+      throw InputError("fresnel: give --theta DEG (or --theta-range FROM TO COUNT)");
+    run_fresnel(*args);
+  });
 }
 
 }  // namespace gonio::cli

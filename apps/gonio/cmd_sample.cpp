@@ -1,8 +1,11 @@
-// gonio sample: importance-sample wi for lines 'wo u0 u1 u2' read from stdin (SPEC §3).
+// gonio sample: importance-sample wi for lines 'wo u0 u1 u2' read from stdin (SPEC §3), or,
+// with --count N, N samples per line 'wo' from gonio's own random numbers.
 
 #include <iostream>
 #include <memory>
 #include <string>
+
+#include "gonio/rng.h"
 
 #include "cli_io.h"
 #include "commands.h"
@@ -13,7 +16,12 @@ namespace {
 struct SampleArgs {
   std::string bsdf;
   std::string mode = "radiance";
+  std::int64_t count = 0;  // 0: the u's come from stdin
+  std::int64_t seed = 1;
 };
+
+// Largest --count: samples drawn per input line.
+constexpr std::int64_t kMaxCount = 100'000'000;
 
 Float unit_interval(double u, size_t line, const char* name) {
   if (!(u >= 0 && u < 1))
@@ -23,9 +31,44 @@ Float unit_interval(double u, size_t line, const char* name) {
   return std::min(Float(u), kOneMinusEpsilon);
 }
 
+void append_sample(std::string& out, const BxDF& bxdf, const Vec3& wo, Float u0, Float u1, Float u2,
+                   TransportMode mode) {
+  const auto s = bxdf.sample(wo, u0, u1, u2, mode);
+  if (!s) {
+    out += "{\"wi\":null}\n";
+    return;
+  }
+  out += "{\"wi\":[" + json_number(s->wi.x) + "," + json_number(s->wi.y) + "," + json_number(s->wi.z) +
+         "],\"weight\":" + json_color(s->weight) +
+         ",\"pdf\":" + (s->delta ? std::string("null") : json_number(s->pdf)) +
+         ",\"delta\":" + (s->delta ? "true" : "false") + ",\"lobe\":\"" +
+         (s->lobe == Lobe::Reflection ? "reflection" : "transmission") + "\"}\n";
+}
+
 void run_sample(const SampleArgs& a) {
   const BxDF bxdf = load_bsdf(a.bsdf);
   const TransportMode mode = parse_mode(a.mode);
+  if (a.count > 0) {
+    // Lines 'wo' only; line i draws its u's from PCG32 stream i of the seed, so a line's
+    // samples do not depend on the lines before it. All input is checked first.
+    const auto rows = read_numbers(std::cin, 3, " (wo only: --count draws the u's)");
+    std::vector<Vec3> wos;
+    for (size_t i = 0; i < rows.size(); ++i) wos.push_back(unit_vector(rows[i][0], rows[i][1], rows[i][2], i + 1, "wo"));
+    std::string out;
+    for (size_t i = 0; i < wos.size(); ++i) {
+      Pcg32 rng(std::uint64_t(a.seed), std::uint64_t(i));
+      for (std::int64_t n = 0; n < a.count; ++n) {
+        const Float u0 = rng.next_float(), u1 = rng.next_float(), u2 = rng.next_float();
+        append_sample(out, bxdf, wos[i], u0, u1, u2, mode);
+        if (out.size() > (1 << 20)) {
+          std::cout << out;
+          out.clear();
+        }
+      }
+    }
+    std::cout << out;
+    return;
+  }
   const auto rows = read_six_numbers(std::cin);
   std::string out;
   out.reserve(rows.size() * 128);
@@ -35,16 +78,7 @@ void run_sample(const SampleArgs& a) {
     const Float u0 = unit_interval(r[3], i + 1, "u0");
     const Float u1 = unit_interval(r[4], i + 1, "u1");
     const Float u2 = unit_interval(r[5], i + 1, "u2");
-    const auto s = bxdf.sample(wo, u0, u1, u2, mode);
-    if (!s) {
-      out += "{\"wi\":null}\n";
-      continue;
-    }
-    out += "{\"wi\":[" + json_number(s->wi.x) + "," + json_number(s->wi.y) + "," +
-           json_number(s->wi.z) + "],\"weight\":" + json_color(s->weight) +
-           ",\"pdf\":" + (s->delta ? std::string("null") : json_number(s->pdf)) +
-           ",\"delta\":" + (s->delta ? "true" : "false") + ",\"lobe\":\"" +
-           (s->lobe == Lobe::Reflection ? "reflection" : "transmission") + "\"}\n";
+    append_sample(out, bxdf, wo, u0, u1, u2, mode);
   }
   std::cout << out;
 }
@@ -58,6 +92,13 @@ void register_sample(CLI::App& app) {
       "prints {\"wi\",\"weight\",\"pdf\",\"delta\",\"lobe\"} or {\"wi\":null}");
   cmd->add_option("--bsdf", args->bsdf, "material JSON text, or @path to a file holding it")->required();
   add_mode_option(*cmd, args->mode);
+  auto* count = cmd->add_option("--count", args->count,
+                                "N samples per stdin line 'wo_x wo_y wo_z', with gonio's own random u's "
+                                "(1 to 100000000)")
+                    ->transform(decimal_in_range(1, kMaxCount));
+  cmd->add_option("--seed", args->seed, "random seed for --count, 0 to 2147483647 (default 1)")
+      ->transform(decimal_in_range(0, kMaxSeed))
+      ->needs(count);
   cmd->callback([args] { run_sample(*args); });
 }
 

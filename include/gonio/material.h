@@ -2,7 +2,9 @@
 // Material descriptions (SPEC §2): a JSON object with a "type" and that type's
 // parameters, turned into a BxDF. Unknown types, unknown or missing parameters and
 // out-of-range values throw InputError with a message naming the field, e.g.
-// "conductor: eta must be > 0, got -1".
+// "conductor: eta must be in [0.0001, 10000], got -1". Each type's parameters, defaults
+// and ranges come from the registry in material_types.h (also the source of `gonio
+// materials` and docs/materials.md).
 
 #include <cstdint>
 #include <optional>

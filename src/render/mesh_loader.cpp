@@ -25,7 +25,9 @@ namespace {
 // here first, with "file:line: problem" errors, and tinyobjloader then only ever sees
 // text known to be well-formed; it keeps doing the parsing and the triangulation.
 // Accepted: v (3, 4 or 6 numbers), vt (1 to 3), vn (3), f (3 or more corners), l (2 or
-// more), p (1 or more), the names o, g, s, usemtl, mtllib, and # comments.
+// more), p (1 or more), the names o, g, s, and # comments. mtllib and usemtl are refused:
+// a mesh takes its one material from the scene, and silently dropping the file's own
+// materials would render something other than what the file describes.
 
 class ObjChecker {
  public:
@@ -102,8 +104,11 @@ class ObjChecker {
       if (n < least)
         fail(std::string(key) + " needs at least " + std::to_string(least) + " vertices, got " + std::to_string(n));
       for (size_t i = 1; i < tok.size(); ++i) corner(tok[i]);
-    } else if (key != "o" && key != "g" && key != "s" && key != "usemtl" && key != "mtllib") {
-      fail("unsupported statement " + quoted(key) + " (gonio reads v, vt, vn, f, l, p, o, g, s, usemtl, mtllib)");
+    } else if (key == "mtllib" || key == "usemtl") {
+      fail(quoted(key) + " is not supported: a mesh takes its one material from the scene (the shape's "
+           "\"material\"); remove the mtllib/usemtl lines, or split the mesh into one OBJ file per material");
+    } else if (key != "o" && key != "g" && key != "s") {
+      fail("unsupported statement " + quoted(key) + " (gonio reads v, vt, vn, f, l, p, o, g, s)");
     }
   }
 
@@ -193,7 +198,8 @@ Mesh load_obj_mesh(const std::string& path, const MeshTransform& t, const std::s
   config.triangulate = true;
   config.vertex_color = false;
   tinyobj::ObjReader reader;
-  // No material library: gonio takes the material from the scene.
+  // No material library (mtllib and usemtl are refused above): gonio takes the material
+  // from the scene.
   if (!reader.ParseFromString(text, "", config)) {
     std::string err = reader.Error();
     while (!err.empty() && (err.back() == '\n' || err.back() == '\r')) err.pop_back();

@@ -36,13 +36,14 @@ TEST_P(CliHelp, LongAndShortHelpExitZero) {
 
 INSTANTIATE_TEST_SUITE_P(
     AllSubcommands, CliHelp,
-    ::testing::Values(HelpCase{"", {"eval", "sample", "albedo", "fresnel", "table"}},
+    ::testing::Values(HelpCase{"", {"eval", "sample", "albedo", "fresnel", "table", "materials"}},
                       HelpCase{"eval", {"--bsdf", "--mode"}},
-                      HelpCase{"sample", {"--bsdf", "--mode"}},
+                      HelpCase{"sample", {"--bsdf", "--mode", "--count", "--seed"}},
                       HelpCase{"albedo",
-                               {"--bsdf", "--theta", "--phi", "--hemispherical", "--inside",
+                               {"--bsdf", "--theta", "--theta-range", "--phi", "--hemispherical", "--inside",
                                 "--samples", "--seed"}},
-                      HelpCase{"fresnel", {"--eta", "--k", "--theta", "--schlick"}},
+                      HelpCase{"fresnel", {"--eta", "--k", "--material", "--theta", "--theta-range", "--schlick"}},
+                      HelpCase{"materials", {"TYPE", "--markdown"}},
                       HelpCase{"spectrum", {"--rgb", "--emission"}},
                       HelpCase{"table", {}}),
     [](const ::testing::TestParamInfo<HelpCase>& p) {

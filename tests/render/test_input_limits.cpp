@@ -71,6 +71,9 @@ TEST(InputLimits, BadObjStatementsNameFileAndLine) {
       {std::string(kNulObj, sizeof kNulObj - 1), {"m.obj:2:", "\\x00"}},
       {tri + "f 1 2 3\x01\n", {"m.obj:4:", "\\x01"}},
       {tri + "curv 0 1 1 2\nf 1 2 3\n", {"m.obj:4:", "curv"}},
+      // Materials come from the scene; the file's own are refused, not ignored.
+      {"mtllib box.mtl\n" + tri + "f 1 2 3\n", {"m.obj:1:", "'mtllib' is not supported", "material"}},
+      {tri + "usemtl red\nf 1 2 3\n", {"m.obj:4:", "'usemtl' is not supported", "material"}},
   };
   for (const auto& c : cases) {
     SCOPED_TRACE(c.obj);
@@ -81,11 +84,11 @@ TEST(InputLimits, BadObjStatementsNameFileAndLine) {
 }
 
 TEST(InputLimits, GoodObjStatementsAreAccepted) {
-  // Relative (negative) indices, v/t/n forms, w and comments, groups, smoothing, materials,
-  // CRLF line ends, a quad: all legal OBJ.
+  // Relative (negative) indices, v/t/n forms, w and comments, groups, smoothing, CRLF
+  // line ends, a quad: all legal OBJ.
   ScratchDir dir;
   dir.file("m.obj",
-           "# a comment\r\nmtllib none.mtl\r\no thing\r\ng part\r\ns 1\r\nusemtl x\r\n"
+           "# a comment\r\no thing\r\ng part\r\ns 1\r\n"
            "v 0 0 0 1\r\nv 1 0 0\r\nv 1 0 1\r\nv 0 0 1\r\nvt 0 0\r\nvt 1 0\r\nvt 1 1\r\nvn 0 1 0\r\n"
            "f -4/-3/-1 -3/-2/-1 -2/-1/-1\r\nf 1//1 3//1 4//1\r\nf 1 2 3 4\r\n");
   const std::string scene = dir.file("s.json", kMeshScene);
