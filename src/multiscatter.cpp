@@ -203,6 +203,10 @@ CoatRow coat_row(Float alpha) {
   const int r0 = std::clamp(int(fx), 0, kCoatRoughnessSize - 2);
   return {r0, std::clamp(fx - Float(r0), Float(0), Float(1))};
 }
+
+CoatRow coat_row(const CoatAlbedo& c, Float alpha) {
+  return alpha == c.row_alpha ? CoatRow{c.r0, c.tr} : coat_row(alpha);
+}
 }  // namespace
 
 CoatAlbedo CoatAlbedo::make(MicrofacetType type, Float eta) {
@@ -216,9 +220,16 @@ CoatAlbedo CoatAlbedo::make(MicrofacetType type, Float eta) {
   return c;
 }
 
+void CoatAlbedo::prepare_roughness(Float alpha) {
+  const CoatRow r = coat_row(alpha);
+  row_alpha = alpha;
+  r0 = r.r0;
+  tr = r.tr;
+}
+
 Float CoatAlbedo::E(Float alpha, Float mu) const {
   const auto& table = type == MicrofacetType::GGX ? kGgxCoatAlbedo : kBeckmannCoatAlbedo;
-  const CoatRow r = coat_row(alpha);
+  const CoatRow r = coat_row(*this, alpha);
   // Columns are uniform in s = μ^(1/4); the interpolation is linear in μ between them.
   const Float m = std::clamp(mu, Float(0), Float(1));
   const Float fs = std::sqrt(std::sqrt(m)) * Float(kCoatCosineSize - 1);
@@ -236,7 +247,7 @@ Float CoatAlbedo::E(Float alpha, Float mu) const {
 
 Float CoatAlbedo::average(Float alpha) const {
   const auto& t = type == MicrofacetType::GGX ? kGgxCoatAverage : kBeckmannCoatAverage;
-  const CoatRow r = coat_row(alpha);
+  const CoatRow r = coat_row(*this, alpha);
   const Float lo = t[r.r0][k0] * (1 - tk) + t[r.r0][k0 + 1] * tk;
   const Float hi = t[r.r0 + 1][k0] * (1 - tk) + t[r.r0 + 1][k0 + 1] * tk;
   return lo * (1 - r.tr) + hi * r.tr;
@@ -250,9 +261,12 @@ struct CoatMixture {
   Float w[4];  // (r0, k0), (r0, k0 + 1), (r0 + 1, k0), (r0 + 1, k0 + 1)
   Float total;
 };
-CoatMixture coat_mixture(MicrofacetType type, int k0, Float tk, Float alpha) {
+CoatMixture coat_mixture(const CoatAlbedo& c, Float alpha) {
+  const MicrofacetType type = c.type;
+  const int k0 = c.k0;
+  const Float tk = c.tk;
   const auto& loss = type == MicrofacetType::GGX ? kGgxCoatLoss : kBeckmannCoatLoss;
-  const CoatRow r = coat_row(alpha);
+  const CoatRow r = coat_row(c, alpha);
   CoatMixture m{r.r0, k0, {}, 0};
   m.w[0] = (1 - r.tr) * (1 - tk) * loss[r.r0][k0];
   m.w[1] = (1 - r.tr) * tk * loss[r.r0][k0 + 1];
@@ -263,12 +277,12 @@ CoatMixture coat_mixture(MicrofacetType type, int k0, Float tk, Float alpha) {
 }
 }  // namespace
 
-Float CoatAlbedo::complement_loss(Float alpha) const { return coat_mixture(type, k0, tk, alpha).total; }
+Float CoatAlbedo::complement_loss(Float alpha) const { return coat_mixture(*this, alpha).total; }
 
 Float CoatAlbedo::sample_complement(Float alpha, Float u) const {
   const auto& table = type == MicrofacetType::GGX ? kGgxCoatAlbedo : kBeckmannCoatAlbedo;
   const auto& cdf = type == MicrofacetType::GGX ? kGgxCoatCdf : kBeckmannCoatCdf;
-  const CoatMixture m = coat_mixture(type, k0, tk, alpha);
+  const CoatMixture m = coat_mixture(*this, alpha);
   // Choose a row with probability w / total and reuse u within it.
   Float x = u * m.total;
   int j = 0;

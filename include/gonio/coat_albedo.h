@@ -21,9 +21,16 @@ struct CoatAlbedo {
   MicrofacetType type = MicrofacetType::GGX;
   int k0 = 0;      // η node below
   Float tk = 0;    // fraction towards node k0 + 1
+  // The α row of one roughness, found once (a logarithm) rather than per lookup.
+  Float row_alpha = -1;
+  int r0 = 0;
+  Float tr = 0;
 
   static CoatAlbedo make(MicrofacetType type, Float eta);
-  // E_coat(μ) at isotropic roughness alpha (clamped to the table's [1e-4, 10]).
+  // Prepares lookups at roughness alpha (the coat's, or a texture's): lookups at another
+  // α still work, finding their row each time.
+  void prepare_roughness(Float alpha);
+  // E_coat(μ) at isotropic roughness alpha (clamped to the table's [1e-3, 10]).
   Float E(Float alpha, Float mu) const;
   // Ē_coat at isotropic roughness alpha.
   Float average(Float alpha) const;

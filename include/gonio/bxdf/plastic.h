@@ -95,6 +95,7 @@ struct PlasticBxDF {
   }
   // After the coat's roughness changed (a textured alpha).
   void update_coat() {
+    if (coat) coat_albedo.prepare_roughness(coat->alpha_x);
     transmit = smooth() ? transmit_smooth : 1 - coat_albedo.average(*coat);
     // Cosine sampling of the base has weights up to 1/(1 − Ē): keep it while that is ≤ 2.
     base_sampling = BaseSampling::Cosine;
