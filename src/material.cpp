@@ -20,6 +20,8 @@
 #include "gonio/json_text.h"
 #include "gonio/material_types.h"
 #include "gonio/metals.h"
+#include "gonio/spectrum/spectrum_json.h"
+#include "gonio/spectrum/spectrum_to_rgb.h"
 
 namespace gonio {
 namespace {
@@ -119,10 +121,29 @@ class Params {
         if (!e.is_number()) fail(std::string(key) + " must be a number or [r, g, b], got " + show(v));
         c[i] = static_cast<Float>(checked(key, e));
       }
+    } else if (v.is_object()) {
+      // A spectrum (SPEC §2), reduced to RGB: a conductor's n and k by their values at the
+      // channels' wavelengths, any other colour as a reflectance under D65.
+      const std::string k(key);
+      const SpectrumUse use = k == "eta" || k == "k" ? SpectrumUse::kIndex : SpectrumUse::kReflectance;
+      c = spectrum_to_rgb(spectrum(key, use), use);
+      for (int i = 0; i < Color::size(); ++i) check_range(key, c[i]);
     } else {
-      fail(std::string(key) + " must be a number or [r, g, b], got " + show(v));
+      fail(std::string(key) + " must be a number, [r, g, b] or a spectrum, got " + show(v));
     }
     return c;
+  }
+
+  // A dielectric's index: a number, or (SPEC §2) a named glass, {"sellmeier": ...} or
+  // {"spectrum": ...}, which RGB mode reads at the green channel's wavelength.
+  double index(const char* key) {
+    const json& v = value(key);
+    if (v.is_number()) return number(key);
+    if (!v.is_string() && !v.is_object())
+      fail(std::string(key) + " must be a number, a glass name, {\"sellmeier\": ...} or a spectrum, got " + show(v));
+    const double d = spectrum(key, SpectrumUse::kIndex).eval(kRgbIndexWavelengths[1]);
+    check_range(key, d);
+    return d;
   }
 
   bool boolean(const char* key) {
@@ -174,6 +195,14 @@ class Params {
     fail(std::string(key) + " must be " + list + ", got \"" + got + "\"");
   }
 
+  // Before the type reads anything: a misspelt key is named as such, not reported as the
+  // required parameter it was meant to be ("alpah" → unknown 'alpah', not missing 'alpha').
+  void reject_undeclared() const {
+    for (const auto& [key, value] : obj_.items())
+      if (key != "type" && !find_param(type_, key))
+        fail("unknown parameter '" + key + "'; " + std::string(type_.name) + " takes " + param_names(type_));
+  }
+  // After it: a declared key the type did not read (one that another key excludes).
   void reject_unknown() const {
     for (const auto& [key, value] : obj_.items()) {
       if (key == "type") continue;
@@ -183,6 +212,14 @@ class Params {
   }
 
  private:
+  // parse_spectrum's errors start with the field; they get this material's prefix.
+  Spectrum spectrum(const char* key, SpectrumUse use) {
+    try {
+      return parse_spectrum(value(key), key, use);
+    } catch (const InputError& e) {
+      fail(e.what());
+    }
+  }
   double finite(const char* key, const json& v) const {
     const double d = v.get<double>();
     if (!std::isfinite(d)) fail(std::string(key) + " must be finite, got " + show(v));
@@ -312,7 +349,7 @@ BxDF make_roughconductor(Params& p) {
 BxDF make_roughdielectric(Params& p) {
   RoughDielectricBxDF m;
   m.distribution = make_distribution(p);
-  m.eta = Float(p.number("eta"));
+  m.eta = Float(p.index("eta"));
   if (p.boolean("multiscatter")) {
     if (!m.distribution.is_isotropic())
       p.fail("multiscatter needs an isotropic alpha (a number), got [alpha_x, alpha_y]");
@@ -327,7 +364,7 @@ BxDF make_roughdielectric(Params& p) {
 
 BxDF make_dielectric(Params& p) {
   DielectricBxDF m;
-  m.eta = Float(p.number("eta"));
+  m.eta = Float(p.index("eta"));
   return m;
 }
 
@@ -381,7 +418,7 @@ BxDF make_ashikhminshirley(Params& p) {
 
 BxDF make_plastic(Params& p) {
   const Color reflectance = p.color("reflectance");
-  const Float eta = Float(p.number("eta"));
+  const Float eta = Float(p.index("eta"));
   std::optional<MicrofacetDistribution> coat;
   if (p.has("alpha")) coat = make_distribution(p);
   else if (p.has("distribution")) p.fail("distribution needs alpha (a rough coat)");
@@ -464,6 +501,7 @@ BxDF parse_description(const json& description, const std::string& where, int bl
   }
   if (type == "blend") {
     Params p(description, at + "blend: ", *spec);
+    p.reject_undeclared();
     BxDF m = make_blend(p, where.empty() ? "blend" : where + ": blend", blend_depth);
     p.reject_unknown();
     return m;
@@ -471,6 +509,7 @@ BxDF parse_description(const json& description, const std::string& where, int bl
   for (const auto& t : kMakers) {
     if (t.name == type) {
       Params p(description, at + type + ": ", *spec);
+      p.reject_undeclared();
       BxDF m = t.make(p);
       p.reject_unknown();
       return m;

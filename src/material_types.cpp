@@ -32,7 +32,7 @@ constexpr ParamSpec kDistributionParam{"distribution", K::Choice, "\"ggx\"", {},
 constexpr ParamSpec kFresnelParam{"fresnel", K::Choice, "\"exact\"", {}, "", "exact|schlick", false,
                                   "Conductor Fresnel: exact for the complex index, or Schlick's approximation."};
 constexpr ParamSpec kConductorEta{"eta", K::Color, "", kIndex, "", "", false,
-                                  "Real part of the complex index relative to the outside medium, per channel."};
+                                  "Real part of the complex index relative to the outside medium, per channel (a spectrum: its values at 650, 550, 450 nm)."};
 constexpr ParamSpec kConductorK{"k", K::Color, "0", kExtinction, "", "", false,
                                 "Extinction coefficient (imaginary part of the index), per channel; needs eta."};
 constexpr ParamSpec kMetalParam{"material", K::Metal, "", {}, "", "", false,
@@ -43,7 +43,8 @@ constexpr ParamSpec kMultiscatterParam{"multiscatter", K::Boolean, "false", {}, 
                                        "Add Kulla-Conty's energy-compensation lobe for light scattered more "
                                        "than once between microfacets (isotropic alpha only)."};
 constexpr ParamSpec kDielectricEta{"eta", K::Number, "1.5", kIndex, "", "", false,
-                                   "Relative index n(inside) / n(outside), the outside being where the normal points."};
+                                   "Relative index n(inside) / n(outside), the outside being where the normal points; or a named glass "
+                                   "(\"BK7\"), {\"sellmeier\": ...} or a spectrum, read at 550 nm in RGB mode."};
 constexpr ParamSpec kKd{"kd", K::Color, "", kUnit, "", "", true, "Diffuse albedo."};
 constexpr ParamSpec kKs{"ks", K::Color, "", kUnit, "", "", true, "Specular albedo at normal incidence (the lobe's weight)."};
 
@@ -84,7 +85,7 @@ constexpr ParamSpec kAshikhminShirley[] = {
 };
 constexpr ParamSpec kPlastic[] = {
     {"reflectance", K::Color, "0.5", kUnit, "", "", false, "Albedo of the diffuse base under the coat."},
-    {"eta", K::Number, "1.5", closed(1, kMaxIndex), "", "", false, "Index of the coat relative to the outside."},
+    {"eta", K::Number, "1.5", closed(1, kMaxIndex), "", "", false, "Index of the coat relative to the outside (a number, a named glass, {\"sellmeier\": ...} or a spectrum, read at 550 nm)."},
     {"alpha", K::Roughness, "", kAlpha, "", "", false,
      "Roughness of the coat (isotropic: a number); absent: a smooth coat."},
     {"distribution", K::Choice, "\"ggx\"", {}, "", "ggx|beckmann", false,

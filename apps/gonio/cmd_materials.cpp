@@ -47,7 +47,7 @@ std::string choice_list(std::string_view choices, bool code) {
 std::string kind_text(const ParamSpec& p, bool code) {
   switch (p.kind) {
     case ParamKind::Number: return "number";
-    case ParamKind::Color: return code ? "colour (number or `[r, g, b]`)" : "colour (number or [r, g, b])";
+    case ParamKind::Color: return code ? "colour (number, `[r, g, b]` or spectrum)" : "colour (number, [r, g, b] or spectrum)";
     case ParamKind::Roughness:
       return code ? "number or `[alpha_x, alpha_y]`" : "number or [alpha_x, alpha_y]";
     case ParamKind::Choice: return choice_list(p.choices, code);
@@ -74,7 +74,9 @@ std::string markdown() {
   s += "# Material reference\n\n";
   s += "A material is one JSON object with a `\"type\"` and that type's parameters (SPEC §2, "
        "[spec.md](spec.md#2-material-description-json)); `gonio eval|sample|albedo|check --bsdf` and the "
-       "scene files take it. A colour is a number (grey) or `[r, g, b]`, linear. Any key a type does not "
+       "scene files take it. A colour is a number (grey) or `[r, g, b]`, linear, or a spectrum "
+       "(`{\"spectrum\": [[nm, value], ...]}` or `{\"spectrum\": \"file.csv\"}`), which RGB mode reduces to the "
+       "colour of the surface under D65 (an index `eta`/`k`: its values at 650, 550 and 450 nm). Any key a type does not "
        "list below is an error, which names the keys the type takes; so are a missing parameter marked "
        "*required* and a value outside its range (ranges apply per channel, and per entry of "
        "`[alpha_x, alpha_y]`). A parameter whose default is *none* may be left out, with the meaning "

@@ -2,6 +2,7 @@
 // file's own quadrature and the IEC 61966-2-1 matrix written out here, and the error
 // contract for bad --rgb values.
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <fstream>
@@ -112,6 +113,68 @@ TEST(CliSpectrum, BadInputIsRefused) {
   expect_bad_input(run_gonio({"spectrum", "--rgb", "0.5", "0.5"}), {"--rgb"});
   expect_bad_input(run_gonio({"spectrum", "--rgb", "abc", "0", "0"}), {"--rgb"});
   expect_bad_input(run_gonio({"spectrum"}), {"--rgb"});
+}
+
+
+// SPEC §2: a colour parameter given as a spectrum. RGB mode reduces a reflectance to its
+// colour under D65 (this file's srgb_of), clamped to [0, 1] outside the sRGB gamut.
+TEST(CliSpectrumParams, ReflectanceSpectrumIsItsColourUnderD65) {
+  // A smooth ramp (inside the gamut) and a step at 600 nm (outside: green and blue < 0).
+  const std::vector<std::vector<std::array<double, 2>>> spectra = {
+      {{360, 0.2}, {830, 0.8}}, {{360, 0}, {599, 0}, {600, 1}, {830, 1}}};
+  for (const auto& pts : spectra) {
+    json points = json::array(), printed{{"lambda", json::array()}, {"values", json::array()}};
+    for (const auto& p : pts) points.push_back({p[0], p[1]});
+    for (int nm = 360; nm <= 830; ++nm) {  // the same spectrum at 1 nm for srgb_of
+      double v = pts.back()[1];
+      for (size_t i = 0; i + 1 < pts.size(); ++i)
+        if (pts[i][0] <= nm && nm <= pts[i + 1][0])
+          v = pts[i][1] + (nm - pts[i][0]) / (pts[i + 1][0] - pts[i][0]) * (pts[i + 1][1] - pts[i][1]);
+      printed["lambda"].push_back(nm);
+      printed["values"].push_back(v);
+    }
+    const json bsdf{{"type", "diffuse"}, {"reflectance", {{"spectrum", points}}}};
+    const json out = run_one({"eval", "--bsdf", bsdf.dump()}, "0 0 1 0 0 1\n");
+    const auto f = color3(out["f"]);
+    const auto expect = srgb_of(printed, false);
+    for (size_t c = 0; c < 3; ++c)
+      EXPECT_NEAR(f[c] * M_PI, std::clamp(expect[c], 0.0, 1.0), 1e-3) << bsdf.dump() << " channel " << c;
+  }
+}
+
+// A dielectric's eta as a named glass or a Sellmeier formula: RGB mode reads it at 550 nm.
+// n(λ)² = 1 + Σ B λ² / (λ² − C), λ in µm (Schott's N-BK7 catalogue coefficients, typed here).
+TEST(CliSpectrumParams, GlassIndexIsReadAt550nm) {
+  const double B[3] = {1.03961212, 0.231792344, 1.01046945}, C[3] = {0.00600069867, 0.0200179144, 103.560653};
+  const double l2 = 0.55 * 0.55;
+  double n2 = 1;
+  for (int i = 0; i < 3; ++i) n2 += B[i] * l2 / (l2 - C[i]);
+  const double n = std::sqrt(n2), r0 = (n - 1) * (n - 1) / ((n + 1) * (n + 1));
+  const json sellmeier{{"type", "dielectric"}, {"eta", {{"sellmeier", {{"B", B}, {"C", C}}}}}};
+  for (const json& bsdf : {json{{"type", "dielectric"}, {"eta", "BK7"}}, sellmeier}) {
+    const json out = run_one({"albedo", "--theta", "0", "--bsdf", bsdf.dump()});
+    for (double r : color3(out["reflectance"])) EXPECT_NEAR(r, r0, 2e-6) << bsdf.dump();
+  }
+  expect_bad_input(run_gonio({"albedo", "--theta", "0", "--bsdf", R"({"type":"dielectric","eta":"BK8"})"}),
+                   {"eta", "BK8", "BK7"});
+}
+
+// A conductor's eta and k as spectra: the channels take their values at 650, 550, 450 nm.
+TEST(CliSpectrumParams, ConductorIndexSpectraAreReadPerChannel) {
+  const std::string wo_wi = "0.3 0.1 0.9 -0.2 0.4 0.8\n";
+  const json spectral = run_one(
+      {"eval", "--bsdf",
+       R"({"type":"roughconductor","alpha":0.3,"eta":{"spectrum":[[400,0.3],[700,0.9]]},"k":{"spectrum":[[400,4],[700,1]]}})"},
+      wo_wi);
+  // Linear in λ: eta(650, 550, 450) = 0.8, 0.6, 0.4; k = 1.5, 2.5, 3.5.
+  const json rgb = run_one(
+      {"eval", "--bsdf", R"({"type":"roughconductor","alpha":0.3,"eta":[0.8,0.6,0.4],"k":[1.5,2.5,3.5]})"}, wo_wi);
+  const auto a = color3(spectral["f"]), b = color3(rgb["f"]);
+  for (size_t c = 0; c < 3; ++c) EXPECT_NEAR(a[c], b[c], 1e-6 * b[c]) << c;
+  EXPECT_NE(a[0], a[2]);
+  expect_bad_input(run_gonio({"eval", "--bsdf", R"({"type":"diffuse","reflectance":{"spectrum":[[400,0.5],[700,1.5]]}})"},
+                             wo_wi),
+                   {"reflectance", "1.5"});
 }
 
 }  // namespace
