@@ -20,6 +20,8 @@
 #include "gonio/material.h"
 #include "gonio/render/mesh_loader.h"
 #include "gonio/render/texture.h"
+#include "gonio/spectrum/spectrum_json.h"
+#include "gonio/spectrum/spectrum_to_rgb.h"
 
 namespace gonio::render {
 namespace {
@@ -118,15 +120,23 @@ class Node {
     if (!(length_squared(v) > 0)) fail("must be a non-zero vector, got " + show(*v_));
     return v;
   }
-  // A colour: a number (grey) or [r, g, b], each >= 0.
-  Color color() const {
+  // A light's colour: a number (grey) or [r, g, b], each >= 0, or (SPEC §2) an emission
+  // spectrum — {"spectrum": ...} (a CSV relative to the scene file), {"blackbody": K} or
+  // {"illuminant": "D65"}, the last two of luminance 1 — reduced to linear sRGB.
+  Color color(const std::string& base_dir) const {
     Color c;
     if (v_->is_number()) {
       c = Color(static_cast<Float>(number(0, 1e30)));
     } else if (v_->is_array() && v_->size() == static_cast<size_t>(Color::size())) {
       for (int i = 0; i < Color::size(); ++i) c[i] = static_cast<Float>(at(static_cast<size_t>(i)).number(0, 1e30));
+    } else if (v_->is_object()) {
+      try {
+        c = spectrum_to_rgb(parse_spectrum(*v_, "emission", SpectrumUse::kEmission, base_dir), SpectrumUse::kEmission);
+      } catch (const InputError& e) {
+        fail(e.what());
+      }
     } else {
-      fail("must be a number or [r, g, b], got " + show(*v_));
+      fail("must be a number, [r, g, b] or an emission spectrum, got " + show(*v_));
     }
     return c;
   }
@@ -506,12 +516,12 @@ struct Loader {
     const std::string type = n.required("type").string();
     if (type == "point") {
       n.object({"type", "position", "intensity"});
-      scene.point_lights.push_back({n.required("position").vec3(), n.required("intensity").color()});
+      scene.point_lights.push_back({n.required("position").vec3(), n.required("intensity").color(base_dir)});
     } else if (type == "quad") {
       n.object({"type", "corner", "edge1", "edge2", "radiance", "two_sided"});
       QuadLight q;
       quad_geometry(n, q.corner, q.edge1, q.edge2);
-      q.radiance = n.required("radiance").color();
+      q.radiance = n.required("radiance").color(base_dir);
       if (n.has("two_sided")) q.two_sided = n.at("two_sided").boolean();
       scene.area_lights.emplace_back(q);
       add_quad_mesh(q.corner, q.edge1, q.edge2, emitter_material(), static_cast<int>(scene.area_lights.size()) - 1);
@@ -520,7 +530,7 @@ struct Loader {
       SphereLight s;
       s.center = n.required("center").vec3();
       s.radius = static_cast<Float>(n.required("radius").number(0, 1e30, true));
-      s.radiance = n.required("radiance").color();
+      s.radiance = n.required("radiance").color(base_dir);
       scene.area_lights.emplace_back(s);
       scene.spheres.push_back({s.center, s.radius, emitter_material(), static_cast<int>(scene.area_lights.size()) - 1});
     } else {
@@ -541,7 +551,7 @@ struct Loader {
     if (n.has("radiance") == n.has("file")) n.fail("give exactly one of \"radiance\" or \"file\"");
     if (n.has("radiance")) {
       if (n.has("scale") || n.has("rotation")) n.fail("\"scale\" and \"rotation\" apply to an environment \"file\"");
-      scene.environment = Environment(n.at("radiance").color());
+      scene.environment = Environment(n.at("radiance").color(base_dir));
       return;
     }
     const Node file = n.at("file");

@@ -170,5 +170,33 @@ TEST(InputLimits, RenderOfAnEndlessDeviceStops) {
   gonio_cli_test::expect_bad_input(r, {"/dev/zero", "too large"});
 }
 
+// ---------------------------------------------------------------------------------------
+// Light colours as emission spectra (SPEC §2), reduced to linear sRGB. Expected values
+// from colorimetry, not from gonio: D65 of luminance 1 is sRGB's white (1, 1, 1); an
+// equal-energy spectrum of value v has XYZ = v (1, 1, 1) (the CIE 1931 functions have equal
+// integrals), so its sRGB is v times the row sums of IEC 61966-2-1's XYZ → sRGB matrix.
+
+TEST(SceneSpectra, LightColoursTakeEmissionSpectra) {
+  ScratchDir dir;
+  dir.file("flat.csv", "nm,value\n360,2\n830,2\n");
+  const Scene s = load_scene_file(dir.file("s.json", R"({"lights": [
+      {"type": "point", "position": [0, 2, 0], "intensity": {"illuminant": "D65"}},
+      {"type": "point", "position": [0, 3, 0], "intensity": {"spectrum": "flat.csv"}},
+      {"type": "point", "position": [0, 4, 0], "intensity": {"blackbody": 2700}}]})"));
+  ASSERT_EQ(s.point_lights.size(), 3u);
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(s.point_lights[0].intensity[c], 1.0, 2e-3) << c;
+  const double rows[3] = {3.2406 - 1.5372 - 0.4986, -0.9689 + 1.8758 + 0.0415, 0.0557 - 0.2040 + 1.0570};
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(s.point_lights[1].intensity[c], 2 * rows[c], 2 * rows[c] * 2e-3) << c;
+  // A 2700 K blackbody is orange: red above green above blue, luminance about 1.
+  const Color warm = s.point_lights[2].intensity;
+  EXPECT_GT(warm[0], warm[1]);
+  EXPECT_GT(warm[1], warm[2]);
+  EXPECT_NEAR(0.2126 * warm[0] + 0.7152 * warm[1] + 0.0722 * warm[2], 1.0, 5e-3);
+  expect_error(load_error(dir.file("t.json", R"({"lights": [{"type": "point", "position": [0, 2, 0], "intensity": {"blackbody": 10}}]})")),
+               {"t.json: /lights/0/intensity", "blackbody"});
+  expect_error(load_error(dir.file("u.json", R"({"lights": [{"type": "point", "position": [0, 2, 0], "intensity": {"sellmeier": 1}}]})")),
+               {"u.json: /lights/0/intensity", "sellmeier"});
+}
+
 }  // namespace
 }  // namespace gonio::render

@@ -1,6 +1,6 @@
 #pragma once
-// A colour parameter of SPEC §2 as a Spectrum (the material parser reduces it to RGB with
-// spectrum_to_rgb.h; the scene parser's lights do not call it yet). Accepted forms:
+// A colour parameter of SPEC §2 as a Spectrum (the material and scene parsers reduce it to
+// RGB with spectrum_to_rgb.h). Accepted forms:
 //   number, [r, g, b]                 reflectance: in [0, 1] (RGB upsampled, Jakob & Hanika)
 //                                     emission: ≥ 0 (RGB illuminant: m S(rgb/m) D65)
 //                                     index: a number > 0 (no RGB)
