@@ -33,13 +33,6 @@ using nlohmann::json;
 // 4 GB to parse (each level's error prefix copies the one above).
 constexpr int kMaxBlendDepth = 8;
 
-std::string format_number(double v) {
-  std::ostringstream os;
-  os.precision(9);
-  os << v;
-  return os.str();
-}
-
 // A parameter that must be positive must stay positive, and normal, as a float: 1e-320
 // passes "> 0" as a double but becomes 0 (or a denormal, whose reciprocal overflows).
 bool positive_float(double v) { return static_cast<float>(v) >= FLT_MIN; }

@@ -123,12 +123,12 @@ std::vector<double> angle_range(const std::vector<double>& v, const char* option
   if (v.size() != 3) throw InputError(name + " needs FROM TO COUNT");
   for (int i = 0; i < 2; ++i)
     if (!(v[size_t(i)] >= lo && v[size_t(i)] <= hi))
-      throw InputError(name + ": " + (i == 0 ? "FROM" : "TO") + " must be in [" + show_number(lo) + ", " +
-                       show_number(hi) + "] degrees, got " + show_number(v[size_t(i)]));
+      throw InputError(name + ": " + (i == 0 ? "FROM" : "TO") + " must be in [" + format_number(lo) + ", " +
+                       format_number(hi) + "] degrees, got " + format_number(v[size_t(i)]));
   const double count = v[2];
   if (!(count >= 1 && count <= kMaxRangeCount && count == std::floor(count)))
-    throw InputError(name + ": COUNT must be an integer from 1 to " + show_number(kMaxRangeCount) + ", got " +
-                     show_number(count));
+    throw InputError(name + ": COUNT must be an integer from 1 to " + format_number(kMaxRangeCount) + ", got " +
+                     format_number(count));
   const auto n = static_cast<size_t>(count);
   std::vector<double> angles(n);
   for (size_t i = 0; i < n; ++i)
@@ -144,12 +144,6 @@ std::string format(const char* fmt, double v) {
   return buf;
 }
 }  // namespace
-
-std::string show_number(double v) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.9g", v);
-  return buf;
-}
 
 std::string json_number(float v) { return format("%.9g", double(v)); }
 std::string json_number(double v) { return format("%.17g", v); }

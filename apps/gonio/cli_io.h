@@ -58,9 +58,6 @@ Vec3 unit_vector(double x, double y, double z, size_t line, const char* name);
 inline constexpr double kMaxRangeCount = 100000;
 std::vector<double> angle_range(const std::vector<double>& from_to_count, const char* option, double lo, double hi);
 
-// A number for an error message: like json_number, but nan and inf print as words.
-std::string show_number(double v);
-
 std::string json_number(float v);
 std::string json_number(double v);
 std::string json_color(const Color& c);

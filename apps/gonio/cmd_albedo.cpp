@@ -25,8 +25,8 @@ struct AlbedoArgs {
 
 double checked_degrees(double v, double lo, double hi, const char* name) {
   if (!std::isfinite(v) || v < lo || v > hi)
-    throw InputError(std::string(name) + " must be in [" + show_number(lo) + ", " + show_number(hi) +
-                     "] degrees, got " + show_number(v));
+    throw InputError(std::string(name) + " must be in [" + format_number(lo) + ", " + format_number(hi) +
+                     "] degrees, got " + format_number(v));
   return v * kPiD / 180;
 }
 

@@ -63,7 +63,7 @@ std::string object(const std::vector<FresnelLine>& channels, bool schlick) {
 constexpr std::array<float, 3> kChannelNm = {650, 550, 450};
 
 void run_fresnel(const FresnelArgs& a) {
-  const std::string index_range = "[" + show_number(kMinIndex) + ", " + show_number(kMaxIndex) + "]";
+  const std::string index_range = "[" + format_number(kMinIndex) + ", " + format_number(kMaxIndex) + "]";
   // (eta, k) per channel.
   std::vector<std::pair<double, double>> index;
   if (!a.material.empty()) {
@@ -79,9 +79,9 @@ void run_fresnel(const FresnelArgs& a) {
     }
   } else {
     if (!(a.eta >= kMinIndex && a.eta <= kMaxIndex))
-      throw InputError("--eta must be in " + index_range + ", got " + show_number(a.eta));
+      throw InputError("--eta must be in " + index_range + ", got " + format_number(a.eta));
     if (!(a.k >= 0 && a.k <= kMaxIndex))
-      throw InputError("--k must be in [0, " + show_number(kMaxIndex) + "], got " + show_number(a.k));
+      throw InputError("--k must be in [0, " + format_number(kMaxIndex) + "], got " + format_number(a.k));
     index.emplace_back(a.eta, a.k);
   }
   std::vector<double> thetas;
@@ -89,7 +89,7 @@ void run_fresnel(const FresnelArgs& a) {
     thetas = angle_range(a.theta_range, "--theta-range", 0, 90);
   } else {
     if (!(a.theta >= 0 && a.theta <= 90))
-      throw InputError("--theta must be in [0, 90] degrees, got " + show_number(a.theta));
+      throw InputError("--theta must be in [0, 90] degrees, got " + format_number(a.theta));
     thetas.push_back(a.theta);
   }
   // Everything is computed before anything is written.

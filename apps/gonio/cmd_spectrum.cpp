@@ -41,8 +41,8 @@ void run_spectrum(const SpectrumArgs& a) {
   for (int i = 0; i < 3; ++i) {
     const double v = a.rgb[size_t(i)];
     if (!(v >= 0 && v <= hi))
-      throw InputError(std::string("--rgb: ") + names[i] + " must be in [0, " + show_number(hi) + "]" +
-                       (a.emission ? "" : " for a reflectance (--emission for light)") + ", got " + show_number(v));
+      throw InputError(std::string("--rgb: ") + names[i] + " must be in [0, " + format_number(hi) + "]" +
+                       (a.emission ? "" : " for a reflectance (--emission for light)") + ", got " + format_number(v));
   }
   const Float r = Float(a.rgb[0]), g = Float(a.rgb[1]), b = Float(a.rgb[2]);
   if (a.emission) print_spectrum(RgbIlluminantSpectrum(r, g, b), true);

@@ -3,11 +3,20 @@
 // data file). Its message is one line that names the place and the problem; the CLI
 // prints it and exits with status 2.
 
+#include <cstdio>
 #include <stdexcept>
 #include <string>
 #include <string_view>
 
 namespace gonio {
+
+// A number as error messages show it: the shortest form that gives back the float
+// (printf's %.9g), e.g. "0.1", "1e+39", "nan".
+inline std::string format_number(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.9g", v);
+  return buf;
+}
 
 // `text` with every control character written as an escape (\n, \r, \t, else \xNN,
 // DEL included), so that user text echoed in a message cannot break it into several

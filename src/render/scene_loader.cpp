@@ -34,13 +34,6 @@ std::string show(const json& v) {
   return s;
 }
 
-std::string format_number(double v) {
-  std::ostringstream os;
-  os.precision(9);
-  os << v;
-  return os.str();
-}
-
 // A JSON value together with where it is, for messages.
 class Node {
  public:

@@ -12,21 +12,15 @@
 namespace gonio {
 namespace {
 
-std::string show(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.9g", v);
-  return buf;
-}
-
 // Checks one point against its predecessor; `at` names it ("file.csv:7: " or "what: point 3: ").
 void check_point(double nm, double value, const double* previous_nm, const std::string& at) {
   if (!std::isfinite(nm) || !(nm > 0))
-    throw InputError(at + "wavelength must be a positive number of nm, got " + show(nm));
-  if (nm > 1e6) throw InputError(at + "wavelength must be at most 1e6 nm, got " + show(nm));
+    throw InputError(at + "wavelength must be a positive number of nm, got " + format_number(nm));
+  if (nm > 1e6) throw InputError(at + "wavelength must be at most 1e6 nm, got " + format_number(nm));
   if (previous_nm && !(nm > *previous_nm))
-    throw InputError(at + "wavelengths must increase, got " + show(nm) + " nm after " + show(*previous_nm) + " nm");
+    throw InputError(at + "wavelengths must increase, got " + format_number(nm) + " nm after " + format_number(*previous_nm) + " nm");
   if (!std::isfinite(value) || std::abs(value) > 1e30)
-    throw InputError(at + "value must be a finite number, got " + show(value));
+    throw InputError(at + "value must be a finite number, got " + format_number(value));
 }
 
 }  // namespace
@@ -45,7 +39,7 @@ PiecewiseLinearSpectrum PiecewiseLinearSpectrum::from_points(const std::vector<s
   for (size_t i = 1; i < s.lambda_.size(); ++i)
     if (!(s.lambda_[i] > s.lambda_[i - 1]))
       throw InputError(std::string(what) + ": point " + std::to_string(i + 1) + ": wavelengths " +
-                       show(points[i - 1].first) + " and " + show(points[i].first) + " nm are too close");
+                       format_number(points[i - 1].first) + " and " + format_number(points[i].first) + " nm are too close");
   return s;
 }
 

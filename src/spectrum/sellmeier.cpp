@@ -9,11 +9,6 @@
 
 namespace gonio {
 namespace {
-std::string show(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.9g", v);
-  return buf;
-}
 constexpr double kLoUm = kLambdaMin / 1000.0, kHiUm = kLambdaMax / 1000.0;
 }  // namespace
 
@@ -23,14 +18,14 @@ SellmeierSpectrum::SellmeierSpectrum(const std::array<double, 3>& b, const std::
   const std::string w(what);
   for (int i = 0; i < 3; ++i) {
     if (!std::isfinite(b[size_t(i)]) || std::abs(b[size_t(i)]) > 1e6)
-      throw InputError(w + ": B[" + std::to_string(i) + "] must be a finite number, got " + show(b[size_t(i)]));
+      throw InputError(w + ": B[" + std::to_string(i) + "] must be a finite number, got " + format_number(b[size_t(i)]));
     if (!std::isfinite(c[size_t(i)]) || c[size_t(i)] < 0 || c[size_t(i)] > 1e12)
-      throw InputError(w + ": C[" + std::to_string(i) + "] must be a number ≥ 0 (µm²), got " + show(c[size_t(i)]));
+      throw InputError(w + ": C[" + std::to_string(i) + "] must be a number ≥ 0 (µm²), got " + format_number(c[size_t(i)]));
     // A pole λ² = C_i inside the visible range (with a margin of 1 nm).
     const double pole = std::sqrt(c[size_t(i)]);
     if (b[size_t(i)] != 0 && pole >= kLoUm - 1e-3 && pole <= kHiUm + 1e-3)
-      throw InputError(w + ": C[" + std::to_string(i) + "] = " + show(c[size_t(i)]) + " µm² puts a pole at " +
-                       show(pole * 1000) + " nm, inside the visible range 360-830 nm");
+      throw InputError(w + ": C[" + std::to_string(i) + "] = " + format_number(c[size_t(i)]) + " µm² puts a pole at " +
+                       format_number(pole * 1000) + " nm, inside the visible range 360-830 nm");
   }
   // n within [1e-4, 1e4] over the visible range (n² is monotone between poles, so a
   // dense check finds where it leaves the range).
@@ -40,8 +35,8 @@ SellmeierSpectrum::SellmeierSpectrum(const std::array<double, 3>& b, const std::
     const double l2 = (nm / 1000) * (nm / 1000);
     for (int i = 0; i < 3; ++i) s += b[size_t(i)] * l2 / (l2 - c[size_t(i)]);
     if (!(s >= 1e-8 && s <= 1e8))
-      throw InputError(w + ": the index must be within [1e-4, 1e4] over 360-830 nm, but n² = " + show(s) + " at " +
-                       show(nm) + " nm");
+      throw InputError(w + ": the index must be within [1e-4, 1e4] over 360-830 nm, but n² = " + format_number(s) + " at " +
+                       format_number(nm) + " nm");
   }
 }
 

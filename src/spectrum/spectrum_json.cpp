@@ -10,12 +10,6 @@
 namespace gonio {
 namespace {
 
-std::string show(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.9g", v);
-  return buf;
-}
-
 const char* use_name(SpectrumUse use) {
   switch (use) {
     case SpectrumUse::kReflectance: return "a reflectance";
@@ -32,7 +26,7 @@ void check_value(double v, const std::string& f, SpectrumUse use) {
                                                    : (v >= 1e-4 && v <= 1e4);
   if (!ok) {
     const char* range = use == SpectrumUse::kReflectance ? "[0, 1]" : use == SpectrumUse::kEmission ? "[0, 1e9]" : "[1e-4, 1e4]";
-    throw InputError(f + ": " + use_name(use) + " must be in " + range + ", got " + show(v));
+    throw InputError(f + ": " + use_name(use) + " must be in " + range + ", got " + format_number(v));
   }
 }
 
@@ -106,8 +100,8 @@ Spectrum parse_spectrum(const nlohmann::json& value, std::string_view field, Spe
     if (use != SpectrumUse::kEmission) throw InputError(f + ": \"blackbody\" is only accepted for emission");
     const double k = number(v, f + ": blackbody");
     if (!(k >= BlackbodySpectrum::kMinKelvin && k <= BlackbodySpectrum::kMaxKelvin))
-      throw InputError(f + ": blackbody temperature must be in [" + show(BlackbodySpectrum::kMinKelvin) + ", " +
-                       show(BlackbodySpectrum::kMaxKelvin) + "] K, got " + show(k));
+      throw InputError(f + ": blackbody temperature must be in [" + format_number(BlackbodySpectrum::kMinKelvin) + ", " +
+                       format_number(BlackbodySpectrum::kMaxKelvin) + "] K, got " + format_number(k));
     return BlackbodySpectrum(k);
   }
   if (key == "illuminant") {

@@ -10,34 +10,14 @@
 #include <string>
 #include <vector>
 
+#include "../data_csv.h"
 #include "run_gonio.h"
 
 namespace gonio_cli_test {
 namespace {
 
-std::vector<std::vector<double>> read_data(const std::string& rel) {
-  std::ifstream in(std::string(GONIO_SOURCE_DIR) + "/data/" + rel);
-  EXPECT_TRUE(in.good()) << rel;
-  std::vector<std::vector<double>> rows;
-  std::string line;
-  while (std::getline(in, line)) {
-    if (line.empty() || !std::isdigit(static_cast<unsigned char>(line[0]))) continue;
-    std::vector<double> r;
-    std::stringstream ss(line);
-    std::string f;
-    while (std::getline(ss, f, ',')) r.push_back(std::stod(f));
-    rows.push_back(r);
-  }
-  return rows;
-}
-
-// Linear interpolation in rows (x = column 0, y = column `col`).
-double lerp_rows(const std::vector<std::vector<double>>& rows, double x, size_t col = 1) {
-  for (size_t i = 0; i + 1 < rows.size(); ++i)
-    if (rows[i][0] <= x && x <= rows[i + 1][0])
-      return rows[i][col] + (x - rows[i][0]) / (rows[i + 1][0] - rows[i][0]) * (rows[i + 1][col] - rows[i][col]);
-  return 0;
-}
+using gonio_test_data::lerp_rows;
+using gonio_test_data::read_data;
 
 // Linear sRGB of the printed spectrum (interpolated to 1 nm): under D65 for a reflectance,
 // on its own for an emission; trapezoid rule.

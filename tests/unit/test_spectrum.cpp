@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "../data_csv.h"
 #include "gonio/error.h"
 #include "gonio/rng.h"
 #include "gonio/spectrum/cie.h"
@@ -29,22 +30,7 @@ namespace {
 // ---------------------------------------------------------------------------------------
 // Independent references
 
-// Rows of numbers of a data/ CSV ('#' comments, one header line), read without gonio.
-std::vector<std::vector<double>> read_data(const std::string& rel) {
-  std::ifstream in(std::string(GONIO_SOURCE_DIR) + "/data/" + rel);
-  EXPECT_TRUE(in.good()) << rel;
-  std::vector<std::vector<double>> rows;
-  std::string line;
-  while (std::getline(in, line)) {
-    if (line.empty() || line[0] == '#' || !(std::isdigit(static_cast<unsigned char>(line[0])))) continue;
-    std::vector<double> r;
-    std::stringstream ss(line);
-    std::string f;
-    while (std::getline(ss, f, ',')) r.push_back(std::stod(f));
-    rows.push_back(r);
-  }
-  return rows;
-}
+using gonio_test_data::read_data;
 
 struct Reference {
   std::vector<double> x, y, z, d65;  // at 360 + k nm, k = 0..470
