@@ -210,7 +210,9 @@ class Params {
     try {
       return parse_spectrum(value(key), key, use);
     } catch (const InputError& e) {
-      fail(e.what());
+      // A spectrum file's own errors name the file, not the field: add it.
+      const std::string what = e.what(), field = std::string(key) + ": ";
+      fail(what.rfind(field, 0) == 0 ? what : field + what);
     }
   }
   double finite(const char* key, const json& v) const {

@@ -155,6 +155,10 @@ TEST(CliSpectrumParams, ConductorIndexSpectraAreReadPerChannel) {
   expect_bad_input(run_gonio({"eval", "--bsdf", R"({"type":"diffuse","reflectance":{"spectrum":[[400,0.5],[700,1.5]]}})"},
                              wo_wi),
                    {"reflectance", "1.5"});
+  // A spectrum file's errors name the field as well as the file.
+  expect_bad_input(run_gonio({"eval", "--bsdf", R"({"type":"diffuse","reflectance":{"spectrum":"no-such-file.csv"}})"},
+                             wo_wi),
+                   {"diffuse: reflectance: ", "no-such-file.csv"});
 }
 
 }  // namespace
