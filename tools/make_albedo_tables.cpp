@@ -18,6 +18,8 @@
 #include <cstdio>
 #include <cstdlib>
 #include <string>
+#include <thread>
+#include <vector>
 
 #include "gonio/fresnel.h"
 #include "gonio/hemispherical_average.h"
@@ -62,6 +64,20 @@ double albedo(MicrofacetType type, double alpha, double mu) {
   });
 }
 
+// fn(i) for i < n on every core (each entry is computed alone, so the output does not
+// depend on the number of threads): the tables below are most of the generator's time,
+// which every build (Release, sanitizers, fuzzing) waits for.
+template <typename Fn>
+void parallel_rows(int n, Fn&& fn) {
+  const int threads = int(std::max(1u, std::thread::hardware_concurrency()));
+  std::vector<std::thread> pool;
+  for (int t = 0; t < threads; ++t)
+    pool.emplace_back([&, t] {
+      for (int i = t; i < n; i += threads) fn(i);
+    });
+  for (auto& th : pool) th.join();
+}
+
 // Importance-mode R + T of the single-scattering rough dielectric for wo on top with
 // relative index e = n(far side) / n(wo's side): the expected weight of visible-normal
 // sampling, F G2/G1(wo) for the reflection and (1 − F) G2/G1(wo) for the refraction
@@ -84,18 +100,22 @@ double dielectric_albedo(MicrofacetType type, double alpha, double e, double mu)
 
 void write_dielectric_tables(FILE* out, const char* name, MicrofacetType type) {
   static double e[2][kAlbedoRoughnessSize][kDielectricEtaSize][kDielectricCosineSize];
+  parallel_rows(2 * kAlbedoRoughnessSize, [&](int row) {
+    const int side = row / kAlbedoRoughnessSize, a = row % kAlbedoRoughnessSize;
+    for (int k = 0; k < kDielectricEtaSize; ++k) {
+      const double eta = dielectric_table_eta(k);
+      for (int m = 0; m < kDielectricCosineSize; ++m)
+        e[side][a][k][m] = dielectric_albedo(type, albedo_table_alpha(a), side == 0 ? eta : 1 / eta, dielectric_table_mu(m));
+    }
+  });
   std::fprintf(out, "const DielectricAlbedoTable %sDielectricAlbedo = {\n", name);
   for (int side = 0; side < 2; ++side) {
     std::fprintf(out, " {\n");
     for (int a = 0; a < kAlbedoRoughnessSize; ++a) {
       std::fprintf(out, "  {\n");
       for (int k = 0; k < kDielectricEtaSize; ++k) {
-        const double eta = dielectric_table_eta(k);
         std::fprintf(out, "   {");
-        for (int m = 0; m < kDielectricCosineSize; ++m) {
-          e[side][a][k][m] = dielectric_albedo(type, albedo_table_alpha(a), side == 0 ? eta : 1 / eta, dielectric_table_mu(m));
-          std::fprintf(out, "%s%.7g", m ? ", " : "", e[side][a][k][m]);
-        }
+        for (int m = 0; m < kDielectricCosineSize; ++m) std::fprintf(out, "%s%.7g", m ? ", " : "", e[side][a][k][m]);
         std::fprintf(out, "},\n");
       }
       std::fprintf(out, "  },\n");
@@ -149,13 +169,13 @@ float stored(const char* fmt, double v);
 
 void write_coat_tables(FILE* out, const char* name, MicrofacetType type, int& over) {
   static double e[kCoatRoughnessSize][kCoatEtaSize][kCoatCosineSize];
-  for (int a = 0; a < kCoatRoughnessSize; ++a) {
+  parallel_rows(kCoatRoughnessSize, [&](int a) {
     for (int m = 0; m < kCoatCosineSize; ++m) {
       double col[kCoatEtaSize];
       coat_albedos(type, coat_table_alpha(a), coat_table_mu(m), col);
       for (int k = 0; k < kCoatEtaSize; ++k) e[a][k][m] = col[k];
     }
-  }
+  });
   std::fprintf(out, "const CoatAlbedoTable %sCoatAlbedo = {\n", name);
   for (int a = 0; a < kCoatRoughnessSize; ++a) {
     std::fprintf(out, " {\n");
