@@ -196,7 +196,7 @@ struct CoatRow {
   Float tr;
 };
 // Rows log-uniform in α (multiscatter_table_layout.h).
-const Float kRowsPerLog = Float((kCoatRoughnessSize - 1) / std::log(kCoatMaxAlpha / kCoatMinAlpha));
+constexpr Float kRowsPerLog = Float((kCoatRoughnessSize - 1) / kCoatLogAlphaRange);
 CoatRow coat_row(Float alpha) {
   const Float a = std::clamp(alpha, Float(kCoatMinAlpha), Float(kCoatMaxAlpha));
   const Float fx = std::log(a * Float(1 / kCoatMinAlpha)) * kRowsPerLog;

@@ -268,6 +268,10 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "usage: %s OUT.cpp\n", argv[0]);
     return 2;
   }
+  if (std::abs(std::log(kCoatMaxAlpha / kCoatMinAlpha) - kCoatLogAlphaRange) > 1e-12) {
+    std::fprintf(stderr, "%s: kCoatLogAlphaRange is not ln(kCoatMaxAlpha / kCoatMinAlpha)\n", argv[0]);
+    return 1;
+  }
   FILE* out = std::fopen(argv[1], "w");
   if (!out) {
     std::fprintf(stderr, "%s: cannot write %s\n", argv[0], argv[1]);

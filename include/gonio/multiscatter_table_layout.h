@@ -87,6 +87,9 @@ inline constexpr int kCoatEtaSize = 1 + kCoatNearOneEtaNodes + kCoatUniformEtaNo
 inline constexpr int kCoatCosineSize = 81;
 inline constexpr double kCoatMinAlpha = 1e-3;
 inline constexpr double kCoatMaxAlpha = 10;
+// ln(kCoatMaxAlpha / kCoatMinAlpha), a constant so that lookups need no static
+// initialisation (the table generator checks it against std::log at every build).
+inline constexpr double kCoatLogAlphaRange = 9.2103403719761836;
 inline constexpr double kCoatMinZ = 1.0 / 4096;
 inline constexpr double kCoatUniformZ = 0.16;  // the first uniform node
 inline constexpr double kCoatZStep = 0.04;
