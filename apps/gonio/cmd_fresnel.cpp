@@ -14,6 +14,7 @@
 #include "gonio/fresnel.h"
 #include "gonio/metals.h"
 #include "gonio/spectrum/glasses.h"
+#include "gonio/spectrum/spectrum_to_rgb.h"  // kRgbIndexWavelengths
 
 namespace gonio::cli {
 
@@ -58,10 +59,6 @@ std::string object(const std::vector<FresnelLine>& channels, bool schlick) {
   return out + "}\n";
 }
 
-// The wavelengths of the RGB channels for named materials (as for the metals of SPEC §2
-// in RGB mode: metals.h).
-constexpr std::array<float, 3> kChannelNm = {650, 550, 450};
-
 void run_fresnel(const FresnelArgs& a) {
   const std::string index_range = "[" + format_number(kMinIndex) + ", " + format_number(kMaxIndex) + "]";
   // (eta, k) per channel.
@@ -70,7 +67,7 @@ void run_fresnel(const FresnelArgs& a) {
     if (const auto metal = named_metal(a.material)) {
       for (int c = 0; c < 3; ++c) index.emplace_back(metal->eta[c], metal->k[c]);
     } else if (const auto glass = named_glass(a.material)) {
-      for (float nm : kChannelNm) index.emplace_back(glass->eval(nm), 0.0);
+      for (Float nm : kRgbIndexWavelengths) index.emplace_back(glass->eval(nm), 0.0);
     } else {
       std::string known;
       for (auto n : named_metal_names()) known += (known.empty() ? "" : ", ") + std::string(n);
