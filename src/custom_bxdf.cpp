@@ -2,7 +2,8 @@
 
 namespace gonio {
 
-// Out of line so the vtable has one home.
-CustomBxDF::~CustomBxDF() = default;
+// Out of line so the vtables have one home.
+template class CustomBxDFT<Color>;
+template class CustomBxDFT<SampledSpectrum>;
 
 }  // namespace gonio

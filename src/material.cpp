@@ -20,6 +20,8 @@
 #include "gonio/json_text.h"
 #include "gonio/material_types.h"
 #include "gonio/metals.h"
+#include "gonio/spectral_material.h"
+#include "gonio/spectrum/metal_spectra.h"
 #include "gonio/spectrum/spectrum_json.h"
 #include "gonio/spectrum/spectrum_to_rgb.h"
 
@@ -27,11 +29,6 @@ namespace gonio {
 namespace {
 
 using nlohmann::json;
-
-// Deepest nesting of blends: a blend evaluates every part, so a tree of blends costs
-// up to 2^depth evaluations per call (256 here); and 10,000 levels took a minute and
-// 4 GB to parse (each level's error prefix copies the one above).
-constexpr int kMaxBlendDepth = 8;
 
 // A parameter that must be positive must stay positive, and normal, as a float: 1e-320
 // passes "> 0" as a double but becomes 0 (or a denormal, whose reciprocal overflows).
@@ -51,8 +48,11 @@ std::string show(const json& v) {
 // the keys it takes.
 class Params {
  public:
-  Params(const json& obj, std::string prefix, const MaterialTypeSpec& type)
-      : obj_(obj), prefix_(std::move(prefix)), type_(type) {}
+  Params(const json& obj, std::string prefix, const MaterialTypeSpec& type, MaterialSpectra& spectra)
+      : obj_(obj), prefix_(std::move(prefix)), type_(type), spectra_(spectra) {}
+
+  // Where the spectra of the parameters read are recorded (spectral_material.h).
+  MaterialSpectra& spectra() { return spectra_; }
 
   [[noreturn]] void fail(const std::string& msg) const { throw InputError(prefix_ + msg); }
 
@@ -106,21 +106,30 @@ class Params {
   Color color(const char* key) {
     const json& v = value(key);
     Color c;
-    if (v.is_number()) {
-      c = Color(static_cast<Float>(checked(key, v)));
-    } else if (v.is_array() && v.size() == static_cast<size_t>(Color::size())) {
-      for (int i = 0; i < Color::size(); ++i) {
-        const json& e = v[static_cast<size_t>(i)];
-        if (!e.is_number()) fail(std::string(key) + " must be a number or [r, g, b], got " + show(v));
-        c[i] = static_cast<Float>(checked(key, e));
+    const std::string k(key);
+    const bool index = k == "eta" || k == "k";
+    std::optional<Spectrum>& recorded = spectra_.colour[size_t(colour_param(key))];
+    if (v.is_number() || v.is_array()) {
+      if (v.is_number()) {
+        c = Color(static_cast<Float>(checked(key, v)));
+      } else if (v.size() == static_cast<size_t>(Color::size())) {
+        for (int i = 0; i < Color::size(); ++i) {
+          const json& e = v[static_cast<size_t>(i)];
+          if (!e.is_number()) fail(std::string(key) + " must be a number or [r, g, b], got " + show(v));
+          c[i] = static_cast<Float>(checked(key, e));
+        }
+      } else {
+        fail(std::string(key) + " must be a number, [r, g, b] or a spectrum, got " + show(v));
       }
+      recorded = rgb_as_spectrum(c, index);
     } else if (v.is_object()) {
       // A spectrum (SPEC §2), reduced to RGB: a conductor's n and k by their values at the
       // channels' wavelengths, any other colour as a reflectance under D65.
-      const std::string k(key);
-      const SpectrumUse use = k == "eta" || k == "k" ? SpectrumUse::kIndex : SpectrumUse::kReflectance;
-      c = spectrum_to_rgb(spectrum(key, use), use);
+      const SpectrumUse use = index ? SpectrumUse::kIndex : SpectrumUse::kReflectance;
+      Spectrum sp = spectrum(key, use);
+      c = spectrum_to_rgb(sp, use);
       for (int i = 0; i < Color::size(); ++i) check_range(key, c[i]);
+      recorded = std::move(sp);
     } else {
       fail(std::string(key) + " must be a number, [r, g, b] or a spectrum, got " + show(v));
     }
@@ -131,11 +140,27 @@ class Params {
   // {"spectrum": ...}, which RGB mode reads at the green channel's wavelength.
   double index(const char* key) {
     const json& v = value(key);
-    if (v.is_number()) return number(key);
+    if (v.is_number()) {
+      const double d = number(key);
+      spectra_.index = ConstantSpectrum{Float(d)};
+      spectra_.dispersive = false;
+      return d;
+    }
     if (!v.is_string() && !v.is_object())
       fail(std::string(key) + " must be a number, a glass name, {\"sellmeier\": ...} or a spectrum, got " + show(v));
-    const double d = spectrum(key, SpectrumUse::kIndex).eval(kRgbIndexWavelengths[1]);
+    Spectrum sp = spectrum(key, SpectrumUse::kIndex);
+    const double d = sp.eval(kRgbIndexWavelengths[1]);
     check_range(key, d);
+    // Spectral mode reads it at each wavelength: it must stay in range over the visible.
+    const ParamSpec& ps = spec(key);
+    for (Float l = kLambdaMin; l <= kLambdaMax; l += 5) {
+      const double n = sp.eval(l);
+      if (ps.range.present && !(std::isfinite(n) && ps.range.contains(n)))
+        fail(std::string(key) + " must be " + range_requirement(ps.range, ps.unit) + " over 360-830 nm, got " +
+             format_number(n) + " at " + format_number(l) + " nm");
+    }
+    spectra_.index = std::move(sp);
+    spectra_.dispersive = true;
     return d;
   }
 
@@ -205,6 +230,22 @@ class Params {
   }
 
  private:
+  static MaterialParam colour_param(const char* key) {
+    for (int i = 0; i < kColourParams; ++i)
+      if (material_param_info(MaterialParam(i)).key == key) return MaterialParam(i);
+    throw std::logic_error(std::string("material: '") + key + "' is not a colour parameter");
+  }
+  // An RGB value as the spectrum spectral mode uses: a reflectance-like colour upsampled
+  // (Jakob & Hanika 2019), an index linear between the channels' wavelengths.
+  static std::optional<Spectrum> rgb_as_spectrum(const Color& c, bool index) {
+    if (c[0] == c[1] && c[1] == c[2]) return Spectrum(ConstantSpectrum{c[0]});
+    if (index)
+      return Spectrum(PiecewiseLinearSpectrum::from_points(
+          {{kRgbIndexWavelengths[2], c[2]}, {kRgbIndexWavelengths[1], c[1]}, {kRgbIndexWavelengths[0], c[0]}}, "index"));
+    for (int i = 0; i < 3; ++i)
+      if (!(c[i] >= 0 && c[i] <= 1)) return std::nullopt;  // upsampled (clamped) per shading point
+    return Spectrum(RgbAlbedoSpectrum(c[0], c[1], c[2]));
+  }
   // parse_spectrum's errors start with the field; they get this material's prefix.
   Spectrum spectrum(const char* key, SpectrumUse use) {
     try {
@@ -240,6 +281,7 @@ class Params {
   const MaterialTypeSpec& type_;
   std::set<std::string> used_;
   std::map<std::string, json> defaults_;
+  MaterialSpectra& spectra_;
 };
 
 BxDF make_diffuse(Params& p) {
@@ -290,6 +332,10 @@ ConductorFresnel make_conductor_fresnel(Params& p) {
     }
     fr.eta = metal->eta;
     fr.k = metal->k;
+    const auto spectra = named_metal_spectra(name);
+    if (!spectra) throw std::logic_error("named metal " + name + " has no spectrum table");
+    p.spectra().colour[size_t(MaterialParam::Eta)] = spectra->eta;
+    p.spectra().colour[size_t(MaterialParam::K)] = spectra->k;
   } else {
     fr.eta = p.color("eta");
     fr.k = p.color("k");
@@ -310,20 +356,24 @@ MicrofacetDistribution make_distribution(Params& p) {
   return d;
 }
 
-// Cosine-weighted average 2 ∫ F(μ) μ dμ of a conductor Fresnel (64 Simpson panels: F is
-// smooth in μ; this runs per hit for a textured index).
-Color average_fresnel(const ConductorFresnel& fr) {
-  const auto avg = cosine_weighted_average(
-      [&](double mu) {
-        const Color f = fr(Float(mu));
-        std::array<double, kColorChannels> v{};
-        for (int i = 0; i < kColorChannels; ++i) v[size_t(i)] = f[i];
-        return v;
-      },
-      64);
-  Color out;
-  for (int i = 0; i < kColorChannels; ++i) out[i] = Float(avg[size_t(i)]);
-  return out;
+// Spectral mode's F_avg(λ) of a multiple-scattering rough conductor, tabulated every 5 nm
+// from the index (or f0) spectra recorded for it.
+Spectrum tabulate_average_fresnel(FresnelModel model, const MaterialSpectra& s) {
+  const auto at = [&](MaterialParam p, Float lambda, Float fallback) {
+    const auto& sp = s.colour[size_t(p)];
+    return sp ? sp->eval(lambda) : fallback;
+  };
+  std::vector<std::pair<double, double>> points;
+  for (Float l = kLambdaMin; l <= kLambdaMax; l += 5) {
+    ConductorFresnelT<BasicColor<1>> fr;
+    fr.model = model;
+    fr.eta = BasicColor<1>(at(MaterialParam::Eta, l, 1));
+    fr.k = BasicColor<1>(at(MaterialParam::K, l, 0));
+    fr.f0 = BasicColor<1>(s.colour[size_t(MaterialParam::F0)] ? at(MaterialParam::F0, l, 1)
+                                                               : fresnel_f0(fr.eta[0], fr.k[0]));
+    points.emplace_back(l, conductor_average_fresnel(fr)[0]);
+  }
+  return PiecewiseLinearSpectrum::from_points(points, "F_avg");
 }
 
 BxDF make_roughconductor(Params& p) {
@@ -336,7 +386,8 @@ BxDF make_roughconductor(Params& p) {
     if (!m.distribution.is_isotropic())
       p.fail("multiscatter needs an isotropic alpha (a number), got [alpha_x, alpha_y]");
     if (!m.distribution.effectively_smooth())
-      m.multiscatter = MultiscatterLobe::make(m.distribution, average_fresnel(m.fresnel));
+      m.multiscatter = MultiscatterLobe::make(m.distribution, conductor_average_fresnel(m.fresnel));
+    if (m.multiscatter) p.spectra().f_avg = tabulate_average_fresnel(m.fresnel.model, p.spectra());
   }
   return m;
 }
@@ -425,7 +476,7 @@ BxDF make_plastic(Params& p) {
 }
 
 BxDF make_blend(Params& p, const std::string& where, int depth);
-BxDF parse_description(const json& description, const std::string& where, int blend_depth);
+BxDF parse_description(const json& description, const std::string& where, int blend_depth, MaterialSpectra& spectra);
 
 // The constructor of each type of the registry but blend (which needs its place and depth).
 struct TypeEntry {
@@ -467,20 +518,34 @@ BxDF make_blend(Params& p, const std::string& where, int depth) {
   const json& arr = p.raw("bsdfs");
   if (!arr.is_array() || arr.size() != 2) p.fail("bsdfs must be an array of 2 materials, got " + show(arr));
   auto parts = std::make_shared<std::array<BxDF, 2>>();
-  for (size_t i = 0; i < 2; ++i) (*parts)[i] = parse_description(arr[i], where + ".bsdfs[" + std::to_string(i) + "]", depth + 1);
+  p.spectra().parts.resize(2);
+  for (size_t i = 0; i < 2; ++i)
+    (*parts)[i] = parse_description(arr[i], where + ".bsdfs[" + std::to_string(i) + "]", depth + 1, p.spectra().parts[i]);
   const Float e0 = (*parts)[0].relative_eta(), e1 = (*parts)[1].relative_eta();
   if (is_transmissive((*parts)[0].flags()) && is_transmissive((*parts)[1].flags()) && e0 != e1)
     p.fail("both parts refract, with different eta (" + format_number(e0) + " and " + format_number(e1) + ")");
-  return BlendBxDF{Float(w), std::move(parts)};
+  return BlendBxDF::make(Float(w), std::move(parts));
 }
 }  // namespace
 
 BxDF material_from_json(const json& description, const std::string& where) {
-  return parse_description(description, where, 0);
+  MaterialSpectra spectra;
+  return parse_description(description, where, 0, spectra);
+}
+
+MaterialWithSpectra material_with_spectra_from_json(const json& description, const std::string& where) {
+  MaterialWithSpectra m;
+  m.bxdf = parse_description(description, where, 0, m.spectra);
+  return m;
+}
+
+MaterialWithSpectra parse_material_with_spectra(std::string_view json_text, std::string_view source) {
+  const json j = parse_json_text(json_text, source);
+  return material_with_spectra_from_json(j, std::string(source));
 }
 
 namespace {
-BxDF parse_description(const json& description, const std::string& where, int blend_depth) {
+BxDF parse_description(const json& description, const std::string& where, int blend_depth, MaterialSpectra& spectra) {
   const std::string at = where.empty() ? "" : where + ": ";
   if (!description.is_object())
     throw InputError(at + "material must be a JSON object, got " + show(description));
@@ -495,7 +560,7 @@ BxDF parse_description(const json& description, const std::string& where, int bl
     throw InputError(at + "material: unknown type \"" + type + "\" (known: " + known + ")");
   }
   if (type == "blend") {
-    Params p(description, at + "blend: ", *spec);
+    Params p(description, at + "blend: ", *spec, spectra);
     p.reject_undeclared();
     BxDF m = make_blend(p, where.empty() ? "blend" : where + ": blend", blend_depth);
     p.reject_unknown();
@@ -503,7 +568,7 @@ BxDF parse_description(const json& description, const std::string& where, int bl
   }
   for (const auto& t : kMakers) {
     if (t.name == type) {
-      Params p(description, at + type + ": ", *spec);
+      Params p(description, at + type + ": ", *spec, spectra);
       p.reject_undeclared();
       BxDF m = t.make(p);
       p.reject_unknown();
@@ -647,7 +712,7 @@ void finish(RoughConductorBxDF& m, const Changed& c) {
     m.multiscatter.reset();
     return;
   }
-  m.multiscatter = MultiscatterLobe::make(m.distribution, c.fresnel ? average_fresnel(m.fresnel) : m.multiscatter->f_avg);
+  m.multiscatter = MultiscatterLobe::make(m.distribution, c.fresnel ? conductor_average_fresnel(m.fresnel) : m.multiscatter->f_avg);
 }
 
 }  // namespace

@@ -31,13 +31,13 @@ constexpr ParamSpec kDistributionParam{"distribution", K::Choice, "\"ggx\"", {},
                                        "Microfacet normal distribution: GGX (Trowbridge-Reitz) or Beckmann."};
 constexpr ParamSpec kFresnelParam{"fresnel", K::Choice, "\"exact\"", {}, "", "exact|schlick", false,
                                   "Conductor Fresnel: exact for the complex index, or Schlick's approximation."};
-constexpr ParamSpec kConductorEta{"eta", K::Color, "", kIndex, "", "", false,
+constexpr ParamSpec kConductorEta{"eta", K::Colour, "", kIndex, "", "", false,
                                   "Real part of the complex index relative to the outside medium, per channel (a spectrum: its values at 650, 550, 450 nm)."};
-constexpr ParamSpec kConductorK{"k", K::Color, "0", kExtinction, "", "", false,
+constexpr ParamSpec kConductorK{"k", K::Colour, "0", kExtinction, "", "", false,
                                 "Extinction coefficient (imaginary part of the index), per channel; needs eta."};
 constexpr ParamSpec kMetalParam{"material", K::Metal, "", {}, "", "", false,
                                 "A measured metal instead of eta and k (RGB: the index at 650, 550, 450 nm)."};
-constexpr ParamSpec kF0Param{"f0", K::Color, "", kUnit, "", "", false,
+constexpr ParamSpec kF0Param{"f0", K::Colour, "", kUnit, "", "", false,
                              "Reflectance at normal incidence; only with fresnel \"schlick\", instead of the index."};
 constexpr ParamSpec kMultiscatterParam{"multiscatter", K::Boolean, "false", {}, "", "", false,
                                        "Add Kulla-Conty's energy-compensation lobe for light scattered more "
@@ -45,14 +45,14 @@ constexpr ParamSpec kMultiscatterParam{"multiscatter", K::Boolean, "false", {}, 
 constexpr ParamSpec kDielectricEta{"eta", K::Number, "1.5", kIndex, "", "", false,
                                    "Relative index n(inside) / n(outside), the outside being where the normal points; or a named glass "
                                    "(\"BK7\"), {\"sellmeier\": ...} or a spectrum, read at 550 nm in RGB mode."};
-constexpr ParamSpec kKd{"kd", K::Color, "", kUnit, "", "", true, "Diffuse albedo."};
-constexpr ParamSpec kKs{"ks", K::Color, "", kUnit, "", "", true, "Specular albedo at normal incidence (the lobe's weight)."};
+constexpr ParamSpec kKd{"kd", K::Colour, "", kUnit, "", "", true, "Diffuse albedo."};
+constexpr ParamSpec kKs{"ks", K::Colour, "", kUnit, "", "", true, "Specular albedo at normal incidence (the lobe's weight)."};
 
 constexpr ParamSpec kDiffuse[] = {
-    {"reflectance", K::Color, "0.5", kUnit, "", "", false, "Albedo ρ: f = ρ/π."},
+    {"reflectance", K::Colour, "0.5", kUnit, "", "", false, "Albedo ρ: f = ρ/π."},
 };
 constexpr ParamSpec kMirror[] = {
-    {"reflectance", K::Color, "1", kUnit, "", "", false, "Fraction of the light reflected, at every angle."},
+    {"reflectance", K::Colour, "1", kUnit, "", "", false, "Fraction of the light reflected, at every angle."},
 };
 constexpr ParamSpec kConductor[] = {kFresnelParam, kConductorEta, kConductorK, kMetalParam, kF0Param};
 constexpr ParamSpec kDielectric[] = {kDielectricEta};
@@ -60,7 +60,7 @@ constexpr ParamSpec kRoughConductor[] = {kAlphaParam,  kDistributionParam, kFres
                                          kConductorK,  kMetalParam,        kF0Param,      kMultiscatterParam};
 constexpr ParamSpec kRoughDielectric[] = {kAlphaParam, kDistributionParam, kDielectricEta, kMultiscatterParam};
 constexpr ParamSpec kOrenNayar[] = {
-    {"reflectance", K::Color, "0.5", kUnit, "", "", false, "Albedo of the facets."},
+    {"reflectance", K::Colour, "0.5", kUnit, "", "", false, "Albedo of the facets."},
     {"sigma", K::Number, "", closed_open(0, 90), "degrees", "", true,
      "Standard deviation of the facet slope angles; 0 is Lambertian."},
     {"model", K::Choice, "\"qualitative\"", {}, "", "qualitative|full", false,
@@ -78,13 +78,13 @@ constexpr ParamSpec kWard[] = {
      "RMS slope: a number, or [alpha_x, alpha_y] along the tangent and bitangent."},
 };
 constexpr ParamSpec kAshikhminShirley[] = {
-    {"rd", K::Color, "", kUnit, "", "", true, "Diffuse albedo of the substrate."},
-    {"rs", K::Color, "", kUnit, "", "", true, "Specular reflectance at normal incidence (Schlick Fresnel)."},
+    {"rd", K::Colour, "", kUnit, "", "", true, "Diffuse albedo of the substrate."},
+    {"rs", K::Colour, "", kUnit, "", "", true, "Specular reflectance at normal incidence (Schlick Fresnel)."},
     {"nu", K::Number, "", open_closed(0, 1e6), "", "", true, "Phong-like exponent along the tangent (x)."},
     {"nv", K::Number, "", open_closed(0, 1e6), "", "", true, "Phong-like exponent along the bitangent (y)."},
 };
 constexpr ParamSpec kPlastic[] = {
-    {"reflectance", K::Color, "0.5", kUnit, "", "", false, "Albedo of the diffuse base under the coat."},
+    {"reflectance", K::Colour, "0.5", kUnit, "", "", false, "Albedo of the diffuse base under the coat."},
     {"eta", K::Number, "1.5", closed(1, kMaxIndex), "", "", false, "Index of the coat relative to the outside (a number, a named glass, {\"sellmeier\": ...} or a spectrum, read at 550 nm)."},
     {"alpha", K::Roughness, "", kAlpha, "", "", false,
      "Roughness of the coat (isotropic: a number); absent: a smooth coat."},

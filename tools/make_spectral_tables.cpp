@@ -370,6 +370,27 @@ int main(int argc, char** argv) {
     std::fprintf(out, "const int kGlassCount = %zu;\nconst GlassTable kGlasses[] = {\n%s};\n\n", glass_files.size(),
                  list.c_str());
 
+    // The named metals' complex index n + i k (data/metals/<name>.csv: lambda_nm, n, k),
+    // for spectral mode; RGB mode's constants come from tools/make_metal_table.cpp.
+    std::vector<fs::path> metal_files;
+    for (const auto& e : fs::directory_iterator(data / "metals"))
+      if (e.path().extension() == ".csv") metal_files.push_back(e.path());
+    std::sort(metal_files.begin(), metal_files.end());
+    list.clear();
+    for (size_t m = 0; m < metal_files.size(); ++m) {
+      const auto rows = read_csv_file(metal_files[m].string(), 3);
+      std::vector<double> lam, n, k;
+      for (const auto& r : rows) lam.push_back(r.values[0]), n.push_back(r.values[1]), k.push_back(r.values[2]);
+      const std::string i = std::to_string(m);
+      write_floats(out, ("kMetalLambda" + i).c_str(), lam);
+      write_floats(out, ("kMetalN" + i).c_str(), n);
+      write_floats(out, ("kMetalK" + i).c_str(), k);
+      list += "  {\"" + metal_files[m].stem().string() + "\", kMetalLambda" + i + ", kMetalN" + i + ", kMetalK" + i +
+              ", " + std::to_string(rows.size()) + "},\n";
+    }
+    std::fprintf(out, "const int kMetalCount = %zu;\nconst MetalTable kMetals[] = {\n%s};\n\n", metal_files.size(),
+                 list.c_str());
+
     std::fprintf(out, "const float kRgbCoefficients[3][%d][%d][%d][3] = {\n", R, R, R);
     for (int l = 0; l < 3; ++l) {
       std::fprintf(out, "{\n");

@@ -47,7 +47,7 @@ std::string choice_list(std::string_view choices, bool code) {
 std::string kind_text(const ParamSpec& p, bool code) {
   switch (p.kind) {
     case ParamKind::Number: return "number";
-    case ParamKind::Color: return code ? "colour (number, `[r, g, b]` or spectrum)" : "colour (number, [r, g, b] or spectrum)";
+    case ParamKind::Colour: return code ? "colour (number, `[r, g, b]` or spectrum)" : "colour (number, [r, g, b] or spectrum)";
     case ParamKind::Roughness:
       return code ? "number or `[alpha_x, alpha_y]`" : "number or [alpha_x, alpha_y]";
     case ParamKind::Choice: return choice_list(p.choices, code);

@@ -35,6 +35,7 @@ struct RenderArgs {
   std::string output = "gonio.png";
   int spp = 0;         // 0: the scene's
   int threads = 0;     // 0: all cores
+  bool spectral = false;  // overrides the scene's "render": {"spectral": false}
   std::int64_t seed = -1;  // -1: the scene's
 };
 
@@ -88,6 +89,7 @@ void run_render(const RenderArgs& a) {
                                         : render::load_scene_file(a.scene);
   if (a.spp > 0) scene.settings.spp = a.spp;
   if (a.seed >= 0) scene.settings.seed = static_cast<std::uint64_t>(a.seed);
+  if (a.spectral) scene.settings.spectral = true;
   out.reserve(scene.camera.width, scene.camera.height);  // a full disk fails here
 
   const bool tty = isatty(STDERR_FILENO) == 1;
@@ -128,7 +130,8 @@ void run_render(const RenderArgs& a) {
   const unsigned threads = a.threads > 0 ? static_cast<unsigned>(a.threads) : std::max(1u, std::thread::hardware_concurrency());
   if (stats.stopped)
     std::fprintf(stderr, "interrupted by %s: ", sig_name);
-  std::fprintf(stderr, "rendered %dx%d at %d spp", scene.camera.width, scene.camera.height, stats.spp);
+  std::fprintf(stderr, "rendered %dx%d at %d spp%s", scene.camera.width, scene.camera.height, stats.spp,
+               scene.settings.spectral ? " (spectral)" : "");
   if (stats.stopped) std::fprintf(stderr, " (of %d)", scene.settings.spp);
   std::fprintf(stderr, " on %u threads in %.2f s (+%.2f s setup): %ssamples/s, %srays/s\n", threads, stats.seconds,
                stats.setup_seconds, si(double(stats.samples) / stats.seconds).c_str(),
@@ -150,6 +153,8 @@ void register_render(CLI::App& app) {
       ->transform(decimal_in_range(0, kMaxThreads));
   cmd->add_option("--seed", args->seed, "random seed, 0 to 2147483647 (overrides the scene's; default 0)")
       ->transform(decimal_in_range(0, kMaxSeed));
+  cmd->add_flag("--spectral", args->spectral,
+                "spectral transport: 4 sampled wavelengths per path (also \"render\": {\"spectral\": true})");
   cmd->callback([args] { run_render(*args); });
 }
 

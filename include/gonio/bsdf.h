@@ -9,35 +9,37 @@
 
 namespace gonio {
 
-class BSDF {
+template <typename C>
+class BSDFT {
  public:
-  BSDF(BxDF bxdf, const Frame& frame) : bxdf_(std::move(bxdf)), frame_(frame) {}
+  BSDFT(BxDFT<C> bxdf, const Frame& frame) : bxdf_(std::move(bxdf)), frame_(frame) {}
 
   // World-space directions need not be unit length: they are normalised here, so that a
   // caller's rounding error cannot push cosines past 1.
-  Color f(const Vec3& wo, const Vec3& wi, TransportMode mode = TransportMode::Radiance) const {
+  C f(const Vec3& wo, const Vec3& wi, TransportMode mode = TransportMode::Radiance) const {
     return bxdf_.f(local(wo), local(wi), mode);
   }
   Float pdf(const Vec3& wo, const Vec3& wi, TransportMode mode = TransportMode::Radiance) const {
     return bxdf_.pdf(local(wo), local(wi), mode);
   }
-  BSDFEval eval(const Vec3& wo, const Vec3& wi, TransportMode mode = TransportMode::Radiance) const {
+  BSDFEvalT<C> eval(const Vec3& wo, const Vec3& wi, TransportMode mode = TransportMode::Radiance) const {
     return bxdf_.eval(local(wo), local(wi), mode);
   }
-  std::optional<BSDFSample> sample(const Vec3& wo, Float u_lobe, Float u1, Float u2,
+  std::optional<BSDFSampleT<C>> sample(const Vec3& wo, Float u_lobe, Float u1, Float u2,
                                    TransportMode mode = TransportMode::Radiance) const {
     auto s = bxdf_.sample(local(wo), u_lobe, u1, u2, mode);
     if (s) s->wi = frame_.to_world(s->wi);
     return s;
   }
   BxDFFlags flags() const { return bxdf_.flags(); }
-  const BxDF& bxdf() const { return bxdf_; }
+  const BxDFT<C>& bxdf() const { return bxdf_; }
   const Frame& frame() const { return frame_; }
 
  private:
   Vec3 local(const Vec3& w) const { return normalize(frame_.to_local(w)); }
-  BxDF bxdf_;
+  BxDFT<C> bxdf_;
   Frame frame_;
 };
+using BSDF = BSDFT<Color>;
 
 }  // namespace gonio

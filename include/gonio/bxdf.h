@@ -26,33 +26,37 @@
 
 namespace gonio {
 
-class BxDF {
+// The models for one colour type C: BxDF (RGB) or SpectralBxDF (the 4 wavelengths of a
+// path, spectrum/wavelengths.h). Each model is one template for both.
+template <typename C>
+class BxDFT {
  public:
-  using Models = std::variant<DiffuseBxDF, MirrorBxDF, ConductorBxDF, DielectricBxDF,
-                              RoughConductorBxDF, RoughDielectricBxDF, OrenNayarBxDF, PhongBxDF,
-                              BlinnPhongBxDF, WardBxDF, AshikhminShirleyBxDF, PlasticBxDF, BlendBxDF,
-                              UserBxDF>;
+  using color_type = C;
+  using Models = std::variant<DiffuseBxDFT<C>, MirrorBxDFT<C>, ConductorBxDFT<C>, DielectricBxDFT<C>,
+                              RoughConductorBxDFT<C>, RoughDielectricBxDFT<C>, OrenNayarBxDFT<C>, PhongBxDFT<C>,
+                              BlinnPhongBxDFT<C>, WardBxDFT<C>, AshikhminShirleyBxDFT<C>, PlasticBxDFT<C>,
+                              BlendBxDFT<C>, UserBxDFT<C>>;
 
-  BxDF() = default;
+  BxDFT() = default;
   template <typename M>
     requires BxDFModel<std::decay_t<M>> && std::is_constructible_v<Models, M&&>
-  BxDF(M&& model) : m_(std::forward<M>(model)) {}  // NOLINT: implicit by design
+  BxDFT(M&& model) : m_(std::forward<M>(model)) {}  // NOLINT: implicit by design
 
-  Color f(const Vec3& wo, const Vec3& wi, TransportMode mode = TransportMode::Radiance) const {
+  C f(const Vec3& wo, const Vec3& wi, TransportMode mode = TransportMode::Radiance) const {
     return std::visit([&](const auto& m) { return m.f(wo, wi, mode); }, m_);
   }
   Float pdf(const Vec3& wo, const Vec3& wi, TransportMode mode = TransportMode::Radiance) const {
     return std::visit([&](const auto& m) { return m.pdf(wo, wi, mode); }, m_);
   }
-  BSDFEval eval(const Vec3& wo, const Vec3& wi, TransportMode mode = TransportMode::Radiance) const {
+  BSDFEvalT<C> eval(const Vec3& wo, const Vec3& wi, TransportMode mode = TransportMode::Radiance) const {
     return std::visit(
-        [&](const auto& m) -> BSDFEval {
+        [&](const auto& m) -> BSDFEvalT<C> {
           if constexpr (requires { m.eval(wo, wi, mode); }) return m.eval(wo, wi, mode);
           else return {m.f(wo, wi, mode), m.pdf(wo, wi, mode)};
         },
         m_);
   }
-  std::optional<BSDFSample> sample(const Vec3& wo, Float u_lobe, Float u1, Float u2,
+  std::optional<BSDFSampleT<C>> sample(const Vec3& wo, Float u_lobe, Float u1, Float u2,
                                    TransportMode mode = TransportMode::Radiance) const {
     return std::visit([&](const auto& m) { return m.sample(wo, u_lobe, u1, u2, mode); }, m_);
   }
@@ -77,9 +81,9 @@ class BxDF {
         m_);
   }
   // The exact directional albedo where the model has a closed form.
-  std::optional<DirectionalAlbedo> exact_albedo(const Vec3& wo, TransportMode mode) const {
+  std::optional<DirectionalAlbedoT<C>> exact_albedo(const Vec3& wo, TransportMode mode) const {
     return std::visit(
-        [&](const auto& m) -> std::optional<DirectionalAlbedo> {
+        [&](const auto& m) -> std::optional<DirectionalAlbedoT<C>> {
           if constexpr (requires { m.albedo(wo, mode); }) return m.albedo(wo, mode);
           else return std::nullopt;
         },
@@ -100,27 +104,36 @@ class BxDF {
  private:
   Models m_;
 };
+using BxDF = BxDFT<Color>;
+using SpectralBxDF = BxDFT<SampledSpectrum>;
 
 // --- BlendBxDF, now that BxDF is complete ------------------------------------------
 
-inline BxDFFlags BlendBxDF::flags() const { return (*parts)[0].flags() | (*parts)[1].flags(); }
-inline Float BlendBxDF::relative_eta() const {
+template <typename C>
+BxDFFlags BlendBxDFT<C>::flags() const { return (*parts)[0].flags() | (*parts)[1].flags(); }
+template <typename C>
+Float BlendBxDFT<C>::relative_eta() const {
   // Parts that refract share one index (the material loader insists); else 1.
   const Float a = (*parts)[0].relative_eta();
   return a != 1 ? a : (*parts)[1].relative_eta();
 }
-inline bool BlendBxDF::is_isotropic() const { return (*parts)[0].is_isotropic() && (*parts)[1].is_isotropic(); }
-inline BSDFEval BlendBxDF::eval(const Vec3& wo, const Vec3& wi, TransportMode mode) const {
-  const BSDFEval a = (*parts)[0].eval(wo, wi, mode), b = (*parts)[1].eval(wo, wi, mode);
+template <typename C>
+bool BlendBxDFT<C>::is_isotropic() const { return (*parts)[0].is_isotropic() && (*parts)[1].is_isotropic(); }
+template <typename C>
+BSDFEvalT<C> BlendBxDFT<C>::eval(const Vec3& wo, const Vec3& wi, TransportMode mode) const {
+  const BSDFEvalT<C> a = (*parts)[0].eval(wo, wi, mode), b = (*parts)[1].eval(wo, wi, mode);
   return {a.f * (1 - weight) + b.f * weight, (1 - weight) * a.pdf + weight * b.pdf};
 }
-inline Color BlendBxDF::f(const Vec3& wo, const Vec3& wi, TransportMode mode) const {
+template <typename C>
+C BlendBxDFT<C>::f(const Vec3& wo, const Vec3& wi, TransportMode mode) const {
   return (*parts)[0].f(wo, wi, mode) * (1 - weight) + (*parts)[1].f(wo, wi, mode) * weight;
 }
-inline Float BlendBxDF::pdf(const Vec3& wo, const Vec3& wi, TransportMode mode) const {
+template <typename C>
+Float BlendBxDFT<C>::pdf(const Vec3& wo, const Vec3& wi, TransportMode mode) const {
   return (1 - weight) * (*parts)[0].pdf(wo, wi, mode) + weight * (*parts)[1].pdf(wo, wi, mode);
 }
-inline std::optional<BSDFSample> BlendBxDF::sample(const Vec3& wo, Float u_lobe, Float u1, Float u2,
+template <typename C>
+std::optional<BSDFSampleT<C>> BlendBxDFT<C>::sample(const Vec3& wo, Float u_lobe, Float u1, Float u2,
                                                    TransportMode mode) const {
   const bool second = u_lobe >= 1 - weight;
   // Reuse u_lobe, rescaled to [0, 1) within the chosen part.
@@ -132,16 +145,17 @@ inline std::optional<BSDFSample> BlendBxDF::sample(const Vec3& wo, Float u_lobe,
     s->pdf *= p_part;  // the discrete probability of this delta direction
     return s;
   }
-  const BSDFEval e = eval(wo, s->wi, mode);
+  const BSDFEvalT<C> e = eval(wo, s->wi, mode);
   if (!(e.pdf > 0)) return std::nullopt;
   s->weight = e.f * (std::abs(s->wi.z) / e.pdf);
   s->pdf = e.pdf;
   return s;
 }
-inline std::optional<DirectionalAlbedo> BlendBxDF::albedo(const Vec3& wo, TransportMode mode) const {
+template <typename C>
+std::optional<DirectionalAlbedoT<C>> BlendBxDFT<C>::albedo(const Vec3& wo, TransportMode mode) const {
   const auto a = (*parts)[0].exact_albedo(wo, mode), b = (*parts)[1].exact_albedo(wo, mode);
   if (!a || !b) return std::nullopt;
-  return DirectionalAlbedo{a->reflectance * (1 - weight) + b->reflectance * weight,
+  return DirectionalAlbedoT<C>{a->reflectance * (1 - weight) + b->reflectance * weight,
                            a->transmittance * (1 - weight) + b->transmittance * weight};
 }
 

@@ -20,6 +20,11 @@
 
 namespace gonio {
 
+// Deepest nesting of blends: a blend evaluates every part, so a tree of blends costs up
+// to 2^depth evaluations per call (256 here); and 10,000 levels took a minute and 4 GB to
+// parse (each level's error prefix copies the one above).
+inline constexpr int kMaxBlendDepth = 8;
+
 // Parses JSON text. `source` names where it came from (e.g. "--bsdf" or a file path) and
 // prefixes syntax errors.
 BxDF parse_material(std::string_view json_text, std::string_view source = "material");

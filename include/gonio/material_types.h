@@ -13,7 +13,7 @@ namespace gonio {
 
 enum class ParamKind {
   Number,     // a JSON number
-  Color,      // a number (grey) or [r, g, b]
+  Colour,     // a number (grey), [r, g, b] or a spectrum
   Roughness,  // a number (isotropic) or [alpha_x, alpha_y]
   Choice,     // one of the strings in `choices`
   Boolean,    // true or false

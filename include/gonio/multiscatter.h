@@ -46,19 +46,21 @@ struct AlbedoComplementSampler {
   Float sample(Float u) const;
 };
 
-struct MultiscatterLobe {
+template <typename C>
+struct MultiscatterLobeT {
+  using color_type = C;
   MicrofacetType type = MicrofacetType::GGX;
   Float alpha = 0.1f;
   Float e_avg = 1;
-  Color f_ms;             // F_ms times 1/(π (1 − E_avg))
+  C f_ms;             // F_ms times 1/(π (1 − E_avg))
   Float energy_ratio = 0; // avg(F_ms) / avg(F_avg): sets how often the lobe is sampled
-  Color f_avg;            // the F_avg it was made with, to remake it for another roughness
+  C f_avg;            // the F_avg it was made with, to remake it for another roughness
   AlbedoComplementSampler sampler;  // draws μi ∝ (1 − E(μi)) μi
   Float inv_pi_loss = 0;  // 1 / (π (1 − E_avg)) of the sampler's normalisation (0: no lobe)
 
   // `f_avg`: the cosine-weighted average Fresnel reflectance 2 ∫ F(μ) μ dμ.
-  static MultiscatterLobe make(const MicrofacetDistribution& d, const Color& f_avg) {
-    MultiscatterLobe m;
+  static MultiscatterLobeT<C> make(const MicrofacetDistribution& d, const C& f_avg) {
+    MultiscatterLobeT<C> m;
     m.type = d.type;
     m.alpha = std::sqrt(d.alpha_x * d.alpha_y);
     m.e_avg = microfacet_average_albedo(m.type, m.alpha);
@@ -66,7 +68,7 @@ struct MultiscatterLobe {
     const Float e = m.e_avg;
     // The lobe vanishes for a perfectly smooth (E_avg = 1) or black surface.
     const Float denom = kPi * std::max(Float(1e-6), 1 - e);
-    const Color fms = map(f_avg, [&](Float fa) { return fa * fa * e / (1 - fa * (1 - e)); });
+    const C fms = map(f_avg, [&](Float fa) { return fa * fa * e / (1 - fa * (1 - e)); });
     m.f_ms = fms / denom;
     m.energy_ratio = f_avg.average() > 0 ? fms.average() / f_avg.average() : Float(0);
     m.sampler = AlbedoComplementSampler::make(m.type, m.alpha);
@@ -77,7 +79,7 @@ struct MultiscatterLobe {
   Float E(Float mu) const { return microfacet_albedo(type, alpha, mu); }
 
   // The lobe from E(μo) and E(μi).
-  Color f(Float e_o, Float e_i) const { return f_ms * ((1 - e_o) * (1 - e_i)); }
+  C f(Float e_o, Float e_i) const { return f_ms * ((1 - e_o) * (1 - e_i)); }
 
   // Probability of sampling this lobe rather than the single-scattering one: its share
   // of the expected energy, F_ms (1 − E(μo)) against F_avg E(μo).
@@ -103,5 +105,7 @@ struct MultiscatterLobe {
     return {s * std::cos(ph), s * std::sin(ph), mu};
   }
 };
+
+using MultiscatterLobe = MultiscatterLobeT<Color>;
 
 }  // namespace gonio

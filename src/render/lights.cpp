@@ -3,6 +3,8 @@
 
 #include "gonio/render/lights.h"
 
+#include "gonio/spectrum/rgb_to_spectrum.h"
+
 #include <algorithm>
 #include <cmath>
 
@@ -74,6 +76,11 @@ Color Environment::radiance(const Vec3& dir) const {
   const int x = std::min(static_cast<int>(uv.x * Float(map_.width())), map_.width() - 1);
   const int y = std::min(static_cast<int>(uv.y * Float(map_.height())), map_.height() - 1);
   return map_.at(x, y) * scale_;
+}
+
+SampledSpectrum Environment::radiance(const Vec3& dir, const SampledWavelengths& w) const {
+  if (map_.width() == 0) return emission_spectrum(constant_spectrum_, constant_, w);
+  return rgb_illuminant(radiance(dir), w);
 }
 
 LightSample Environment::sample(Float u1, Float u2) const {
@@ -172,6 +179,14 @@ Color area_light_radiance(const AreaLight& light, const Vec3& n, const Vec3& w) 
   if (const auto* q = std::get_if<QuadLight>(&light))
     return (q->two_sided || dot(n, w) > 0) ? q->radiance : Color(0);
   return dot(n, w) > 0 ? std::get<SphereLight>(light).radiance : Color(0);
+}
+
+SampledSpectrum emission_spectrum(const std::optional<Spectrum>& spectrum, const Color& rgb, const SampledWavelengths& w) {
+  return spectrum ? spectrum->eval(w) : rgb_illuminant(rgb, w);
+}
+
+SampledSpectrum area_light_spectrum(const AreaLight& light, const SampledWavelengths& w) {
+  return std::visit([&](const auto& l) { return emission_spectrum(l.spectrum, l.radiance, w); }, light);
 }
 
 }  // namespace gonio::render

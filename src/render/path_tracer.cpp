@@ -25,6 +25,35 @@ bool sides_agree(const Vec3& wo_world, const Vec3& wi_world, const Vec3& ng, con
   return geometric_reflection == shading_reflection;
 }
 
+// What differs between RGB and spectral transport: the model at a hit and the lights'
+// emission. The estimator below is one template over the two.
+struct RgbShading {
+  using C = Color;
+  std::optional<BxDF> textured;  // the model at a textured shading point
+  const BxDF& bxdf(const Material& m, const Vec2& uv) { return m.at(uv, textured); }
+  Color point(const PointLight& l) const { return l.intensity; }
+  Color area(const AreaLight&, const Color& rgb) const { return rgb; }
+  Color environment(const Environment&, const Vec3&, const Color& rgb) const { return rgb; }
+};
+
+struct SpectralShading {
+  using C = SampledSpectrum;
+  SampledWavelengths& w;
+  SpectralScratch& scratch;
+  std::optional<BxDF> textured;
+  SpectralBxDF model;
+  // The previous vertex's model is no longer needed when the next one is made, so the
+  // scratch space of blends is reused.
+  const SpectralBxDF& bxdf(const Material& m, const Vec2& uv) {
+    scratch.reset();
+    model = to_spectral(m.at(uv, textured), m.spectra, w, scratch, m.textured_colours);
+    return model;
+  }
+  C point(const PointLight& l) const { return emission_spectrum(l.spectrum, l.intensity, w); }
+  C area(const AreaLight& l, const Color&) const { return area_light_spectrum(l, w); }
+  C environment(const Environment& e, const Vec3& dir, const Color&) const { return e.radiance(dir, w); }
+};
+
 }  // namespace
 
 PathTracer::PathTracer(const Scene& scene, const Accel& accel) : scene_(scene), accel_(accel) {
@@ -43,9 +72,11 @@ bool PathTracer::occluded(const Vec3& p, const Vec3& ng, const Vec3& dir, Float 
   return accel_.occluded(o, d / len, len * Float(0.9999));
 }
 
-Color PathTracer::direct_light(const SurfaceHit& hit, const Frame& frame, const BxDF& bxdf, const Vec3& wo,
-                               const Vec3& wo_world, Pcg32& rng, PathStats& stats) const {
-  Color sum(0);
+template <typename Shading, typename Model>
+typename Shading::C PathTracer::direct_light(const SurfaceHit& hit, const Frame& frame, const Model& bxdf, const Vec3& wo,
+                                             const Vec3& wo_world, Pcg32& rng, PathStats& stats, Shading& shading) const {
+  using C = typename Shading::C;
+  C sum(0);
   // Eq. 2: every point light contributes f · I / r² · |cos θi|.
   for (const PointLight& light : scene_.point_lights) {
     const Vec3 d = light.position - hit.p;
@@ -55,9 +86,9 @@ Color PathTracer::direct_light(const SurfaceHit& hit, const Frame& frame, const 
     const Vec3 wi_world = d / dist;
     const Vec3 wi = normalize(frame.to_local(wi_world));
     if (!sides_agree(wo_world, wi_world, hit.ng, wo, wi)) continue;
-    const Color f = bxdf.f(wo, wi);
+    const C f = bxdf.f(wo, wi);
     if (f.is_black() || occluded(hit.p, hit.ng, wi_world, dist, stats)) continue;
-    sum += f * light.intensity * (std::abs(wi.z) / dist2);
+    sum += f * shading.point(light) * (std::abs(wi.z) / dist2);
   }
   // Eq. 1 by sampling one of the other lights, chosen uniformly.
   if (sampled_lights_ == 0) return sum;
@@ -69,16 +100,31 @@ Color PathTracer::direct_light(const SurfaceHit& hit, const Frame& frame, const 
   if (!(ls.pdf > 0) || ls.radiance.is_black()) return sum;
   const Vec3 wi = normalize(frame.to_local(ls.wi));
   if (!sides_agree(wo_world, ls.wi, hit.ng, wo, wi)) return sum;
-  const BSDFEval e = bxdf.eval(wo, wi);
+  const auto e = bxdf.eval(wo, wi);
   if (e.f.is_black() || occluded(hit.p, hit.ng, ls.wi, ls.distance, stats)) return sum;
   const Float light_pdf = light_select_pdf_ * ls.pdf;
   const Float w = power_heuristic(light_pdf, e.pdf);
-  sum += e.f * ls.radiance * (std::abs(wi.z) * w / light_pdf);
+  const C Le = env ? shading.environment(scene_.environment, ls.wi, ls.radiance)
+                   : shading.area(scene_.area_lights[static_cast<size_t>(pick)], ls.radiance);
+  sum += e.f * Le * (std::abs(wi.z) * w / light_pdf);
   return sum;
 }
 
 Color PathTracer::radiance(Ray ray, Pcg32& rng, PathStats& stats) const {
-  Color L(0), beta(1);
+  RgbShading shading;
+  return trace(ray, rng, stats, shading);
+}
+
+SampledSpectrum PathTracer::radiance(Ray ray, SampledWavelengths& w, Pcg32& rng, PathStats& stats,
+                                     SpectralScratch& scratch) const {
+  SpectralShading shading{w, scratch, {}, {}};
+  return trace(ray, rng, stats, shading);
+}
+
+template <typename Shading>
+typename Shading::C PathTracer::trace(Ray ray, Pcg32& rng, PathStats& stats, Shading& shading) const {
+  using C = typename Shading::C;
+  C L(0), beta(1);
   bool specular = true;  // the previous vertex was a delta lobe (or is the camera)
   Float prev_pdf = 0;    // solid-angle density of the BSDF sample that made `ray`
   Vec3 prev_p = ray.o;
@@ -89,9 +135,9 @@ Color PathTracer::radiance(Ray ray, Pcg32& rng, PathStats& stats) const {
     ++stats.rays;
     if (!accel_.intersect(ray, hit)) {
       if (!scene_.environment.is_black()) {
-        const Color Le = scene_.environment.radiance(ray.d);
+        const Color rgb = scene_.environment.radiance(ray.d);
         const Float w = specular ? 1 : power_heuristic(prev_pdf, light_select_pdf_ * scene_.environment.pdf(ray.d));
-        L += beta * Le * w;
+        if (!rgb.is_black()) L += beta * shading.environment(scene_.environment, ray.d, rgb) * w;
       }
       break;
     }
@@ -100,17 +146,16 @@ Color PathTracer::radiance(Ray ray, Pcg32& rng, PathStats& stats) const {
       const AreaLight& light = scene_.area_lights[static_cast<size_t>(hit.area_light)];
       const auto* quad = std::get_if<QuadLight>(&light);
       const Vec3 n = quad ? quad->normal() : hit.ng;
-      const Color Le = area_light_radiance(light, n, -ray.d);
-      if (!Le.is_black()) {
+      const Color rgb = area_light_radiance(light, n, -ray.d);
+      if (!rgb.is_black()) {
         const Float w = specular ? 1 : power_heuristic(prev_pdf, light_select_pdf_ * area_light_pdf(light, prev_p, hit.p, n));
-        L += beta * Le * w;
+        L += beta * shading.area(light, rgb) * w;
       }
       break;
     }
     if (depth >= max_depth) break;
 
-    std::optional<BxDF> textured;  // the model at hit.uv when the material has textures
-    const BxDF& bxdf = scene_.materials[static_cast<size_t>(hit.material)].at(hit.uv, textured);
+    const auto& bxdf = shading.bxdf(scene_.materials[static_cast<size_t>(hit.material)], hit.uv);
     const Vec3 wo_world = -ray.d;
     // Where the shading and geometric normals disagree about the side of wo, shading
     // with the interpolated normal would give black or leak: fall back to the geometric.
@@ -118,7 +163,7 @@ Color PathTracer::radiance(Ray ray, Pcg32& rng, PathStats& stats) const {
     const Frame frame = Frame::from_normal_tangent(consistent ? hit.ns : hit.ng, hit.tangent);
     const Vec3 wo = normalize(frame.to_local(wo_world));
 
-    if (!is_delta_only(bxdf.flags())) L += beta * direct_light(hit, frame, bxdf, wo, wo_world, rng, stats);
+    if (!is_delta_only(bxdf.flags())) L += beta * direct_light(hit, frame, bxdf, wo, wo_world, rng, stats, shading);
 
     const Float u_lobe = rng.next_float(), u1 = rng.next_float(), u2 = rng.next_float();
     const auto s = bxdf.sample(wo, u_lobe, u1, u2);
@@ -141,7 +186,7 @@ Color PathTracer::radiance(Ray ray, Pcg32& rng, PathStats& stats) const {
     ray = Ray{offset_ray_origin(hit.p, hit.ng, wi_world), wi_world};
   }
   // A path with a NaN anywhere contributes nothing rather than poisoning the pixel.
-  return L.is_finite() ? L : Color(0);
+  return L.is_finite() ? L : C(0);
 }
 
 }  // namespace gonio::render

@@ -14,6 +14,8 @@
 
 #include "gonio/render/accel.h"
 #include "gonio/render/path_tracer.h"
+#include "gonio/spectrum/cie.h"
+#include "gonio/spectrum/color_space.h"
 
 namespace gonio::render {
 namespace {
@@ -40,6 +42,7 @@ Image render(const Scene& scene_in, const RenderOptions& options, RenderStats* s
   scene.camera.prepare();
   const int w = scene.camera.width, h = scene.camera.height, spp = scene.settings.spp;
   const size_t pixels = size_t(w) * size_t(h);
+  const bool spectral = scene.settings.spectral;
   // Acquire: what the stopper wrote before setting the flag (a signal number, say) is
   // visible to the caller once render() returns.
   const auto stop_requested = [&] { return options.stop && options.stop->load(std::memory_order_acquire); };
@@ -71,6 +74,7 @@ Image render(const Scene& scene_in, const RenderOptions& options, RenderStats* s
       std::atomic<bool> dropped{false};
       tbb::parallel_for(tbb::blocked_range<int>(0, tiles, 1), [&](const tbb::blocked_range<int>& range) {
         PathStats local;
+        thread_local SpectralScratch scratch;  // blends' parts, per thread (spectral_material.h)
         for (int tile = range.begin(); tile != range.end(); ++tile) {
           if (stop_requested()) {
             dropped.store(true, std::memory_order_relaxed);
@@ -87,7 +91,16 @@ Image render(const Scene& scene_in, const RenderOptions& options, RenderStats* s
               for (int i = first; i < last; ++i) {
                 const Float jx = rng.next_float(), jy = rng.next_float();
                 const Ray ray = scene.camera.generate(Float(x) + jx, Float(y) + jy);
-                sum += tracer.radiance(ray, rng, local);
+                if (spectral) {
+                  // Hero-wavelength sampling (Wilkie et al. 2014): 4 wavelengths per path,
+                  // to CIE XYZ at the film (each divided by its own density), then to
+                  // linear sRGB, so that the image is what RGB mode writes.
+                  SampledWavelengths wl = SampledWavelengths::sample_visible(rng.next_float());
+                  const SampledSpectrum L = tracer.radiance(ray, wl, rng, local, scratch);
+                  sum += xyz_to_linear_srgb(to_xyz(L, wl));
+                } else {
+                  sum += tracer.radiance(ray, rng, local);
+                }
               }
               next[pixel] = sum;
             }

@@ -18,6 +18,8 @@
 #include "gonio/error.h"
 #include "gonio/json_text.h"
 #include "gonio/material.h"
+#include "gonio/spectral_material.h"
+#include "gonio/spectrum/rgb_to_spectrum.h"
 #include "gonio/render/mesh_loader.h"
 #include "gonio/render/texture.h"
 #include "gonio/spectrum/spectrum_json.h"
@@ -116,15 +118,28 @@ class Node {
   // A light's colour: a number (grey) or [r, g, b], each >= 0, or (SPEC §2) an emission
   // spectrum — {"spectrum": ...} (a CSV relative to the scene file), {"blackbody": K} or
   // {"illuminant": "D65"}, the last two of luminance 1 — reduced to linear sRGB.
-  Color color(const std::string& base_dir) const {
+  // `spectrum` receives what spectral mode uses: the spectrum given, or the RGB value
+  // upsampled as an illuminant (Jakob & Hanika 2019; m S(rgb/m) D65, rgb_to_spectrum.h).
+  Color color(const std::string& base_dir, std::optional<Spectrum>* spectrum = nullptr) const {
     Color c;
-    if (v_->is_number()) {
-      c = Color(static_cast<Float>(number(0, 1e30)));
-    } else if (v_->is_array() && v_->size() == static_cast<size_t>(Color::size())) {
-      for (int i = 0; i < Color::size(); ++i) c[i] = static_cast<Float>(at(static_cast<size_t>(i)).number(0, 1e30));
+    if (v_->is_number() || v_->is_array()) {
+      if (v_->is_number()) {
+        c = Color(static_cast<Float>(number(0, 1e30)));
+      } else if (v_->size() == static_cast<size_t>(Color::size())) {
+        for (int i = 0; i < Color::size(); ++i)
+          c[i] = static_cast<Float>(at(static_cast<size_t>(i)).number(0, 1e30));
+      } else {
+        fail("must be a number, [r, g, b] or an emission spectrum, got " + show(*v_));
+      }
+      // Beyond RgbIlluminantSpectrum's range (10⁹) the spectrum is left unset, and
+      // rgb_illuminant() clamps the components to it.
+      if (spectrum && c.max_component() <= RgbIlluminantSpectrum::kMaxComponent)
+        *spectrum = Spectrum(RgbIlluminantSpectrum(c[0], c[1], c[2]));
     } else if (v_->is_object()) {
       try {
-        c = spectrum_to_rgb(parse_spectrum(*v_, "emission", SpectrumUse::kEmission, base_dir), SpectrumUse::kEmission);
+        Spectrum sp = parse_spectrum(*v_, "emission", SpectrumUse::kEmission, base_dir);
+        c = spectrum_to_rgb(sp, SpectrumUse::kEmission);
+        if (spectrum) *spectrum = std::move(sp);
       } catch (const InputError& e) {
         fail(e.what());
       }
@@ -156,7 +171,8 @@ struct Loader {
       m.name = name;
       scene.materials.push_back(std::move(m));
     } else {
-      scene.materials.push_back({name, material_from_json(desc.value(), desc.where()), {}});
+      MaterialWithSpectra parsed = material_with_spectra_from_json(desc.value(), desc.where());
+      scene.materials.push_back({name, std::move(parsed.bxdf), {}, std::move(parsed.spectra)});
     }
     return static_cast<int>(scene.materials.size()) - 1;
   }
@@ -395,8 +411,12 @@ struct Loader {
     }
     // The largest values: a rough conductor then keeps its multiple-scattering lobe
     // unless every roughness is smooth (with_params).
-    Material m{"", material_from_json(corner[1], desc.where()), {}};
-    for (const Slot& s : slots) m.textures.push_back({s.param, s.texture});
+    MaterialWithSpectra parsed = material_with_spectra_from_json(corner[1], desc.where());
+    Material m{"", std::move(parsed.bxdf), {}, std::move(parsed.spectra)};
+    for (const Slot& s : slots) {
+      m.textures.push_back({s.param, s.texture});
+      if (int(s.param) < kColourParams) m.textured_colours |= TexturedColours(1) << unsigned(s.param);
+    }
     return m;
   }
 
@@ -426,12 +446,13 @@ struct Loader {
   }
 
   void render_settings(const Node& n) {
-    n.object({"spp", "max_depth", "rr_depth", "seed", "exposure", "tonemap"});
+    n.object({"spp", "max_depth", "rr_depth", "seed", "exposure", "tonemap", "spectral"});
     RenderSettings& s = scene.settings;
     if (n.has("spp")) s.spp = n.at("spp").integer(1, 1 << 20);
     if (n.has("max_depth")) s.max_depth = n.at("max_depth").integer(0, 1024);
     if (n.has("rr_depth")) s.rr_depth = n.at("rr_depth").integer(1, 1024);
     if (n.has("seed")) s.seed = static_cast<std::uint64_t>(n.at("seed").integer(0, 2147483647));
+    if (n.has("spectral")) s.spectral = n.at("spectral").boolean();
     if (n.has("exposure")) s.exposure = static_cast<Float>(n.at("exposure").number(-64, 64));
     if (n.has("tonemap")) {
       const std::string t = n.at("tonemap").string();
@@ -509,12 +530,15 @@ struct Loader {
     const std::string type = n.required("type").string();
     if (type == "point") {
       n.object({"type", "position", "intensity"});
-      scene.point_lights.push_back({n.required("position").vec3(), n.required("intensity").color(base_dir)});
+      PointLight l;
+      l.position = n.required("position").vec3();
+      l.intensity = n.required("intensity").color(base_dir, &l.spectrum);
+      scene.point_lights.push_back(std::move(l));
     } else if (type == "quad") {
       n.object({"type", "corner", "edge1", "edge2", "radiance", "two_sided"});
       QuadLight q;
       quad_geometry(n, q.corner, q.edge1, q.edge2);
-      q.radiance = n.required("radiance").color(base_dir);
+      q.radiance = n.required("radiance").color(base_dir, &q.spectrum);
       if (n.has("two_sided")) q.two_sided = n.at("two_sided").boolean();
       scene.area_lights.emplace_back(q);
       add_quad_mesh(q.corner, q.edge1, q.edge2, emitter_material(), static_cast<int>(scene.area_lights.size()) - 1);
@@ -523,7 +547,7 @@ struct Loader {
       SphereLight s;
       s.center = n.required("center").vec3();
       s.radius = static_cast<Float>(n.required("radius").number(0, 1e30, true));
-      s.radiance = n.required("radiance").color(base_dir);
+      s.radiance = n.required("radiance").color(base_dir, &s.spectrum);
       scene.area_lights.emplace_back(s);
       scene.spheres.push_back({s.center, s.radius, emitter_material(), static_cast<int>(scene.area_lights.size()) - 1});
     } else {
@@ -535,7 +559,7 @@ struct Loader {
   int emitter_material() {
     for (size_t i = 0; i < scene.materials.size(); ++i)
       if (scene.materials[i].name == "<emitter>") return static_cast<int>(i);
-    scene.materials.push_back({"<emitter>", DiffuseBxDF{Color(0)}, {}});
+    scene.materials.push_back({"<emitter>", DiffuseBxDF{Color(0)}, {}, {}, 0});
     return static_cast<int>(scene.materials.size()) - 1;
   }
 
@@ -544,7 +568,9 @@ struct Loader {
     if (n.has("radiance") == n.has("file")) n.fail("give exactly one of \"radiance\" or \"file\"");
     if (n.has("radiance")) {
       if (n.has("scale") || n.has("rotation")) n.fail("\"scale\" and \"rotation\" apply to an environment \"file\"");
-      scene.environment = Environment(n.at("radiance").color(base_dir));
+      std::optional<Spectrum> spectrum;
+      const Color c = n.at("radiance").color(base_dir, &spectrum);
+      scene.environment = Environment(c, std::move(spectrum));
       return;
     }
     const Node file = n.at("file");

@@ -22,9 +22,11 @@
 
 namespace gonio {
 
-struct AshikhminShirleyBxDF : diffuse_glossy::Model<AshikhminShirleyBxDF> {
+template <typename C>
+struct AshikhminShirleyBxDFT : diffuse_glossy::Model<AshikhminShirleyBxDFT<C>, C> {
+  using color_type = C;
   static constexpr std::string_view kName = "ashikhminshirley";
-  Color rd{0.5f}, rs{0.05f};
+  C rd{0.5f}, rs{0.05f};
   Float nu = 100, nv = 100;
 
   static constexpr BxDFFlags flags() { return BxDFFlags::DiffuseReflection | BxDFFlags::GlossyReflection; }
@@ -35,7 +37,7 @@ struct AshikhminShirleyBxDF : diffuse_glossy::Model<AshikhminShirleyBxDF> {
     const Float t = h.x * h.x + h.y * h.y;
     return t > 0 ? (nu * h.x * h.x + nv * h.y * h.y) / t : (nu + nv) / 2;
   }
-  Color f_upper(const Vec3& wo, const Vec3& wi) const {
+  C f_upper(const Vec3& wo, const Vec3& wi) const {
     const Vec3 sum = wo + wi;
     const Float len = length(sum);
     const Vec3 h = sum / len;
@@ -43,9 +45,9 @@ struct AshikhminShirleyBxDF : diffuse_glossy::Model<AshikhminShirleyBxDF> {
     const Float hk = len / 2;
     const Float a = 1 - wi.z / 2, b = 1 - wo.z / 2;
     const Float a5 = a * a * a * a * a, b5 = b * b * b * b * b;
-    Color value = rd * (Float(28) / (23 * kPi)) * (Color(1.f) - rs) * ((1 - a5) * (1 - b5));
+    C value = rd * (Float(28) / (23 * kPi)) * (C(1.f) - rs) * ((1 - a5) * (1 - b5));
     if (len > 0 && h.z > 0) {
-      const Color F = fresnel_schlick(rs, hk);  // their eq. 5, Schlick's F at h·k
+      const C F = fresnel_schlick(rs, hk);  // their eq. 5, Schlick's F at h·k
       const Float lobe = std::sqrt((nu + 1) * (nv + 1)) / (8 * kPi) * std::pow(h.z, exponent(h)) /
                          (hk * std::max(wi.z, wo.z));
       value += F * lobe;
@@ -79,9 +81,11 @@ struct AshikhminShirleyBxDF : diffuse_glossy::Model<AshikhminShirleyBxDF> {
   // The diffuse term's share by its reflectance Rd (1 − Rs) against Rs, the lobe's
   // share kept at least 1/5 (see the note at the top).
   Float diffuse_probability() const {
-    return std::min(Float(0.8), diffuse_glossy::diffuse_share(rd * (Color(1.f) - rs), rs));
+    return std::min(Float(0.8), diffuse_glossy::diffuse_share(rd * (C(1.f) - rs), rs));
   }
 
 };
+
+using AshikhminShirleyBxDF = AshikhminShirleyBxDFT<Color>;
 
 }  // namespace gonio

@@ -15,9 +15,11 @@
 
 namespace gonio {
 
-struct BlinnPhongBxDF : diffuse_glossy::Model<BlinnPhongBxDF> {
+template <typename C>
+struct BlinnPhongBxDFT : diffuse_glossy::Model<BlinnPhongBxDFT<C>, C> {
+  using color_type = C;
   static constexpr std::string_view kName = "blinnphong";
-  Color kd{0.5f}, ks{0.2f};
+  C kd{0.5f}, ks{0.2f};
   Float exponent = 20;
 
   static constexpr BxDFFlags flags() { return BxDFFlags::DiffuseReflection | BxDFFlags::GlossyReflection; }
@@ -25,7 +27,7 @@ struct BlinnPhongBxDF : diffuse_glossy::Model<BlinnPhongBxDF> {
   Float normalization() const {
     return (exponent + 2) * (exponent + 4) / (8 * kPi * (std::exp2(-exponent / 2) + exponent));
   }
-  Color f_upper(const Vec3& wo, const Vec3& wi) const {
+  C f_upper(const Vec3& wo, const Vec3& wi) const {
     const Vec3 h = wo + wi;
     const Float cos_h = std::max(Float(0), h.z / length(h));
     return kd * kInvPi + ks * (normalization() * std::pow(cos_h, exponent));
@@ -50,5 +52,7 @@ struct BlinnPhongBxDF : diffuse_glossy::Model<BlinnPhongBxDF> {
   Float diffuse_probability() const { return diffuse_glossy::diffuse_share(kd, ks); }
 
 };
+
+using BlinnPhongBxDF = BlinnPhongBxDFT<Color>;
 
 }  // namespace gonio

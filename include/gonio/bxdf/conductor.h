@@ -3,6 +3,7 @@
 // reflectance of a metal with complex index eta + i k, exact or by Schlick's
 // approximation (lecture eq. 28). Reflects on whichever side wo lies (SPEC §1).
 
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <optional>
@@ -10,26 +11,29 @@
 
 #include "gonio/bxdf/contract.h"
 #include "gonio/fresnel.h"
+#include "gonio/hemispherical_average.h"
 
 namespace gonio {
 
 enum class FresnelModel : std::uint8_t { Exact, Schlick };
 
 // Channel-wise conductor Fresnel, shared by the smooth conductor and (later) the rough one.
-struct ConductorFresnel {
+template <typename C>
+struct ConductorFresnelT {
+  using color_type = C;
   FresnelModel model = FresnelModel::Exact;
-  Color eta{1.0f};  // real part of the relative index
-  Color k{0.0f};    // extinction coefficient
-  Color f0{1.0f};   // reflectance at normal incidence, used by Schlick
+  C eta{1.0f};  // real part of the relative index
+  C k{0.0f};    // extinction coefficient
+  C f0{1.0f};   // reflectance at normal incidence, used by Schlick
 
-  Color operator()(Float cos_i) const { return (*this)(cos_i, cos_i * cos_i); }
+  C operator()(Float cos_i) const { return (*this)(cos_i, cos_i * cos_i); }
   // The same with cos²θi given as well (callers that have it before cos θi: the exact
   // formula needs cos θi only after two square roots of its own).
-  Color operator()(Float cos_i, Float cos2_i) const {
+  C operator()(Float cos_i, Float cos2_i) const {
     const Float c = std::abs(cos_i);
     if (model == FresnelModel::Schlick) return fresnel_schlick(f0, c);
 #if defined(__GNUC__)
-    if constexpr (kColorChannels <= 4) return exact_simd(c, std::min(cos2_i, Float(1)));
+    if constexpr (C::size() <= 4) return exact_simd(c, std::min(cos2_i, Float(1)));
 #endif
     (void)cos2_i;
     return map(eta, k, [c](Float n, Float kk) { return fresnel_conductor(c, n, kk); });
@@ -39,41 +43,64 @@ struct ConductorFresnel {
   // fresnel_conductor_core (fresnel.h) for all channels at once, in a GCC/Clang vector of
   // 4 floats (SSE sqrtps/divps on x86-64): one channel's latency instead of three. Unused
   // lanes repeat channel 0, so they never divide 0 by 0.
-  Color exact_simd(Float c, Float c2) const {
+  C exact_simd(Float c, Float c2) const {
     using V = Float __attribute__((vector_size(16)));
     V n, kk;
     for (int i = 0; i < 4; ++i) {
-      n[i] = eta[i < kColorChannels ? i : 0];
-      kk[i] = k[i < kColorChannels ? i : 0];
+      n[i] = eta[i < C::size() ? i : 0];
+      kk[i] = k[i < C::size() ? i : 0];
     }
     const V zero{};
     V rs, rp;
     fresnel_conductor_core<V>(zero + std::min(c, Float(1)), zero + (1 - c2), n, kk, rs, rp);
     const V r = (rs + rp) / 2;
-    Color out;
-    for (int i = 0; i < kColorChannels; ++i) out[i] = r[i];
+    C out;
+    for (int i = 0; i < C::size(); ++i) out[i] = r[i];
     return out;
   }
 #endif
 };
 
-struct ConductorBxDF {
+using ConductorFresnel = ConductorFresnelT<Color>;
+
+// F_avg = 2 ∫ F(μ) μ dμ per channel (Kulla & Conty 2017; 64 Simpson panels: F is smooth
+// in μ).
+template <typename C>
+C conductor_average_fresnel(const ConductorFresnelT<C>& fr) {
+  const auto avg = cosine_weighted_average(
+      [&](double mu) {
+        const C f = fr(Float(mu));
+        std::array<double, size_t(C::size())> v{};
+        for (int i = 0; i < C::size(); ++i) v[size_t(i)] = f[i];
+        return v;
+      },
+      64);
+  C out;
+  for (int i = 0; i < C::size(); ++i) out[i] = Float(avg[size_t(i)]);
+  return out;
+}
+
+template <typename C>
+struct ConductorBxDFT {
+  using color_type = C;
   static constexpr std::string_view kName = "conductor";
-  ConductorFresnel fresnel;
+  ConductorFresnelT<C> fresnel;
 
   static constexpr BxDFFlags flags() { return BxDFFlags::SpecularReflection; }
-  Color f(const Vec3&, const Vec3&, TransportMode = TransportMode::Radiance) const { return {}; }
+  C f(const Vec3&, const Vec3&, TransportMode = TransportMode::Radiance) const { return {}; }
   Float pdf(const Vec3&, const Vec3&, TransportMode = TransportMode::Radiance) const { return 0; }
 
-  std::optional<BSDFSample> sample(const Vec3& wo, Float, Float, Float,
+  std::optional<BSDFSampleT<C>> sample(const Vec3& wo, Float, Float, Float,
                                    TransportMode = TransportMode::Radiance) const {
     if (wo.z == 0) return std::nullopt;
-    return BSDFSample{{-wo.x, -wo.y, wo.z}, fresnel(wo.z), 1, true, Lobe::Reflection, 1};
+    return BSDFSampleT<C>{{-wo.x, -wo.y, wo.z}, fresnel(wo.z), 1, true, Lobe::Reflection, 1};
   }
 
-  DirectionalAlbedo albedo(const Vec3& wo, TransportMode = TransportMode::Radiance) const {
-    return {wo.z != 0 ? fresnel(wo.z) : Color{}, Color{}};
+  DirectionalAlbedoT<C> albedo(const Vec3& wo, TransportMode = TransportMode::Radiance) const {
+    return {wo.z != 0 ? fresnel(wo.z) : C{}, C{}};
   }
 };
+
+using ConductorBxDF = ConductorBxDFT<Color>;
 
 }  // namespace gonio

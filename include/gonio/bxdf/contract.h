@@ -62,35 +62,43 @@ enum class Lobe : std::uint8_t { Reflection, Transmission };
 // The result of sample(). `weight` = f · |cos θi| / pdf (for a delta lobe the limit of
 // that ratio, already divided by the probability of choosing the lobe). For a delta
 // sample `pdf` holds that discrete probability; SPEC §3 prints it as null.
-struct BSDFSample {
+template <typename C>
+struct BSDFSampleT {
   Vec3 wi;
-  Color weight;
+  C weight;
   Float pdf = 0;
   bool delta = false;
   Lobe lobe = Lobe::Reflection;
   // Relative index n(wi side) / n(wo side) crossed by a transmission; 1 for reflection.
   Float eta = 1;
 };
+using BSDFSample = BSDFSampleT<Color>;
 
 // f and pdf together, for callers that need both (MIS in a renderer, `gonio eval`).
-struct BSDFEval {
-  Color f;
+template <typename C>
+struct BSDFEvalT {
+  C f;
   Float pdf = 0;
 };
+using BSDFEval = BSDFEvalT<Color>;
 
 // Exact directional albedo split by hemisphere, for models with a closed form. In
 // importance mode this is the fraction of light arriving along wo that is reflected
 // and transmitted (SPEC §3, `gonio albedo`).
-struct DirectionalAlbedo {
-  Color reflectance;
-  Color transmittance;
+template <typename C>
+struct DirectionalAlbedoT {
+  C reflectance;
+  C transmittance;
 };
+using DirectionalAlbedo = DirectionalAlbedoT<Color>;
 
+// `M::color_type` is the colour the model carries (Color or SampledSpectrum).
 template <typename M>
 concept BxDFModel = requires(const M& m, Vec3 w, Float u, TransportMode mode) {
-  { m.f(w, w, mode) } -> std::same_as<Color>;
+  typename M::color_type;
+  { m.f(w, w, mode) } -> std::same_as<typename M::color_type>;
   { m.pdf(w, w, mode) } -> std::same_as<Float>;
-  { m.sample(w, u, u, u, mode) } -> std::same_as<std::optional<BSDFSample>>;
+  { m.sample(w, u, u, u, mode) } -> std::same_as<std::optional<BSDFSampleT<typename M::color_type>>>;
   { m.flags() } -> std::same_as<BxDFFlags>;
 };
 

@@ -13,7 +13,9 @@
 
 namespace gonio {
 
-struct DielectricBxDF {
+template <typename C>
+struct DielectricBxDFT {
+  using color_type = C;
   static constexpr std::string_view kName = "dielectric";
   Float eta = 1.5f;  // n_inside / n_outside
 
@@ -21,13 +23,13 @@ struct DielectricBxDF {
     return BxDFFlags::SpecularReflection | BxDFFlags::SpecularTransmission;
   }
   Float relative_eta() const { return eta; }
-  Color f(const Vec3&, const Vec3&, TransportMode = TransportMode::Radiance) const { return {}; }
+  C f(const Vec3&, const Vec3&, TransportMode = TransportMode::Radiance) const { return {}; }
   Float pdf(const Vec3&, const Vec3&, TransportMode = TransportMode::Radiance) const { return 0; }
 
   // u_lobe < F chooses reflection; each lobe's weight is its share divided by its
   // probability: 1 for reflection, (n_wo/n_wi)² (radiance) or 1 (importance) for
   // refraction.
-  std::optional<BSDFSample> sample(const Vec3& wo, Float u_lobe, Float, Float,
+  std::optional<BSDFSampleT<C>> sample(const Vec3& wo, Float u_lobe, Float, Float,
                                    TransportMode mode = TransportMode::Radiance) const {
     if (wo.z == 0) return std::nullopt;
     const bool inside = wo.z < 0;
@@ -53,16 +55,18 @@ struct DielectricBxDF {
     const Float tz = std::sqrt(std::max(Float(0), 1 - tx * tx - ty * ty));
     const Vec3 wi = reflect ? Vec3{-wo.x, -wo.y, wo.z} : Vec3{tx, ty, std::copysign(tz, -wo.z)};
     const Float weight = reflect ? Float(1) : transmission_scale(e, mode);
-    return BSDFSample{wi, Color(weight), reflect ? r : 1 - r, true,
+    return BSDFSampleT<C>{wi, C(weight), reflect ? r : 1 - r, true,
                       reflect ? Lobe::Reflection : Lobe::Transmission, reflect ? Float(1) : e};
   }
 
-  DirectionalAlbedo albedo(const Vec3& wo, TransportMode mode = TransportMode::Radiance) const {
+  DirectionalAlbedoT<C> albedo(const Vec3& wo, TransportMode mode = TransportMode::Radiance) const {
     if (wo.z == 0) return {};
     const Float r = fresnel_dielectric(wo.z, eta);
     const Float eta_crossed = wo.z > 0 ? eta : 1 / eta;
-    return {Color(r), Color((1 - r) * transmission_scale(eta_crossed, mode))};
+    return {C(r), C((1 - r) * transmission_scale(eta_crossed, mode))};
   }
 };
+
+using DielectricBxDF = DielectricBxDFT<Color>;
 
 }  // namespace gonio

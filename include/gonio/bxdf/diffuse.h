@@ -10,15 +10,17 @@
 
 namespace gonio {
 
-struct DiffuseBxDF {
+template <typename C>
+struct DiffuseBxDFT {
+  using color_type = C;
   static constexpr std::string_view kName = "diffuse";
-  Color reflectance{0.5f};
+  C reflectance{0.5f};
 
   static constexpr BxDFFlags flags() { return BxDFFlags::DiffuseReflection; }
 
   // Branch-free: which side wi lies on is data, and a mispredicted branch costs more
   // than the model (docs/benchmarks.md).
-  Color f(const Vec3& wo, const Vec3& wi, TransportMode = TransportMode::Radiance) const {
+  C f(const Vec3& wo, const Vec3& wi, TransportMode = TransportMode::Radiance) const {
     return reflectance * keep_if(wo.z * wi.z > 0, kInvPi);
   }
 
@@ -27,7 +29,7 @@ struct DiffuseBxDF {
   }
 
   // Cosine-weighted hemisphere on wo's side; weight = (ρ/π) cos θ / (cos θ/π) = ρ.
-  std::optional<BSDFSample> sample(const Vec3& wo, Float /*u_lobe*/, Float u1, Float u2,
+  std::optional<BSDFSampleT<C>> sample(const Vec3& wo, Float /*u_lobe*/, Float u1, Float u2,
                                    TransportMode = TransportMode::Radiance) const {
     Vec3 wi = square_to_cosine_hemisphere(u1, u2);
     // No direction for a grazing wo, nor at the rim of the disk (zero density), nor where
@@ -36,12 +38,14 @@ struct DiffuseBxDF {
     if (!(std::abs(wo.z) * wi.z > 0)) return std::nullopt;
     const Float pdf = wi.z * kInvPi;
     wi.z = std::copysign(wi.z, wo.z);
-    return BSDFSample{wi, reflectance, pdf, false, Lobe::Reflection, 1};
+    return BSDFSampleT<C>{wi, reflectance, pdf, false, Lobe::Reflection, 1};
   }
 
-  DirectionalAlbedo albedo(const Vec3& wo, TransportMode = TransportMode::Radiance) const {
-    return {wo.z != 0 ? reflectance : Color{}, Color{}};
+  DirectionalAlbedoT<C> albedo(const Vec3& wo, TransportMode = TransportMode::Radiance) const {
+    return {wo.z != 0 ? reflectance : C{}, C{}};
   }
 };
+
+using DiffuseBxDF = DiffuseBxDFT<Color>;
 
 }  // namespace gonio

@@ -24,7 +24,7 @@ inline bool usable(const Vec3& wo, const Vec3& wi) {
 }
 
 template <typename M>
-Color f(const M& m, Vec3 wo, Vec3 wi) {
+typename M::color_type f(const M& m, Vec3 wo, Vec3 wi) {
   if (!usable(wo, wi)) return {};
   if (wo.z < 0) {
     wo.z = -wo.z;
@@ -45,7 +45,7 @@ Float pdf(const M& m, Vec3 wo, Vec3 wi) {
 }
 
 template <typename M>
-std::optional<BSDFSample> sample(const M& m, Vec3 wo, Float u_lobe, Float u1, Float u2) {
+std::optional<BSDFSampleT<typename M::color_type>> sample(const M& m, Vec3 wo, Float u_lobe, Float u1, Float u2) {
   if (std::abs(wo.z) < kGrazing) return std::nullopt;
   const bool flip = wo.z < 0;
   if (flip) wo.z = -wo.z;
@@ -54,22 +54,22 @@ std::optional<BSDFSample> sample(const M& m, Vec3 wo, Float u_lobe, Float u1, Fl
   if (!(wi.z >= kGrazing)) return std::nullopt;
   const Float p = pd * wi.z * kInvPi + (1 - pd) * m.lobe_pdf(wo, wi);
   if (!(p > 0)) return std::nullopt;
-  const Color value = m.f_upper(wo, wi) * (wi.z / p);
+  const auto value = m.f_upper(wo, wi) * (wi.z / p);
   if (flip) wi.z = -wi.z;
-  return BSDFSample{wi, value, p, false, Lobe::Reflection, 1};
+  return BSDFSampleT<typename M::color_type>{wi, value, p, false, Lobe::Reflection, 1};
 }
 
 // The contract's f, pdf and sample for a model M that supplies the pieces above
 // (curiously recurring template: no virtual call).
-template <typename M>
+template <typename M, typename C>
 struct Model {
-  Color f(const Vec3& wo, const Vec3& wi, TransportMode = TransportMode::Radiance) const {
+  C f(const Vec3& wo, const Vec3& wi, TransportMode = TransportMode::Radiance) const {
     return diffuse_glossy::f(self(), wo, wi);
   }
   Float pdf(const Vec3& wo, const Vec3& wi, TransportMode = TransportMode::Radiance) const {
     return diffuse_glossy::pdf(self(), wo, wi);
   }
-  std::optional<BSDFSample> sample(const Vec3& wo, Float u_lobe, Float u1, Float u2,
+  std::optional<BSDFSampleT<C>> sample(const Vec3& wo, Float u_lobe, Float u1, Float u2,
                                    TransportMode = TransportMode::Radiance) const {
     return diffuse_glossy::sample(self(), wo, u_lobe, u1, u2);
   }
@@ -79,7 +79,8 @@ struct Model {
 };
 
 // Probability of the diffuse lobe from the lobes' average reflectances.
-inline Float diffuse_share(const Color& kd, const Color& ks) {
+template <typename C>
+Float diffuse_share(const C& kd, const C& ks) {
   const Float d = kd.average(), s = ks.average();
   return d + s > 0 ? d / (d + s) : Float(1);
 }

@@ -10,23 +10,27 @@
 
 namespace gonio {
 
-struct MirrorBxDF {
+template <typename C>
+struct MirrorBxDFT {
+  using color_type = C;
   static constexpr std::string_view kName = "mirror";
-  Color reflectance{1.0f};
+  C reflectance{1.0f};
 
   static constexpr BxDFFlags flags() { return BxDFFlags::SpecularReflection; }
-  Color f(const Vec3&, const Vec3&, TransportMode = TransportMode::Radiance) const { return {}; }
+  C f(const Vec3&, const Vec3&, TransportMode = TransportMode::Radiance) const { return {}; }
   Float pdf(const Vec3&, const Vec3&, TransportMode = TransportMode::Radiance) const { return 0; }
 
-  std::optional<BSDFSample> sample(const Vec3& wo, Float, Float, Float,
+  std::optional<BSDFSampleT<C>> sample(const Vec3& wo, Float, Float, Float,
                                    TransportMode = TransportMode::Radiance) const {
     if (wo.z == 0) return std::nullopt;
-    return BSDFSample{{-wo.x, -wo.y, wo.z}, reflectance, 1, true, Lobe::Reflection, 1};
+    return BSDFSampleT<C>{{-wo.x, -wo.y, wo.z}, reflectance, 1, true, Lobe::Reflection, 1};
   }
 
-  DirectionalAlbedo albedo(const Vec3& wo, TransportMode = TransportMode::Radiance) const {
-    return {wo.z != 0 ? reflectance : Color{}, Color{}};
+  DirectionalAlbedoT<C> albedo(const Vec3& wo, TransportMode = TransportMode::Radiance) const {
+    return {wo.z != 0 ? reflectance : C{}, C{}};
   }
 };
+
+using MirrorBxDF = MirrorBxDFT<Color>;
 
 }  // namespace gonio

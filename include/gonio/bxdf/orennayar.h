@@ -31,15 +31,17 @@
 
 namespace gonio {
 
-struct OrenNayarBxDF {
+template <typename C>
+struct OrenNayarBxDFT {
+  using color_type = C;
   static constexpr std::string_view kName = "orennayar";
-  Color reflectance{0.5f};
+  C reflectance{0.5f};
   Float sigma = 0;  // radians
   bool full = false;
 
   static constexpr BxDFFlags flags() { return BxDFFlags::DiffuseReflection; }
 
-  Color f(Vec3 wo, Vec3 wi, TransportMode = TransportMode::Radiance) const {
+  C f(Vec3 wo, Vec3 wi, TransportMode = TransportMode::Radiance) const {
     if (!diffuse_glossy::usable(wo, wi)) return {};
     if (wo.z < 0) {
       wo.z = -wo.z;
@@ -90,14 +92,16 @@ struct OrenNayarBxDF {
   Float pdf(const Vec3& wo, const Vec3& wi, TransportMode = TransportMode::Radiance) const {
     return diffuse_glossy::usable(wo, wi) ? mixture_pdf(std::abs(wi.z)) : Float(0);
   }
-  std::optional<BSDFSample> sample(const Vec3& wo, Float u_lobe, Float u1, Float u2,
+  std::optional<BSDFSampleT<C>> sample(const Vec3& wo, Float u_lobe, Float u1, Float u2,
                                    TransportMode mode = TransportMode::Radiance) const {
     Vec3 wi = u_lobe < uniform_share() ? square_to_uniform_hemisphere(u1, u2) : square_to_cosine_hemisphere(u1, u2);
     if (std::abs(wo.z) < diffuse_glossy::kGrazing || wi.z < diffuse_glossy::kGrazing) return std::nullopt;
     const Float cos_i = wi.z, p = mixture_pdf(cos_i);
     wi.z = std::copysign(wi.z, wo.z);
-    return BSDFSample{wi, f(wo, wi, mode) * (cos_i / p), p, false, Lobe::Reflection, 1};
+    return BSDFSampleT<C>{wi, f(wo, wi, mode) * (cos_i / p), p, false, Lobe::Reflection, 1};
   }
 };
+
+using OrenNayarBxDF = OrenNayarBxDFT<Color>;
 
 }  // namespace gonio

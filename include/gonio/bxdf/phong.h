@@ -14,9 +14,11 @@
 
 namespace gonio {
 
-struct PhongBxDF : diffuse_glossy::Model<PhongBxDF> {
+template <typename C>
+struct PhongBxDFT : diffuse_glossy::Model<PhongBxDFT<C>, C> {
+  using color_type = C;
   static constexpr std::string_view kName = "phong";
-  Color kd{0.5f}, ks{0.2f};
+  C kd{0.5f}, ks{0.2f};
   Float exponent = 20;
 
   static constexpr BxDFFlags flags() { return BxDFFlags::DiffuseReflection | BxDFFlags::GlossyReflection; }
@@ -24,7 +26,7 @@ struct PhongBxDF : diffuse_glossy::Model<PhongBxDF> {
   Float cos_alpha(const Vec3& wo, const Vec3& wi) const {
     return std::max(Float(0), -wo.x * wi.x - wo.y * wi.y + wo.z * wi.z);  // wi · mirror(wo)
   }
-  Color f_upper(const Vec3& wo, const Vec3& wi) const {
+  C f_upper(const Vec3& wo, const Vec3& wi) const {
     const Float lobe = (exponent + 2) * kInv2Pi * std::pow(cos_alpha(wo, wi), exponent);
     return kd * kInvPi + ks * lobe;
   }
@@ -43,5 +45,7 @@ struct PhongBxDF : diffuse_glossy::Model<PhongBxDF> {
   Float diffuse_probability() const { return diffuse_glossy::diffuse_share(kd, ks); }
 
 };
+
+using PhongBxDF = PhongBxDFT<Color>;
 
 }  // namespace gonio

@@ -54,9 +54,10 @@
 
 namespace gonio {
 
-struct PlasticBxDF {
-  static constexpr std::string_view kName = "plastic";
-  Color reflectance{0.5f};
+// What does not depend on the colour: the coat, its tables and the sampling state. The
+// colour-generic model below adds the base's albedo, so that a spectral model made per
+// shading point copies this part as it is.
+struct PlasticCoat {
   Float eta = 1.5f;
   std::optional<MicrofacetDistribution> coat;  // none: smooth coat
   // 1 − Ē: the coat's hemispherical transmittance from outside. It fixes the one from
@@ -75,9 +76,8 @@ struct PlasticBxDF {
   Float brewster_c = 0;         // k / (2π ln(1 + k)): the grazing component's density times (1 + k μ)
   Float complement_norm = 0;    // 1 / (π 2∫(1 − E_coat) μ dμ)
 
-  static PlasticBxDF make(const Color& reflectance, Float eta, std::optional<MicrofacetDistribution> coat) {
-    PlasticBxDF m;
-    m.reflectance = reflectance;
+  static PlasticCoat make(Float eta, std::optional<MicrofacetDistribution> coat) {
+    PlasticCoat m;
     m.eta = eta;
     m.coat = coat;
     // Ē = 2 ∫ F(μ) μ dμ from outside, where F is smooth (from inside it has a kink at the
@@ -126,22 +126,6 @@ struct PlasticBxDF {
   Float coat_reflectance(const Vec3& w) const {
     return smooth() ? fresnel_dielectric(w.z, eta) : coat_albedo.E(*coat, w);
   }
-  Color base(Float eo, Float ei) const {
-    const Float t = (1 - ei) * (1 - eo);
-    // ρ / (η² (1 − ρ F_dr)) = ρ / ((1 − ρ) η² + ρ (1 − Ē)).
-    return map(reflectance, [&](Float r) { return r / ((1 - r) * eta * eta + r * transmit); }) * (t * kInvPi);
-  }
-  // Probability of sampling the coat's lobe rather than the base, by expected energy; for
-  // the rough coat at least (F(cos θo / 2) + F(0°)/2)/4, which bounds the coat's weights
-  // by 4 (top of the file). The smooth coat's delta weight is F/P_c ≤ 1 as it is.
-  Float coat_probability(const Vec3& wo, Float eo) const {
-    const Float b = (1 - eo) * reflectance.average();
-    const Float p = eo + b > 0 ? eo / (eo + b) : Float(1);
-    if (smooth()) return p;
-    if (grazing(wo)) return 0;
-    const Float floor = (fresnel_dielectric(std::abs(wo.z) / 2, eta) + f0 / 2) / 4;
-    return std::max(p, floor);
-  }
   // Density per solid angle of the base's sampling for cos θi = mu (> 0) and the coat's
   // reflectance ei there.
   Float base_pdf(Float mu, Float ei) const {
@@ -168,8 +152,46 @@ struct PlasticBxDF {
     const Float ph = 2 * kPi * u2;
     return {s * std::cos(ph), s * std::sin(ph), mu};
   }
+};
 
-  BSDFEval eval(Vec3 wo, Vec3 wi, TransportMode = TransportMode::Radiance) const {
+template <typename C>
+struct PlasticBxDFT : PlasticCoat {
+  using color_type = C;
+  static constexpr std::string_view kName = "plastic";
+  C reflectance{0.5f};
+
+  static PlasticBxDFT make(const C& reflectance, Float eta, std::optional<MicrofacetDistribution> coat) {
+    PlasticBxDFT m;
+    static_cast<PlasticCoat&>(m) = PlasticCoat::make(eta, coat);
+    m.reflectance = reflectance;
+    return m;
+  }
+  // The same coat over another base.
+  static PlasticBxDFT make(const PlasticCoat& coat, const C& reflectance) {
+    PlasticBxDFT m;
+    static_cast<PlasticCoat&>(m) = coat;
+    m.reflectance = reflectance;
+    return m;
+  }
+
+  C base(Float eo, Float ei) const {
+    const Float t = (1 - ei) * (1 - eo);
+    // ρ / (η² (1 − ρ F_dr)) = ρ / ((1 − ρ) η² + ρ (1 − Ē)).
+    return map(reflectance, [&](Float r) { return r / ((1 - r) * eta * eta + r * transmit); }) * (t * kInvPi);
+  }
+  // Probability of sampling the coat's lobe rather than the base, by expected energy; for
+  // the rough coat at least (F(cos θo / 2) + F(0°)/2)/4, which bounds the coat's weights
+  // by 4 (top of the file). The smooth coat's delta weight is F/P_c ≤ 1 as it is.
+  Float coat_probability(const Vec3& wo, Float eo) const {
+    const Float b = (1 - eo) * reflectance.average();
+    const Float p = eo + b > 0 ? eo / (eo + b) : Float(1);
+    if (smooth()) return p;
+    if (grazing(wo)) return 0;
+    const Float floor = (fresnel_dielectric(std::abs(wo.z) / 2, eta) + f0 / 2) / 4;
+    return std::max(p, floor);
+  }
+
+  BSDFEvalT<C> eval(Vec3 wo, Vec3 wi, TransportMode = TransportMode::Radiance) const {
     if (!(wo.z * wi.z > 0)) return {};
     if (wo.z < 0) {
       wo.z = -wo.z;
@@ -182,14 +204,14 @@ struct PlasticBxDF {
     const Float pc = coat_probability(wo, eo);
     return {base(eo, ei), (1 - pc) * base_pdf(wi.z, ei)};
   }
-  Color f(const Vec3& wo, const Vec3& wi, TransportMode mode = TransportMode::Radiance) const {
+  C f(const Vec3& wo, const Vec3& wi, TransportMode mode = TransportMode::Radiance) const {
     return eval(wo, wi, mode).f;
   }
   Float pdf(const Vec3& wo, const Vec3& wi, TransportMode mode = TransportMode::Radiance) const {
     return eval(wo, wi, mode).pdf;
   }
 
-  std::optional<BSDFSample> sample(Vec3 wo, Float u_lobe, Float u1, Float u2,
+  std::optional<BSDFSampleT<C>> sample(Vec3 wo, Float u_lobe, Float u1, Float u2,
                                    TransportMode mode = TransportMode::Radiance) const {
     if (wo.z == 0) return std::nullopt;
     const bool flip = wo.z < 0;
@@ -200,7 +222,7 @@ struct PlasticBxDF {
       if (smooth()) {
         // The coat's mirror reflection: weight F / P.
         const Float F = fresnel_dielectric(wo.z, eta);
-        return BSDFSample{{-wo.x, -wo.y, flip ? -wo.z : wo.z}, Color(F / pc), pc, true, Lobe::Reflection, 1};
+        return BSDFSampleT<C>{{-wo.x, -wo.y, flip ? -wo.z : wo.z}, C(F / pc), pc, true, Lobe::Reflection, 1};
       }
       wi = reflect(wo, coat->sample_visible(wo, u1, u2));
       if (grazing(wi)) return std::nullopt;  // the coat lobe is 0 there
@@ -208,17 +230,17 @@ struct PlasticBxDF {
       wi = sample_base(u1, u2);
     }
     if (!(wi.z > 0)) return std::nullopt;
-    const BSDFEval e = eval(wo, wi, mode);
+    const BSDFEvalT<C> e = eval(wo, wi, mode);
     if (!(e.pdf > 0)) return std::nullopt;
-    const Color weight = e.f * (wi.z / e.pdf);
+    const C weight = e.f * (wi.z / e.pdf);
     if (flip) wi.z = -wi.z;
-    return BSDFSample{wi, weight, e.pdf, false, Lobe::Reflection, 1};
+    return BSDFSampleT<C>{wi, weight, e.pdf, false, Lobe::Reflection, 1};
   }
 
   // The rough coat for wo.z, wi.z > 0: base coupled through E_coat, plus the coat's lobe.
-  [[gnu::noinline]] BSDFEval eval_rough(const Vec3& wo, const Vec3& wi) const {
+  [[gnu::noinline]] BSDFEvalT<C> eval_rough(const Vec3& wo, const Vec3& wi) const {
     const Float eo = coat_albedo.E(*coat, wo), ei = coat_albedo.E(*coat, wi);
-    Color f = base(eo, ei);
+    C f = base(eo, ei);
     const Float pc = coat_probability(wo, eo);
     Float pdf = (1 - pc) * base_pdf(wi.z, ei);
     if (!grazing(wo) && !grazing(wi)) {
@@ -230,7 +252,7 @@ struct PlasticBxDF {
       // G2 / (4 cos θo cos θi) = 1 / (2 (cos θi T(wo) + cos θo T(wi))): no product of
       // cosines that could underflow, no Λ that could overflow.
       const Float F = fresnel_dielectric(std::min(std::sqrt(h2) / 2, Float(1)), eta);
-      f += Color(D * F / (2 * (wi.z * to + wo.z * ti)));
+      f += C(D * F / (2 * (wi.z * to + wo.z * ti)));
       // Visible-normal density times dωm/dωi: D / (4 cos θo (1 + Λo)) = D / (2 (T(wo) + cos θo)).
       pdf += pc * D / (2 * (to + wo.z));
     }
@@ -238,13 +260,15 @@ struct PlasticBxDF {
   }
 
   // Closed form for the smooth coat: F(θo) + (1 − F(θo)) ρ (1 − F_dr) / (1 − ρ F_dr).
-  std::optional<DirectionalAlbedo> albedo(const Vec3& wo, TransportMode = TransportMode::Radiance) const {
+  std::optional<DirectionalAlbedoT<C>> albedo(const Vec3& wo, TransportMode = TransportMode::Radiance) const {
     if (!smooth()) return std::nullopt;
-    if (wo.z == 0) return DirectionalAlbedo{};
+    if (wo.z == 0) return DirectionalAlbedoT<C>{};
     const Float F = fresnel_dielectric(std::abs(wo.z), eta);
-    const Color b = map(reflectance, [&](Float r) { return r * transmit / ((1 - r) * eta * eta + r * transmit); });
-    return DirectionalAlbedo{Color(F) + b * (1 - F), Color{}};
+    const C b = map(reflectance, [&](Float r) { return r * transmit / ((1 - r) * eta * eta + r * transmit); });
+    return DirectionalAlbedoT<C>{C(F) + b * (1 - F), C{}};
   }
 };
+
+using PlasticBxDF = PlasticBxDFT<Color>;
 
 }  // namespace gonio

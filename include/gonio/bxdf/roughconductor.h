@@ -16,12 +16,14 @@
 
 namespace gonio {
 
-struct RoughConductorBxDF {
+template <typename C>
+struct RoughConductorBxDFT {
+  using color_type = C;
   static constexpr std::string_view kName = "roughconductor";
   MicrofacetDistribution distribution;
-  ConductorFresnel fresnel;
+  ConductorFresnelT<C> fresnel;
   // Kulla–Conty energy compensation; absent = single scattering only.
-  std::optional<MultiscatterLobe> multiscatter;
+  std::optional<MultiscatterLobeT<C>> multiscatter;
 
   BxDFFlags flags() const {
     return distribution.effectively_smooth() ? BxDFFlags::SpecularReflection : BxDFFlags::GlossyReflection;
@@ -32,7 +34,7 @@ struct RoughConductorBxDF {
   // them as such keeps products of cosines from underflowing into infinities.
   static bool grazing(const Vec3& w) { return std::abs(w.z) < Float(1e-7); }
 
-  BSDFEval eval(Vec3 wo, Vec3 wi, TransportMode = TransportMode::Radiance) const {
+  BSDFEvalT<C> eval(Vec3 wo, Vec3 wi, TransportMode = TransportMode::Radiance) const {
     if ((wo.z > 0) != (wi.z > 0) || grazing(wo) || grazing(wi) || distribution.effectively_smooth()) return {};
     if (wo.z < 0) {
       wo.z = -wo.z;
@@ -47,9 +49,9 @@ struct RoughConductorBxDF {
     const Float to = distribution.smith_t(wo), ti = distribution.smith_t(wi);
     // wo·wm = wi·wm = |wo + wi|/2 for unit wo, wi: symmetric in the pair, and free of the
     // cancellation in dot(wo, h) = 1 + wo·wi at grazing.
-    const Color F = fresnel(std::min(std::sqrt(h2) / 2, Float(1)), std::min(h2 / 4, Float(1)));
+    const C F = fresnel(std::min(std::sqrt(h2) / 2, Float(1)), std::min(h2 / 4, Float(1)));
     // G2 / (4 cos θo cos θi) = 1 / (2 (cos θi T(wo) + cos θo T(wi))) (smith_t).
-    Color f = F * (D / (2 * (wi.z * to + wo.z * ti)));
+    C f = F * (D / (2 * (wi.z * to + wo.z * ti)));
     // Visible-normal density of wm, times the Jacobian dωm/dωi = 1/(4 wo·wm):
     // D / (4 cos θo (1 + Λo)) = D / (2 (T(wo) + cos θo)).
     Float pdf = D / (2 * (to + wo.z));
@@ -60,7 +62,7 @@ struct RoughConductorBxDF {
     }
     return {f, pdf};
   }
-  Color f(const Vec3& wo, const Vec3& wi, TransportMode mode = TransportMode::Radiance) const {
+  C f(const Vec3& wo, const Vec3& wi, TransportMode mode = TransportMode::Radiance) const {
     return eval(wo, wi, mode).f;
   }
   Float pdf(Vec3 wo, Vec3 wi, TransportMode = TransportMode::Radiance) const {
@@ -76,13 +78,13 @@ struct RoughConductorBxDF {
     return multiscatter ? multiscatter->mix_pdf(multiscatter->E(wo.z), p, wi.z, multiscatter->E(wi.z)) : p;
   }
 
-  std::optional<BSDFSample> sample(Vec3 wo, Float u_lobe, Float u1, Float u2,
+  std::optional<BSDFSampleT<C>> sample(Vec3 wo, Float u_lobe, Float u1, Float u2,
                                    TransportMode mode = TransportMode::Radiance) const {
     if (wo.z == 0 || (grazing(wo) && !distribution.effectively_smooth())) return std::nullopt;
     const bool flip = wo.z < 0;
     if (flip) wo.z = -wo.z;
     if (distribution.effectively_smooth()) {
-      return BSDFSample{{-wo.x, -wo.y, flip ? -wo.z : wo.z}, fresnel(wo.z), 1, true, Lobe::Reflection, 1};
+      return BSDFSampleT<C>{{-wo.x, -wo.y, flip ? -wo.z : wo.z}, fresnel(wo.z), 1, true, Lobe::Reflection, 1};
     }
     if (multiscatter) {
       // Mixture of the single-scattering lobe and the multiple-scattering one, the latter
@@ -91,9 +93,9 @@ struct RoughConductorBxDF {
       const Vec3 wi = u_lobe < multiscatter->probability(multiscatter->E(wo.z)) ? multiscatter->sample(u1, u2)
                                                                : reflect(wo, distribution.sample_visible(wo, u1, u2));
       if (!(wi.z > 0) || grazing(wi)) return std::nullopt;
-      const BSDFEval e = eval(wo, wi, mode);
+      const BSDFEvalT<C> e = eval(wo, wi, mode);
       if (!(e.pdf > 0)) return std::nullopt;
-      return BSDFSample{{wi.x, wi.y, flip ? -wi.z : wi.z}, e.f * (wi.z / e.pdf), e.pdf, false, Lobe::Reflection, 1};
+      return BSDFSampleT<C>{{wi.x, wi.y, flip ? -wi.z : wi.z}, e.f * (wi.z / e.pdf), e.pdf, false, Lobe::Reflection, 1};
     }
     return distribution.type == MicrofacetType::GGX
                ? sample_single<static_cast<int>(MicrofacetType::GGX)>(wo, flip, u1, u2)
@@ -103,7 +105,7 @@ struct RoughConductorBxDF {
  private:
   // The single-scattering sample for wo.z > 0 (flip: wo was below), per distribution type.
   template <int kType>
-  [[gnu::always_inline]] std::optional<BSDFSample> sample_single(const Vec3& wo, bool flip, Float u1, Float u2) const {
+  [[gnu::always_inline]] std::optional<BSDFSampleT<C>> sample_single(const Vec3& wo, bool flip, Float u1, Float u2) const {
     const auto vn = distribution.sample_visible_terms<kType>(wo, u1, u2);
     const Float to = distribution.smith_t<kType>(wo);  // the sampler's stretched length (CSE)
     // wi = reflect(wo, wm) = 2 (wo·wm) wm − wo (lecture §5.2) with wm = m/|m|:
@@ -123,10 +125,12 @@ struct RoughConductorBxDF {
     // G2/G1 in the T form of smith_t; D cancels, and F is well-conditioned in wo·wm.
     const Float ti = distribution.smith_t<kType>(wi);
     const Float cos2_om = std::max(Float(0), q * om);
-    const Color weight =
+    const C weight =
         fresnel(std::sqrt(cos2_om), cos2_om) * (wi.z * (to + wo.z) / (wi.z * to + wo.z * ti));
-    return BSDFSample{{wi.x, wi.y, flip ? -wi.z : wi.z}, weight, pdf, false, Lobe::Reflection, 1};
+    return BSDFSampleT<C>{{wi.x, wi.y, flip ? -wi.z : wi.z}, weight, pdf, false, Lobe::Reflection, 1};
   }
 };
+
+using RoughConductorBxDF = RoughConductorBxDFT<Color>;
 
 }  // namespace gonio

@@ -20,7 +20,9 @@
 
 namespace gonio {
 
-struct RoughDielectricBxDF {
+template <typename C>
+struct RoughDielectricBxDFT {
+  using color_type = C;
   static constexpr std::string_view kName = "roughdielectric";
   MicrofacetDistribution distribution;
   Float eta = 1.5f;  // n_inside / n_outside
@@ -52,14 +54,14 @@ struct RoughDielectricBxDF {
   bool is_isotropic() const { return distribution.is_isotropic(); }
 
   // Each entry point runs code instantiated for its distribution type (see is_ggx).
-  BSDFEval eval(const Vec3& wo, const Vec3& wi, TransportMode mode = TransportMode::Radiance) const {
-    BSDFEval e = distribution.type == MicrofacetType::GGX
+  BSDFEvalT<C> eval(const Vec3& wo, const Vec3& wi, TransportMode mode = TransportMode::Radiance) const {
+    BSDFEvalT<C> e = distribution.type == MicrofacetType::GGX
                      ? evaluate<true, static_cast<int>(MicrofacetType::GGX)>(wo, wi, mode)
                      : evaluate<true, static_cast<int>(MicrofacetType::Beckmann)>(wo, wi, mode);
     if (multiscatter) add_multiscatter(wo, wi, mode, e);
     return e;
   }
-  Color f(const Vec3& wo, const Vec3& wi, TransportMode mode = TransportMode::Radiance) const {
+  C f(const Vec3& wo, const Vec3& wi, TransportMode mode = TransportMode::Radiance) const {
     return eval(wo, wi, mode).f;
   }
   Float pdf(const Vec3& wo, const Vec3& wi, TransportMode mode = TransportMode::Radiance) const {
@@ -68,9 +70,9 @@ struct RoughDielectricBxDF {
                                                     : evaluate<false, static_cast<int>(MicrofacetType::Beckmann)>(wo, wi, mode).pdf;
   }
 
-  std::optional<BSDFSample> sample(const Vec3& wo, Float u_lobe, Float u1, Float u2,
+  std::optional<BSDFSampleT<C>> sample(const Vec3& wo, Float u_lobe, Float u1, Float u2,
                                    TransportMode mode = TransportMode::Radiance) const {
-    if (specular()) return DielectricBxDF{eta}.sample(wo, u_lobe, u1, u2, mode);
+    if (specular()) return DielectricBxDFT<C>{eta}.sample(wo, u_lobe, u1, u2, mode);
     if (grazing(wo)) return std::nullopt;
     if (multiscatter) return sample_mixture(wo, u_lobe, u1, u2, mode);
     constexpr int kGGX = static_cast<int>(MicrofacetType::GGX), kBeckmann = static_cast<int>(MicrofacetType::Beckmann);
@@ -85,7 +87,7 @@ struct RoughDielectricBxDF {
  private:
   // Adds the compensation lobe to a single-scattering evaluation: f (radiance mode: times
   // (n_wo/n_wi)² on transmission, SPEC §1) and the mixture's density.
-  void add_multiscatter(const Vec3& wo, const Vec3& wi, TransportMode mode, BSDFEval& e) const {
+  void add_multiscatter(const Vec3& wo, const Vec3& wi, TransportMode mode, BSDFEvalT<C>& e) const {
     if (grazing(wo) || grazing(wi)) return;
     const bool wo_out = wo.z > 0, wi_out = wi.z > 0;
     const Float cos_o = std::abs(wo.z), cos_i = std::abs(wi.z);
@@ -95,14 +97,14 @@ struct RoughDielectricBxDF {
       f *= ratio * ratio;
     }
     const Float p = multiscatter->probability(wo_out, cos_o);
-    e.f += Color(f);
+    e.f += C(f);
     e.pdf = (1 - p) * e.pdf + p * multiscatter->pdf(wo_out, wi_out, cos_i);
   }
 
   // Sampling of the mixture: the compensation lobe with its probability (a cosine-weighted
   // direction on the side chosen by its reflection/transmission split), else the
   // single-scattering sampler; the weight is f |cos θi| / pdf of the mixture.
-  std::optional<BSDFSample> sample_mixture(const Vec3& wo, Float u_lobe, Float u1, Float u2,
+  std::optional<BSDFSampleT<C>> sample_mixture(const Vec3& wo, Float u_lobe, Float u1, Float u2,
                                            TransportMode mode) const {
     const bool wo_out = wo.z > 0;
     const Float p = multiscatter->probability(wo_out, std::abs(wo.z));
@@ -125,17 +127,17 @@ struct RoughDielectricBxDF {
       wi = s->wi;
     }
     if (grazing(wi)) return std::nullopt;
-    const BSDFEval e = eval(wo, wi, mode);
+    const BSDFEvalT<C> e = eval(wo, wi, mode);
     if (!(e.pdf > 0)) return std::nullopt;
     const bool transmit = (wi.z > 0) != wo_out;
     const Float crossed = transmit ? (wo_out ? eta : 1 / eta) : Float(1);
-    return BSDFSample{wi, e.f * (std::abs(wi.z) / e.pdf), e.pdf, false,
+    return BSDFSampleT<C>{wi, e.f * (std::abs(wi.z) / e.pdf), e.pdf, false,
                       transmit ? Lobe::Transmission : Lobe::Reflection, crossed};
   }
 
   // The sampler per distribution type and side of wo (outside: wo.z > 0).
   template <int kType, bool kOutside>
-  [[gnu::always_inline]] std::optional<BSDFSample> sample_rough(const Vec3& wo, Float u_lobe, Float u1, Float u2,
+  [[gnu::always_inline]] std::optional<BSDFSampleT<C>> sample_rough(const Vec3& wo, Float u_lobe, Float u1, Float u2,
                                                                 TransportMode mode) const {
     constexpr bool outside = kOutside;
     // Normals visible from wo; from inside, those visible from −wo (the same
@@ -188,9 +190,9 @@ struct RoughDielectricBxDF {
     if (!(pdf > 0)) return std::nullopt;
     const Float cos_i = std::abs(wi.z);
     const Float g2_den = cos_i * to + cos_o * distribution.smith_t<kType>(wi);
-    if (reflect_lobe) return BSDFSample{wi, Color(cos_i * to_plus / g2_den), pdf, false, Lobe::Reflection, 1};
+    if (reflect_lobe) return BSDFSampleT<C>{wi, C(cos_i * to_plus / g2_den), pdf, false, Lobe::Reflection, 1};
     const Float scale = mode == TransportMode::Radiance ? e * e : Float(1);  // 1 / transmission_scale
-    return BSDFSample{wi, Color(cos_i * to_plus / (g2_den * scale)), pdf, false, Lobe::Transmission, e};
+    return BSDFSampleT<C>{wi, C(cos_i * to_plus / (g2_den * scale)), pdf, false, Lobe::Transmission, e};
   }
 
   // Dielectric Fresnel (fresnel.h) for |cos θ| = c (c2 = c²) on the side from which the
@@ -234,7 +236,7 @@ struct RoughDielectricBxDF {
   // inline: called out of line, their small structs travel through memory and the
   // reloads stall on store forwarding.
   template <bool kWithF, int kType>
-  [[gnu::always_inline]] BSDFEval evaluate(const Vec3& wo, const Vec3& wi, TransportMode mode) const {
+  [[gnu::always_inline]] BSDFEvalT<C> evaluate(const Vec3& wo, const Vec3& wi, TransportMode mode) const {
     if (specular() || grazing(wo) || grazing(wi)) return {};
     const bool reflection = (wo.z > 0) == (wi.z > 0);
     const Half hv = half_vector(wo, wi, reflection);
@@ -244,7 +246,7 @@ struct RoughDielectricBxDF {
 
   // eval given the half vector and T(wo) = smith_t(wo); sample() calls it for its pdf.
   template <bool kWithF, int kType>
-  [[gnu::always_inline]] BSDFEval from_half(const Vec3& wo, const Vec3& wi, TransportMode mode, bool reflection, const Half& hv,
+  [[gnu::always_inline]] BSDFEvalT<C> from_half(const Vec3& wo, const Vec3& wi, TransportMode mode, bool reflection, const Half& hv,
                      Float to) const {
     const Float cos_o = std::abs(wo.z), cos_i = std::abs(wi.z);
     const Float to_plus = to + cos_o;
@@ -259,9 +261,9 @@ struct RoughDielectricBxDF {
       const Float D = distribution.D_unnormalized<kType>(hv.h, hv.h2);
       // pdf = D_wo / (4 |wo·wm|) F = F D / (2 (T(wo) + |cos θo|)) (Walter et al. 2007, eq. 14)
       const Float pdf = F * (D / (2 * to_plus));
-      if constexpr (!kWithF) return {Color{}, pdf};
+      if constexpr (!kWithF) return {C{}, pdf};
       // f = D G2 F / (4 |cos θo| |cos θi|) (eq. 20)
-      return {Color(F * (D * g2_over_cos() / 4)), pdf};
+      return {C(F * (D * g2_over_cos() / 4)), pdf};
     }
     // Transmittance 1 − F of the pair from its two cosines with the facet normal,
     // ca = a·h > 0 outside and cb = −b·h > 0 inside, in the common scale |h| (which Fresnel
@@ -278,7 +280,7 @@ struct RoughDielectricBxDF {
     // 2 (1 − F) (D/|h|⁴) |a·h| |b·h| n_wi² / (T(wo) + |cos θo|).
     const Float n_wi2 = wo.z > 0 ? eta * eta : Float(1);
     const Float pdf = den > 0 ? num / (den * to_plus) * D * (dots * n_wi2 * 2) : Float(0);
-    if constexpr (!kWithF) return {Color{}, pdf};
+    if constexpr (!kWithF) return {C{}, pdf};
     // Eq. 21 in radiance mode, with wo outside (n_wo = 1, n_wi = η):
     //   f = D G2 (1 − F) |a·wm| |b·wm| / (|cos θa| |cos θb| S);
     // with wo inside it is η² times that (the generalized reciprocity of SPEC §1).
@@ -286,8 +288,10 @@ struct RoughDielectricBxDF {
     const Float base = den > 0 ? num / den * D * (dots * g2_over_cos()) : Float(0);
     const Float eta_crossed = wo.z > 0 ? eta : 1 / eta;  // n_wi / n_wo
     const Float f = base * (wo.z > 0 ? Float(1) : eta * eta) * (mode == TransportMode::Radiance ? Float(1) : eta_crossed * eta_crossed);
-    return {Color(f), pdf};
+    return {C(f), pdf};
   }
 };
+
+using RoughDielectricBxDF = RoughDielectricBxDFT<Color>;
 
 }  // namespace gonio

@@ -25,9 +25,11 @@
 
 namespace gonio {
 
-struct WardBxDF : diffuse_glossy::Model<WardBxDF> {
+template <typename C>
+struct WardBxDFT : diffuse_glossy::Model<WardBxDFT<C>, C> {
+  using color_type = C;
   static constexpr std::string_view kName = "ward";
-  Color kd{0.5f}, ks{0.2f};
+  C kd{0.5f}, ks{0.2f};
   Float alpha_x = 0.2f, alpha_y = 0.2f;
 
   static constexpr BxDFFlags flags() { return BxDFFlags::DiffuseReflection | BxDFFlags::GlossyReflection; }
@@ -43,7 +45,7 @@ struct WardBxDF : diffuse_glossy::Model<WardBxDF> {
     const Float e = ((h.x / ax()) * (h.x / ax()) + (h.y / ay()) * (h.y / ay())) / (h.z * h.z);
     return e < Float(80) ? std::exp(-e) : Float(0);
   }
-  Color f_upper(const Vec3& wo, const Vec3& wi) const {
+  C f_upper(const Vec3& wo, const Vec3& wi) const {
     const Vec3 h = wo + wi;
     const Float hn = h.z, hn2 = hn * hn;
     if (!(hn > 0)) return kd * kInvPi;
@@ -68,5 +70,7 @@ struct WardBxDF : diffuse_glossy::Model<WardBxDF> {
   Float diffuse_probability() const { return diffuse_glossy::diffuse_share(kd, ks); }
 
 };
+
+using WardBxDF = WardBxDFT<Color>;
 
 }  // namespace gonio

@@ -4,10 +4,12 @@
 // sampling them (next-event estimation) and by following BSDF samples that hit them,
 // combined with multiple importance sampling.
 
+#include <optional>
 #include <variant>
 #include <vector>
 
 #include "gonio/color.h"
+#include "gonio/spectrum/spectrum.h"
 #include "gonio/math/frame.h"
 #include "gonio/math/vec3.h"
 #include "gonio/math/warp.h"
@@ -16,9 +18,13 @@
 namespace gonio::render {
 
 // Isotropic point source of radiant intensity I (W/sr).
+// Each light's colour is given twice: as linear sRGB for RGB mode and, for spectral
+// mode, as the emission spectrum it came from (unset: the RGB value upsampled as an
+// illuminant, rgb_illuminant()).
 struct PointLight {
   Vec3 position;
   Color intensity{1};
+  std::optional<Spectrum> spectrum;
 };
 
 // Parallelogram corner + s·edge1 + t·edge2, emitting radiance L from the side its normal
@@ -27,6 +33,7 @@ struct QuadLight {
   Vec3 corner, edge1{1, 0, 0}, edge2{0, 0, 1};
   Color radiance{1};
   bool two_sided = false;
+  std::optional<Spectrum> spectrum;
 
   Vec3 normal() const { return normalize(cross(edge1, edge2)); }
   Float area() const { return length(cross(edge1, edge2)); }
@@ -37,6 +44,7 @@ struct SphereLight {
   Vec3 center;
   Float radius = 1;
   Color radiance{1};
+  std::optional<Spectrum> spectrum;
 };
 
 // A direction towards a light, the radiance arriving along it, and its density per unit
@@ -53,16 +61,20 @@ struct LightSample {
 class Environment {
  public:
   Environment() = default;
-  explicit Environment(Color radiance) : constant_(radiance) {}
+  explicit Environment(Color radiance, std::optional<Spectrum> spectrum = std::nullopt)
+      : constant_(radiance), constant_spectrum_(std::move(spectrum)) {}
   Environment(Image map, Float scale, Float rotation_deg);
 
   bool is_black() const { return map_.width() == 0 && constant_.is_black(); }
   Color radiance(const Vec3& dir) const;
+  // Spectral mode: the constant's spectrum, or the map's texel upsampled as an illuminant.
+  SampledSpectrum radiance(const Vec3& dir, const SampledWavelengths& w) const;
   LightSample sample(Float u1, Float u2) const;
   Float pdf(const Vec3& dir) const;
 
  private:
   Color constant_;
+  std::optional<Spectrum> constant_spectrum_;
   Image map_;
   Float scale_ = 1, rotation_ = 0;
   // Piecewise-constant 2-D distribution over the map's pixels (rows then columns).
@@ -82,5 +94,10 @@ Float area_light_pdf(const AreaLight& light, const Vec3& p, const Vec3& on_light
                      const Vec3& n_light);
 // Radiance leaving the light at a surface point with outward normal n towards w.
 Color area_light_radiance(const AreaLight& light, const Vec3& n, const Vec3& w);
+
+// Spectral mode: a light's emission at the wavelengths w (for an area light, where it
+// emits at all; area_light_radiance tells where).
+SampledSpectrum emission_spectrum(const std::optional<Spectrum>& spectrum, const Color& rgb, const SampledWavelengths& w);
+SampledSpectrum area_light_spectrum(const AreaLight& light, const SampledWavelengths& w);
 
 }  // namespace gonio::render

@@ -8,6 +8,8 @@
 #include <cstdint>
 
 #include "gonio/rng.h"
+#include "gonio/spectral_material.h"
+#include "gonio/spectrum/wavelengths.h"
 #include "gonio/render/accel.h"
 #include "gonio/render/scene.h"
 
@@ -23,12 +25,21 @@ class PathTracer {
 
   // Radiance arriving at the camera along `ray` (one sample of it).
   Color radiance(Ray ray, Pcg32& rng, PathStats& stats) const;
+  // Spectral mode: the radiance at the path's wavelengths `w`, which a dispersive surface
+  // may reduce to the hero (SampledWavelengths::terminate_secondary). `scratch` is one
+  // per thread.
+  SampledSpectrum radiance(Ray ray, SampledWavelengths& w, Pcg32& rng, PathStats& stats,
+                           SpectralScratch& scratch) const;
 
  private:
-  // Emitted radiance reaching the previous vertex, weighted against the BSDF sample that
-  // found it.
-  Color direct_light(const SurfaceHit& hit, const Frame& frame, const BxDF& bxdf, const Vec3& wo,
-                     const Vec3& wo_world, Pcg32& rng, PathStats& stats) const;
+  // The estimator for both colour modes (path_tracer.cpp).
+  template <typename Shading>
+  typename Shading::C trace(Ray ray, Pcg32& rng, PathStats& stats, Shading& shading) const;
+  // Light reaching the vertex from the lights, by next-event estimation weighted against
+  // BSDF sampling.
+  template <typename Shading, typename Model>
+  typename Shading::C direct_light(const SurfaceHit& hit, const Frame& frame, const Model& bxdf, const Vec3& wo,
+                                   const Vec3& wo_world, Pcg32& rng, PathStats& stats, Shading& shading) const;
   bool occluded(const Vec3& p, const Vec3& ng, const Vec3& dir, Float dist, PathStats& stats) const;
 
   const Scene& scene_;

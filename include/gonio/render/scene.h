@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "gonio/bxdf.h"
+#include "gonio/spectral_material.h"
 #include "gonio/math/warp.h"
 #include "gonio/render/camera.h"
 #include "gonio/render/lights.h"
@@ -23,6 +24,10 @@ struct Material {
   // Parameters that vary over the surface, at most one texture per parameter; empty for
   // a uniform material.
   std::vector<ParamTexture> textures;
+  // Spectral mode: what the colour parameters are as spectra, and which of them come
+  // from textures (upsampled from the texture's RGB at each shading point).
+  MaterialSpectra spectra;
+  TexturedColours textured_colours = 0;
 
   // The model at texture coordinates `uv`: `bxdf` itself for a uniform material (no
   // copy), else `bxdf` with the textured parameters looked up, built in `scratch`.
@@ -59,6 +64,7 @@ struct RenderSettings {
   std::uint64_t seed = 0;
   Float exposure = 0;   // stops, for PNG output
   bool filmic = true;   // tone map for PNG output (else clamp)
+  bool spectral = false;  // hero-wavelength spectral transport (else RGB)
 };
 
 struct Scene {

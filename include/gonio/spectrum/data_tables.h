@@ -34,6 +34,18 @@ struct GlassTable {
 extern const int kGlassCount;
 extern const GlassTable kGlasses[];
 
+// Complex refractive index n + i k of the named metals of data/metals/ at their
+// tabulated wavelengths.
+struct MetalTable {
+  const char* name;
+  const float* lambda;  // nm, increasing
+  const float* n;
+  const float* k;
+  int size;
+};
+extern const int kMetalCount;
+extern const MetalTable kMetals[];
+
 // Sigmoid-polynomial coefficients [l][z][y][x][c] (rgb_table_layout.h), fitted by
 // gonio's own optimiser to the round trip through XYZ under D65.
 extern const float kRgbCoefficients[3][rgb_table::kRes][rgb_table::kRes][rgb_table::kRes][3];

@@ -68,4 +68,9 @@ class RgbIlluminantSpectrum {
   SigmoidPolynomial poly_;
 };
 
+// An RGB emission at the wavelengths w, as RgbIlluminantSpectrum evaluates it, without
+// building (and validating) one: for values met per shading point (an environment map's
+// texel). Negative or NaN components count as 0.
+SampledSpectrum rgb_illuminant(const Color& rgb, const SampledWavelengths& w);
+
 }  // namespace gonio

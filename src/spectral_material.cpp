@@ -1,0 +1,162 @@
+// Spectral mode's models from the parsed materials (spectral_material.h).
+
+#include "gonio/spectral_material.h"
+
+#include <type_traits>
+#include <variant>
+
+#include "gonio/spectrum/rgb_to_spectrum.h"
+#include "gonio/spectrum/spectrum_to_rgb.h"
+
+namespace gonio {
+
+std::array<SpectralBxDF, 2>* SpectralScratch::next_parts() {
+  // Pointers handed out earlier must stay valid while the model is in use, so the storage
+  // never moves: it is made once, for the most blends one material can hold (a tree of
+  // kMaxBlendDepth levels has 2^8 − 1 blends).
+  if (parts_.empty()) parts_.resize(size_t(1) << kMaxBlendDepth);
+  if (used_ == parts_.size()) return nullptr;
+  return &parts_[used_++];
+}
+
+SampledSpectrum upsample_colour(MaterialParam param, const Color& rgb, const SampledWavelengths& w) noexcept {
+  if (param == MaterialParam::Eta || param == MaterialParam::K) {
+    // Linear between (450, b), (550, g), (650, r), constant outside.
+    SampledSpectrum s;
+    for (int j = 0; j < SampledSpectrum::size(); ++j) {
+      const Float l = w[j];
+      if (l <= kRgbIndexWavelengths[2]) s[j] = rgb[2];
+      else if (l >= kRgbIndexWavelengths[0]) s[j] = rgb[0];
+      else if (l <= kRgbIndexWavelengths[1]) {
+        const Float t = (l - kRgbIndexWavelengths[2]) / (kRgbIndexWavelengths[1] - kRgbIndexWavelengths[2]);
+        s[j] = rgb[2] + t * (rgb[1] - rgb[2]);
+      } else {
+        const Float t = (l - kRgbIndexWavelengths[1]) / (kRgbIndexWavelengths[0] - kRgbIndexWavelengths[1]);
+        s[j] = rgb[1] + t * (rgb[0] - rgb[1]);
+      }
+    }
+    return s;
+  }
+  return rgb_to_sigmoid_polynomial(rgb[0], rgb[1], rgb[2]).eval(w);
+}
+
+namespace {
+
+using MP = MaterialParam;
+using SS = SampledSpectrum;
+
+struct Converter {
+  const MaterialSpectra& spectra;
+  SampledWavelengths& w;
+  SpectralScratch& scratch;
+  TexturedColours textured;
+
+  SS colour(MP p, const Color& rgb) const {
+    const auto& s = spectra.colour[size_t(p)];
+    if (s && !(textured >> unsigned(p) & 1u)) return s->eval(w);
+    return upsample_colour(p, rgb, w);
+  }
+  // The index at the hero wavelength; the others are dropped when it varies (dispersion).
+  Float index(Float rgb_eta) const {
+    if (!spectra.index || !spectra.dispersive) return rgb_eta;
+    w.terminate_secondary();
+    return spectra.index->eval(w[0]);
+  }
+
+  ConductorFresnelT<SS> fresnel(const ConductorFresnel& f) const {
+    ConductorFresnelT<SS> s;
+    s.model = f.model;
+    s.eta = colour(MP::Eta, f.eta);
+    s.k = colour(MP::K, f.k);
+    s.f0 = spectra.colour[size_t(MP::F0)] ? colour(MP::F0, f.f0)
+                                           : map(s.eta, s.k, [](Float n, Float k) { return fresnel_f0(n, k); });
+    return s;
+  }
+
+  SpectralBxDF operator()(const DiffuseBxDF& m) const { return DiffuseBxDFT<SS>{colour(MP::Reflectance, m.reflectance)}; }
+  SpectralBxDF operator()(const MirrorBxDF& m) const { return MirrorBxDFT<SS>{colour(MP::Reflectance, m.reflectance)}; }
+  SpectralBxDF operator()(const ConductorBxDF& m) const { return ConductorBxDFT<SS>{fresnel(m.fresnel)}; }
+  SpectralBxDF operator()(const DielectricBxDF& m) const { return DielectricBxDFT<SS>{index(m.eta)}; }
+  SpectralBxDF operator()(const RoughConductorBxDF& m) const {
+    RoughConductorBxDFT<SS> s;
+    s.distribution = m.distribution;
+    s.fresnel = fresnel(m.fresnel);
+    if (m.multiscatter) {
+      SS f_avg;
+      if (spectra.f_avg && !(textured & ((1u << unsigned(MP::Eta)) | (1u << unsigned(MP::K)) | (1u << unsigned(MP::F0)))))
+        f_avg = spectra.f_avg->eval(w);
+      else
+        f_avg = conductor_average_fresnel(s.fresnel);  // a textured index: per shading point
+      s.multiscatter = MultiscatterLobeT<SS>::make(m.distribution, f_avg);
+    }
+    return s;
+  }
+  SpectralBxDF operator()(const RoughDielectricBxDF& m) const {
+    RoughDielectricBxDFT<SS> s;
+    s.distribution = m.distribution;
+    s.eta = index(m.eta);
+    if (m.multiscatter)
+      s.multiscatter = s.eta == m.eta ? *m.multiscatter : DielectricMultiscatterLobe::make(m.distribution, s.eta);
+    return s;
+  }
+  SpectralBxDF operator()(const OrenNayarBxDF& m) const {
+    OrenNayarBxDFT<SS> s;
+    s.reflectance = colour(MP::Reflectance, m.reflectance);
+    s.sigma = m.sigma;
+    s.full = m.full;
+    return s;
+  }
+  template <typename M>
+    requires std::is_same_v<M, PhongBxDF> || std::is_same_v<M, BlinnPhongBxDF>
+  SpectralBxDF operator()(const M& m) const {
+    using T = std::conditional_t<std::is_same_v<M, PhongBxDF>, PhongBxDFT<SS>, BlinnPhongBxDFT<SS>>;
+    T s;
+    s.kd = colour(MP::Kd, m.kd);
+    s.ks = colour(MP::Ks, m.ks);
+    s.exponent = m.exponent;
+    return s;
+  }
+  SpectralBxDF operator()(const WardBxDF& m) const {
+    WardBxDFT<SS> s;
+    s.kd = colour(MP::Kd, m.kd);
+    s.ks = colour(MP::Ks, m.ks);
+    s.alpha_x = m.alpha_x;
+    s.alpha_y = m.alpha_y;
+    return s;
+  }
+  SpectralBxDF operator()(const AshikhminShirleyBxDF& m) const {
+    AshikhminShirleyBxDFT<SS> s;
+    s.rd = colour(MP::Rd, m.rd);
+    s.rs = colour(MP::Rs, m.rs);
+    s.nu = m.nu;
+    s.nv = m.nv;
+    return s;
+  }
+  SpectralBxDF operator()(const PlasticBxDF& m) const {
+    return PlasticBxDFT<SS>::make(static_cast<const PlasticCoat&>(m), colour(MP::Reflectance, m.reflectance));
+  }
+  SpectralBxDF operator()(const BlendBxDF& m) const {
+    std::array<SpectralBxDF, 2>* parts = scratch.next_parts();
+    if (!parts || spectra.parts.size() != 2) return DiffuseBxDFT<SS>{SS(0)};
+    for (size_t i = 0; i < 2; ++i)
+      (*parts)[i] = Converter{spectra.parts[i], w, scratch, 0}.convert((*m.parts)[i]);
+    BlendBxDFT<SS> s;
+    s.weight = m.weight;
+    s.parts = parts;
+    return s;
+  }
+  SpectralBxDF operator()(const UserBxDF&) const { return DiffuseBxDFT<SS>{SS(0)}; }
+
+  SpectralBxDF convert(const BxDF& rgb) const {
+    return std::visit([this](const auto& m) { return (*this)(m); }, rgb.models());
+  }
+};
+
+}  // namespace
+
+SpectralBxDF to_spectral(const BxDF& rgb, const MaterialSpectra& spectra, SampledWavelengths& w,
+                         SpectralScratch& scratch, TexturedColours textured) noexcept {
+  return Converter{spectra, w, scratch, textured}.convert(rgb);
+}
+
+}  // namespace gonio
