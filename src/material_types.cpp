@@ -36,7 +36,7 @@ constexpr ParamSpec kConductorEta{"eta", K::Color, "", kIndex, "", "", false,
 constexpr ParamSpec kConductorK{"k", K::Color, "0", kExtinction, "", "", false,
                                 "Extinction coefficient (imaginary part of the index), per channel; needs eta."};
 constexpr ParamSpec kMetalParam{"material", K::Metal, "", {}, "", "", false,
-                                "A measured metal instead of eta and k (RGB: the index at 650, 550, 450 nm)."};
+                                "A measured metal instead of eta and k (RGB: n at 650, 550, 450 nm, k fitted so that the reflectance at 0° is the colour of the measured spectrum)."};
 constexpr ParamSpec kF0Param{"f0", K::Color, "", kUnit, "", "", false,
                              "Reflectance at normal incidence; only with fresnel \"schlick\", instead of the index."};
 constexpr ParamSpec kMultiscatterParam{"multiscatter", K::Boolean, "false", {}, "", "", false,
