@@ -232,6 +232,10 @@ int main(int argc, char** argv) {
   try {
     const Table cmf = read_table(argv[2], "lambda_nm,x_bar,y_bar,z_bar");
     const Table d65 = read_table(argv[3], "lambda_nm,power");
+    for (const Table* t : {&cmf, &d65})
+      for (size_t r = 0; r < t->rows.size(); ++r)
+        for (size_t c = 1; c < t->rows[r].size(); ++c)
+          if (!(t->rows[r][c] >= 0)) fail(t->path + ":" + std::to_string(t->lines[r]) + ": values must be >= 0");
     std::vector<Metal> metals;
     for (int i = 4; i < argc; ++i) {
       const std::string arg = argv[i];
@@ -241,6 +245,12 @@ int main(int argc, char** argv) {
       for (size_t r = 0; r < m.table.rows.size(); ++r)
         if (!(m.table.rows[r][1] > 0) || !(m.table.rows[r][2] >= 0))
           fail(m.table.path + ":" + std::to_string(m.table.lines[r]) + ": n must be > 0 and k >= 0");
+      if (m.table.rows.front()[0] > cmf.rows.front()[0] || m.table.rows.back()[0] < cmf.rows.back()[0]) {
+        char range[128];
+        std::snprintf(range, sizeof range, ": the table covers %g-%g nm, not the observer's %g-%g nm",
+                      m.table.rows.front()[0], m.table.rows.back()[0], cmf.rows.front()[0], cmf.rows.back()[0]);
+        fail(m.table.path + range);
+      }
       metals.push_back(std::move(m));
     }
     write_table(argv[1], metals, cmf, d65);
