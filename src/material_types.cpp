@@ -32,11 +32,11 @@ constexpr ParamSpec kDistributionParam{"distribution", K::Choice, "\"ggx\"", {},
 constexpr ParamSpec kFresnelParam{"fresnel", K::Choice, "\"exact\"", {}, "", "exact|schlick", false,
                                   "Conductor Fresnel: exact for the complex index, or Schlick's approximation."};
 constexpr ParamSpec kConductorEta{"eta", K::Colour, "", kIndex, "", "", false,
-                                  "Real part of the complex index relative to the outside medium, per channel (a spectrum: its values at 650, 550, 450 nm)."};
+                                  "Real part of the complex index relative to the outside medium, per channel (a spectrum: RGB mode takes its values at 650, 550, 450 nm)."};
 constexpr ParamSpec kConductorK{"k", K::Colour, "0", kExtinction, "", "", false,
                                 "Extinction coefficient (imaginary part of the index), per channel; needs eta."};
 constexpr ParamSpec kMetalParam{"material", K::Metal, "", {}, "", "", false,
-                                "A measured metal instead of eta and k (RGB: the index at 650, 550, 450 nm)."};
+                                "A measured metal instead of eta and k (spectral mode: its measured n and k; RGB: n at 650, 550, 450 nm, k fitted so that the reflectance at 0° is the colour of the measured spectrum)."};
 constexpr ParamSpec kF0Param{"f0", K::Colour, "", kUnit, "", "", false,
                              "Reflectance at normal incidence; only with fresnel \"schlick\", instead of the index."};
 constexpr ParamSpec kMultiscatterParam{"multiscatter", K::Boolean, "false", {}, "", "", false,

@@ -9,8 +9,8 @@ namespace gonio::detail {
 
 struct MetalEntry {
   std::string_view name;
-  float n[3];  // at 650 nm (r), 550 nm (g), 450 nm (b)
-  float k[3];
+  float n[3];  // the measured n at 650 nm (r), 550 nm (g), 450 nm (b)
+  float k[3];  // fitted so that F0(n, k) is the colour of the reflectance spectrum
 };
 
 std::span<const MetalEntry> metal_table();

@@ -112,7 +112,7 @@ void register_fresnel(CLI::App& app) {
   auto* material = cmd->add_option(
       "--material", args->material,
       "a named metal (Au, Ag, Cu, Al, CuZn) or glass (BK7, ...) instead of --eta/--k: every field becomes "
-      "[r, g, b], the index at 650, 550, 450 nm");
+      "[r, g, b], the RGB-mode index (a glass: at 650, 550, 450 nm; a metal: n there, k fitted to its colour)");
   material->excludes(eta)->excludes(k);
   auto* theta = cmd->add_option("--theta", args->theta, "incidence angle in degrees, [0, 90]");
   auto* range = cmd->add_option("--theta-range", args->theta_range,

@@ -34,7 +34,7 @@ void dielectric_table(const char* name, double eta) {
 }
 
 void conductor_table(const char* name, const ComplexIor& m) {
-  std::printf("\n%s, n + ik: r (650 nm) %.4f+%.4fi, g (550 nm) %.4f+%.4fi, b (450 nm) %.4f+%.4fi\n",
+  std::printf("\n%s, RGB-mode n + ik: r %.4f+%.4fi, g %.4f+%.4fi, b %.4f+%.4fi\n",
               name, m.eta[0], m.k[0], m.eta[1], m.k[1], m.eta[2], m.k[2]);
   std::printf("  %5s | %9s %9s %9s | %9s %9s %9s\n", "theta", "R red", "R green", "R blue",
               "Rs green", "Rp green", "Schlick g");

@@ -83,6 +83,30 @@ TEST(CliFresnelMaterial, MetalChannelsEqualTheirIndex) {
   EXPECT_EQ(parse_json_lines(r).size(), 10u) << describe(r);
 }
 
+// --material METAL at 0°: R per channel is the colour (linear sRGB, D65, CIE 1931 2°) of
+// the metal's measured reflectance spectrum, capped at 0.999 (README, "Named metals"), as
+// tests/reference/models_reference.py computes it (metal_reflectance_rgb), not gonio. The
+// constants are floats: 1e-6.
+TEST(CliFresnelMaterial, MetalNormalIncidenceIsTheColourOfTheSpectrum) {
+  struct Case {
+    const char* name;
+    double r[3];
+  };
+  const Case cases[] = {
+      {"Au", {0.999000000, 0.782537045, 0.343359374}},   {"Ag", {0.971517445, 0.960016165, 0.915152749}},
+      {"Cu", {0.955338540, 0.637667351, 0.538080668}},   {"Al", {0.913176893, 0.921572356, 0.924295352}},
+      {"CuZn", {0.909675595, 0.778324856, 0.422773529}},
+  };
+  for (const Case& c : cases) {
+    const json m = run_one({"fresnel", "--material", c.name, "--theta", "0"});
+    ASSERT_TRUE(m["R"].is_array() && m["R"].size() == 3) << m.dump();
+    for (size_t i = 0; i < 3; ++i) {
+      EXPECT_NEAR(m["R"][i].get<double>(), c.r[i], 1e-6) << c.name << " channel " << i;
+      EXPECT_NEAR(m["T"][i].get<double>(), 1 - c.r[i], 1e-6) << c.name << " channel " << i;
+    }
+  }
+}
+
 // A named glass: R at normal incidence ((n - 1)/(n + 1))² with n from BK7's Sellmeier
 // formula (Schott's coefficients, written here) at 650, 550, 450 nm; the table gonio reads
 // is interpolated linearly, within 1e-4 of the formula.

@@ -44,7 +44,10 @@ if __name__ == "__main__":
             rs, rp = dielectric(th, eta)
             print(f"dielectric eta={eta:.17g} theta={th}: Rs={rs:.12f} Rp={rp:.12f} R={(rs+rp)/2:.12f}")
     for name, n, k in (("Au g", 0.3504, 2.7141), ("Au r", 0.1678, 3.1378), ("Al b", 0.618, 5.4694),
-                       ("Cu r", 0.2166, 3.6377)):
+                       ("Cu r", 0.2166, 3.6377),
+                       # RGB-mode named gold, red and green (models_reference.metal_index("Au"),
+                       # to float precision): F0 = 0.999 and 0.7825.
+                       ("Au RGB r", 0.167789326, 25.8803704), ("Au RGB g", 0.350409967, 2.14983999)):
         for th in (0, 30, 60, 80, 89):
             rs, rp = conductor(th, n, k)
             print(f"conductor {name} n={n} k={k} theta={th}: Rs={rs:.12f} Rp={rp:.12f} R={(rs+rp)/2:.12f}")

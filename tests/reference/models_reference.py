@@ -83,22 +83,77 @@ def schlick(cos_i, f0):
     return f0 + (1 - f0) * (1 - abs(cos_i)) ** 5
 
 
-def metal_index(name):
-    """n, k of a named metal at 650, 550, 450 nm (r, g, b), linearly interpolated in
-    data/metals/<name>.csv (README: the RGB channels take those wavelengths)."""
-    path = os.path.join(os.path.dirname(__file__), "..", "..", "data", "metals", name + ".csv")
+_DATA = os.path.join(os.path.dirname(__file__), "..", "..", "data")
+
+
+def _read_columns(path):
+    """Rows of numbers of a data/ CSV (lines starting with '#' and the header skipped)."""
     rows = []
     with open(path) as fh:
         for line in fh:
-            if line.startswith("#") or line.startswith("lambda"): continue
-            l, n, k = (float(x) for x in line.split(","))
-            rows.append((l, n, k))
+            line = line.strip()
+            if not line or line.startswith("#") or line.startswith("lambda"): continue
+            rows.append(tuple(float(x) for x in line.split(",")))
+    return rows
+
+
+def _lerp_rows(rows, lam, col):
+    """Column col at wavelength lam, linear between the bracketing rows (SPEC §2); None outside."""
+    if lam < rows[0][0] or lam > rows[-1][0]: return None
+    for a, b in zip(rows, rows[1:]):
+        if a[0] <= lam <= b[0]:
+            t = (lam - a[0]) / (b[0] - a[0])
+            return a[col] + t * (b[col] - a[col])
+    return None
+
+
+def _f0(n, k):
+    """Normal-incidence reflectance of n + i k (Born & Wolf §14.2 at θ = 0)."""
+    return ((n - 1) ** 2 + k * k) / ((n + 1) ** 2 + k * k)
+
+
+# IEC 61966-2-1:1999 eq. 5.2, XYZ (D65 white) -> linear sRGB.
+_XYZ_TO_SRGB = ((3.2406, -1.5372, -0.4986), (-0.9689, 1.8758, 0.0415), (0.0557, -0.2040, 1.0570))
+# F0 = 1 needs k = infinity: a channel's reflectance is capped here (gold's red is 1.02
+# before the clamp to [0, 1]); README, tools/make_metal_table.cpp.
+METAL_MAX_REFLECTANCE = 0.999
+
+
+def metal_reflectance_rgb(name):
+    """Linear sRGB (D65 white, CIE 1931 2°, clamped to [0, 1], not capped) of the normal-incidence
+    reflectance spectrum R(λ) = F0(n(λ), k(λ)) of data/metals/<name>.csv:
+    XYZ = ∫ R D65 x̄ȳz̄ dλ / ∫ D65 ȳ dλ (CIE 15:2004 §7.1), trapezoid rule on the 1 nm rows of
+    the observer table (360–830 nm), D65 linear between its 5 nm rows."""
+    cmf = _read_columns(os.path.join(_DATA, "cie", "cie1931_2deg_cmf.csv"))
+    d65 = _read_columns(os.path.join(_DATA, "cie", "cie_illuminant_d65.csv"))
+    metal = _read_columns(os.path.join(_DATA, "metals", name + ".csv"))
+    xyz, norm = [0.0, 0.0, 0.0], 0.0
+    for i, (lam, xb, yb, zb) in enumerate(cmf):
+        h = 0.5 * ((lam - cmf[i - 1][0] if i > 0 else 0.0) + (cmf[i + 1][0] - lam if i + 1 < len(cmf) else 0.0))
+        e = _lerp_rows(d65, lam, 1) or 0.0
+        r = _f0(_lerp_rows(metal, lam, 1), _lerp_rows(metal, lam, 2))
+        for j, bar in enumerate((xb, yb, zb)): xyz[j] += h * r * e * bar
+        norm += h * e * yb
+    return [min(1.0, max(0.0, sum(m * v / norm for m, v in zip(row, xyz)))) for row in _XYZ_TO_SRGB]
+
+
+def metal_index(name):
+    """n, k of a named metal in RGB mode (r, g, b): n is the measured n at 650, 550, 450 nm
+    (linear between the rows of data/metals/<name>.csv); k makes F0(n, k) equal the channel of
+    metal_reflectance_rgb() (capped at METAL_MAX_REFLECTANCE): from F0 = ((n−1)² + k²)/((n+1)² + k²),
+    k² = ((n+1)² R − (n−1)²)/(1 − R). If that is negative, k = 0 and n solves ((n−1)/(n+1))² = R on
+    the same side of 1 as the measured n (README: named metals)."""
+    metal = _read_columns(os.path.join(_DATA, "metals", name + ".csv"))
     out_n, out_k = [], []
-    for lam in (650.0, 550.0, 450.0):
-        for (l0, n0, k0), (l1, n1, k1) in zip(rows, rows[1:]):
-            if l0 <= lam <= l1:
-                t = (lam - l0) / (l1 - l0)
-                out_n.append(n0 + t * (n1 - n0)); out_k.append(k0 + t * (k1 - k0)); break
+    for lam, R in zip((650.0, 550.0, 450.0), metal_reflectance_rgb(name)):
+        R = min(R, METAL_MAX_REFLECTANCE)
+        n = _lerp_rows(metal, lam, 1)
+        k2 = ((n + 1) ** 2 * R - (n - 1) ** 2) / (1 - R)
+        if k2 >= 0:
+            out_n.append(n); out_k.append(math.sqrt(k2))
+        else:
+            s = math.sqrt(R)
+            out_n.append((1 + s) / (1 - s) if n >= 1 else (1 - s) / (1 + s)); out_k.append(0.0)
     return out_n, out_k
 
 

@@ -122,10 +122,12 @@ TEST(Models, MirrorReflectsAboutTheNormal) {
 TEST(Models, ConductorWeightIsTheConductorFresnel) {
   const auto au = *named_metal("Au");
   const ConductorBxDF m{{FresnelModel::Exact, au.eta, au.k, Color(0.f)}};
-  // Gold at 60°, r channel (650 nm): 0.935400145023 (tests/reference/fresnel_reference.py).
+  // RGB-mode gold at 60°: r 0.998753360529, g 0.791853047622 ("Au RGB r/g" of
+  // tests/reference/fresnel_reference.py).
   const auto s = m.sample(dir(60, 0), 0.5f, 0.5f, 0.5f);
   ASSERT_TRUE(s);
-  EXPECT_NEAR(s->weight[0], 0.935400145023, 1e-5);
+  EXPECT_NEAR(s->weight[0], 0.998753360529, 1e-5);
+  EXPECT_NEAR(s->weight[1], 0.791853047622, 1e-5);
   // Seen from below, the same (two-sided reflection).
   const auto below = m.sample(-dir(60, 0), 0.5f, 0.5f, 0.5f);
   ASSERT_TRUE(below);

@@ -7,8 +7,8 @@
 //   emission: the linear-sRGB of the radiance spectrum, normalised as the spectral mode's
 //     lights (Y = ∫ L ȳ dλ / ∫ ȳ dλ: D65 of luminance v gives (v, v, v)), negatives clamped
 //     to 0;
-//   index (n or k): the values at 650, 550 and 450 nm, the wavelengths RGB mode gives the
-//     named metals (data/metals, tools/make_metal_table.cpp).
+//   index (n or k): the values at 650, 550 and 450 nm, the wavelengths at which RGB mode
+//     takes the named metals' n (their k is fitted to their colour: gonio/metals.h).
 
 #include "gonio/color.h"
 #include "gonio/spectrum/spectrum.h"
