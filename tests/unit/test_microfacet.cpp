@@ -94,7 +94,7 @@ TEST(Microfacet, RoughDielectricMatchesWalter2007) {
       {10, 0, 170, 190, 0.1, 0.7, 15.99942899883621},
   };
   for (const auto& c : cases) {
-    const RoughDielectricBxDF m{{MicrofacetType::GGX, Float(c.alpha), Float(c.alpha)}, Float(c.eta)};
+    const RoughDielectricBxDF m{{MicrofacetType::GGX, Float(c.alpha), Float(c.alpha)}, Float(c.eta), {}};
     const Float f = m.f(sph(c.to, c.po), sph(c.ti, c.pi))[0];
     EXPECT_NEAR(f, c.f, 2e-5 * c.f + 1e-9) << c.to << " " << c.ti;
   }
@@ -196,7 +196,7 @@ TEST(Multiscatter, RoughDielectricFurnaceIsOneFromBothSides) {
 // stays exactly as before when multiscatter is off.
 TEST(Multiscatter, RoughDielectricLobeIsReciprocal) {
   for (float eta : {1.5f, 0.7f}) {
-    RoughDielectricBxDF plain{{MicrofacetType::GGX, 0.6f, 0.6f}, eta};
+    RoughDielectricBxDF plain{{MicrofacetType::GGX, 0.6f, 0.6f}, eta, {}};
     RoughDielectricBxDF comp = plain;
     comp.multiscatter = DielectricMultiscatterLobe::make(comp.distribution, eta);
     const Vec3 dirs[] = {normalize(Vec3{0.3f, 0.1f, 0.9f}), normalize(Vec3{-0.7f, 0.2f, 0.3f}),
@@ -250,7 +250,7 @@ TEST(Microfacet, SampleAgreesWithEvalOnTheFastPath) {
       std::vector<std::pair<std::string, BxDF>> models = {
           {"conductor exact", RoughConductorBxDF{d, exact, std::nullopt}},
           {"conductor schlick", RoughConductorBxDF{d, schlick, std::nullopt}}};
-      for (float eta : {0.7f, 1.f, 1.5f}) models.emplace_back("dielectric eta " + std::to_string(eta), RoughDielectricBxDF{d, eta});
+      for (float eta : {0.7f, 1.f, 1.5f}) models.emplace_back("dielectric eta " + std::to_string(eta), RoughDielectricBxDF{d, eta, {}});
       for (const auto& [name, m] : models) {
         const std::string what = name + (type == MicrofacetType::GGX ? " ggx " : " beckmann ") +
                                  std::to_string(ax) + " " + std::to_string(ay);
@@ -281,8 +281,8 @@ TEST(Microfacet, SampleAgreesWithEvalOnTheFastPath) {
   for (auto type : {MicrofacetType::GGX, MicrofacetType::Beckmann}) {
     for (const auto& [ax, ay] : {std::pair{0.0011f, 1e-30f}, std::pair{1e-20f, 0.01f}, std::pair{10.f, 1e-6f}}) {
       const MicrofacetDistribution d{type, ax, ay};
-      for (const BxDF& m : {BxDF(RoughConductorBxDF{d, exact, std::nullopt}), BxDF(RoughDielectricBxDF{d, 100.f}),
-                            BxDF(RoughDielectricBxDF{d, 1.0001f})}) {
+      for (const BxDF& m : {BxDF(RoughConductorBxDF{d, exact, std::nullopt}), BxDF(RoughDielectricBxDF{d, 100.f, {}}),
+                            BxDF(RoughDielectricBxDF{d, 1.0001f, {}})}) {
         for (int i = 0; i < per_wo * 10; ++i) {
           const Vec3 wo = square_to_uniform_sphere(rng.next_float(), rng.next_float());
           const Vec3 wi = square_to_uniform_sphere(rng.next_float(), rng.next_float());

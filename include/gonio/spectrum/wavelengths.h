@@ -88,6 +88,16 @@ class SampledWavelengths {
     return w;
   }
 
+  // All 4 slots at one wavelength with density 1: a model evaluated at λ (`gonio eval
+  // --wavelength`, tests), not an estimator. λ is clamped to [kLambdaMin, kLambdaMax].
+  static SampledWavelengths single(Float lambda) {
+    SampledWavelengths w;
+    const Float l = std::isnan(lambda) ? Float(550) : std::clamp(lambda, kLambdaMin, kLambdaMax);
+    w.lambda_.fill(l);
+    w.pdf_.fill(1);
+    return w;
+  }
+
   static constexpr int size() { return kSpectrumSamples; }
   Float operator[](int j) const { return lambda_[size_t(j)]; }
   Float pdf(int j) const { return pdf_[size_t(j)]; }
