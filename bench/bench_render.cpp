@@ -41,12 +41,29 @@ void BM_SmallScene(benchmark::State& state) {
 }
 BENCHMARK(BM_SmallScene)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 
+// The same image in spectral mode (issue 11's target: at most 1.4x BM_SmallScene).
+void BM_SmallSceneSpectral(benchmark::State& state) {
+  Scene s = load_scene_file(GONIO_SOURCE_DIR "/scenes/bench_small.json");
+  s.settings.spp = 16;
+  s.settings.spectral = true;
+  run(state, s);
+}
+BENCHMARK(BM_SmallSceneSpectral)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+
 void BM_DefaultScene(benchmark::State& state) {
   Scene s = parse_scene(default_scene_json(), "default scene", "");
   s.settings.spp = 8;
   run(state, s);
 }
 BENCHMARK(BM_DefaultScene)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+void BM_DefaultSceneSpectral(benchmark::State& state) {
+  Scene s = parse_scene(default_scene_json(), "default scene", "");
+  s.settings.spp = 8;
+  s.settings.spectral = true;
+  run(state, s);
+}
+BENCHMARK(BM_DefaultSceneSpectral)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 }  // namespace
 

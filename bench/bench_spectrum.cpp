@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "gonio/rng.h"
+#include "gonio/spectral_material.h"
 #include "gonio/spectrum/cie.h"
 #include "gonio/spectrum/spectrum.h"
 
@@ -130,5 +131,33 @@ void spectrum_to_xyz(benchmark::State& state) {
 BENCHMARK(spectrum_to_xyz);
 
 }  // namespace
+
+// Making a material's spectral model at a path's wavelengths (to_spectral), once per
+// shading point in spectral mode, and evaluating it.
+void to_spectral_model(benchmark::State& state, const char* json) {
+  const auto& in = inputs();
+  const MaterialWithSpectra m = parse_material_with_spectra(json);
+  SpectralScratch scratch;
+  std::vector<SampledWavelengths> w(kInputs);
+  for (int i = 0; i < kInputs; ++i) w[size_t(i)] = SampledWavelengths::sample_visible(in.u[size_t(i)]);
+  const Vec3 wo = normalize(Vec3{0.3f, 0.2f, 0.9f}), wi = normalize(Vec3{-0.4f, 0.1f, 0.8f});
+  SampledSpectrum sum(0);
+  for (auto _ : state) {
+    for (int i = 0; i < kInputs; ++i) {
+      scratch.reset();
+      SampledWavelengths wl = w[size_t(i)];
+      sum += to_spectral(m.bxdf, m.spectra, wl, scratch).f(wo, wi);
+    }
+    escape(&sum);
+  }
+  state.counters["ns_per_call"] = benchmark::Counter(double(state.iterations()) * kInputs,
+                                                     benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+}
+BENCHMARK_CAPTURE(to_spectral_model, diffuse_rgb, R"({"type":"diffuse","reflectance":[0.7,0.3,0.2]})");
+BENCHMARK_CAPTURE(to_spectral_model, roughconductor_au, R"({"type":"roughconductor","material":"Au","alpha":0.2})");
+BENCHMARK_CAPTURE(to_spectral_model, roughconductor_au_ms,
+                  R"({"type":"roughconductor","material":"Au","alpha":0.2,"multiscatter":true})");
+BENCHMARK_CAPTURE(to_spectral_model, plastic_rough, R"({"type":"plastic","reflectance":[0.1,0.25,0.7],"alpha":0.12})");
+BENCHMARK_CAPTURE(to_spectral_model, dielectric_sf11, R"({"type":"roughdielectric","eta":"SF11","alpha":0.2})");
 
 BENCHMARK_MAIN();

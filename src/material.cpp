@@ -48,8 +48,10 @@ std::string show(const json& v) {
 // the keys it takes.
 class Params {
  public:
-  Params(const json& obj, std::string prefix, const MaterialTypeSpec& type, MaterialSpectra& spectra)
-      : obj_(obj), prefix_(std::move(prefix)), type_(type), spectra_(spectra) {}
+  Params(const json& obj, std::string prefix, const MaterialTypeSpec& type, MaterialSpectra& spectra,
+         const std::string& base_dir)
+      : obj_(obj), prefix_(std::move(prefix)), type_(type), spectra_(spectra), base_dir_(base_dir) {}
+  const std::string& base_dir() const { return base_dir_; }
 
   // Where the spectra of the parameters read are recorded (spectral_material.h).
   MaterialSpectra& spectra() { return spectra_; }
@@ -249,7 +251,7 @@ class Params {
   // parse_spectrum's errors start with the field; they get this material's prefix.
   Spectrum spectrum(const char* key, SpectrumUse use) {
     try {
-      return parse_spectrum(value(key), key, use);
+      return parse_spectrum(value(key), key, use, base_dir_);
     } catch (const InputError& e) {
       // A spectrum file's own errors name the file, not the field: add it.
       const std::string what = e.what(), field = std::string(key) + ": ";
@@ -282,6 +284,7 @@ class Params {
   std::set<std::string> used_;
   std::map<std::string, json> defaults_;
   MaterialSpectra& spectra_;
+  const std::string& base_dir_;  // where a spectrum's relative CSV path is resolved
 };
 
 BxDF make_diffuse(Params& p) {
@@ -476,7 +479,8 @@ BxDF make_plastic(Params& p) {
 }
 
 BxDF make_blend(Params& p, const std::string& where, int depth);
-BxDF parse_description(const json& description, const std::string& where, int blend_depth, MaterialSpectra& spectra);
+BxDF parse_description(const json& description, const std::string& where, int blend_depth, MaterialSpectra& spectra,
+                       const std::string& base_dir);
 
 // The constructor of each type of the registry but blend (which needs its place and depth).
 struct TypeEntry {
@@ -520,7 +524,8 @@ BxDF make_blend(Params& p, const std::string& where, int depth) {
   auto parts = std::make_shared<std::array<BxDF, 2>>();
   p.spectra().parts.resize(2);
   for (size_t i = 0; i < 2; ++i)
-    (*parts)[i] = parse_description(arr[i], where + ".bsdfs[" + std::to_string(i) + "]", depth + 1, p.spectra().parts[i]);
+    (*parts)[i] = parse_description(arr[i], where + ".bsdfs[" + std::to_string(i) + "]", depth + 1, p.spectra().parts[i],
+                                  p.base_dir());
   const Float e0 = (*parts)[0].relative_eta(), e1 = (*parts)[1].relative_eta();
   if (is_transmissive((*parts)[0].flags()) && is_transmissive((*parts)[1].flags()) && e0 != e1)
     p.fail("both parts refract, with different eta (" + format_number(e0) + " and " + format_number(e1) + ")");
@@ -528,14 +533,15 @@ BxDF make_blend(Params& p, const std::string& where, int depth) {
 }
 }  // namespace
 
-BxDF material_from_json(const json& description, const std::string& where) {
+BxDF material_from_json(const json& description, const std::string& where, const std::string& base_dir) {
   MaterialSpectra spectra;
-  return parse_description(description, where, 0, spectra);
+  return parse_description(description, where, 0, spectra, base_dir);
 }
 
-MaterialWithSpectra material_with_spectra_from_json(const json& description, const std::string& where) {
+MaterialWithSpectra material_with_spectra_from_json(const json& description, const std::string& where,
+                                                    const std::string& base_dir) {
   MaterialWithSpectra m;
-  m.bxdf = parse_description(description, where, 0, m.spectra);
+  m.bxdf = parse_description(description, where, 0, m.spectra, base_dir);
   return m;
 }
 
@@ -545,7 +551,8 @@ MaterialWithSpectra parse_material_with_spectra(std::string_view json_text, std:
 }
 
 namespace {
-BxDF parse_description(const json& description, const std::string& where, int blend_depth, MaterialSpectra& spectra) {
+BxDF parse_description(const json& description, const std::string& where, int blend_depth, MaterialSpectra& spectra,
+                       const std::string& base_dir) {
   const std::string at = where.empty() ? "" : where + ": ";
   if (!description.is_object())
     throw InputError(at + "material must be a JSON object, got " + show(description));
@@ -560,7 +567,7 @@ BxDF parse_description(const json& description, const std::string& where, int bl
     throw InputError(at + "material: unknown type \"" + type + "\" (known: " + known + ")");
   }
   if (type == "blend") {
-    Params p(description, at + "blend: ", *spec, spectra);
+    Params p(description, at + "blend: ", *spec, spectra, base_dir);
     p.reject_undeclared();
     BxDF m = make_blend(p, where.empty() ? "blend" : where + ": blend", blend_depth);
     p.reject_unknown();
@@ -568,7 +575,7 @@ BxDF parse_description(const json& description, const std::string& where, int bl
   }
   for (const auto& t : kMakers) {
     if (t.name == type) {
-      Params p(description, at + type + ": ", *spec, spectra);
+      Params p(description, at + type + ": ", *spec, spectra, base_dir);
       p.reject_undeclared();
       BxDF m = t.make(p);
       p.reject_unknown();

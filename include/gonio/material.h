@@ -30,8 +30,11 @@ inline constexpr int kMaxBlendDepth = 8;
 BxDF parse_material(std::string_view json_text, std::string_view source = "material");
 
 // Builds a model from an already parsed JSON value. `where` prefixes error messages
-// (e.g. a JSON path inside a scene file); empty means none.
-BxDF material_from_json(const nlohmann::json& description, const std::string& where = "");
+// (e.g. a JSON path inside a scene file); empty means none. A spectrum's relative CSV path
+// ({"spectrum": "file.csv"}) is resolved in `base_dir` (a scene's directory; empty: the
+// working directory).
+BxDF material_from_json(const nlohmann::json& description, const std::string& where = "",
+                        const std::string& base_dir = "");
 
 // The material types this build knows, in SPEC §2's order.
 const std::vector<std::string_view>& material_type_names();

@@ -52,7 +52,8 @@ struct MaterialWithSpectra {
 };
 
 // material_from_json, with the spectra recorded (same checks, same errors).
-MaterialWithSpectra material_with_spectra_from_json(const nlohmann::json& description, const std::string& where = "");
+MaterialWithSpectra material_with_spectra_from_json(const nlohmann::json& description, const std::string& where = "",
+                                                    const std::string& base_dir = "");
 MaterialWithSpectra parse_material_with_spectra(std::string_view json_text, std::string_view source = "material");
 
 // Storage for the parts of blends made per shading point: reused from one to the next, so

@@ -171,7 +171,7 @@ struct Loader {
       m.name = name;
       scene.materials.push_back(std::move(m));
     } else {
-      MaterialWithSpectra parsed = material_with_spectra_from_json(desc.value(), desc.where());
+      MaterialWithSpectra parsed = material_with_spectra_from_json(desc.value(), desc.where(), base_dir);
       scene.materials.push_back({name, std::move(parsed.bxdf), {}, std::move(parsed.spectra)});
     }
     return static_cast<int>(scene.materials.size()) - 1;
@@ -338,7 +338,7 @@ struct Loader {
     const auto& types = material_type_names();
     if (type_it == d.end() || !type_it->is_string() ||
         std::find(types.begin(), types.end(), type_it->get<std::string>()) == types.end()) {
-      material_from_json(d, desc.where());  // throws the parser's message about the type
+      material_from_json(d, desc.where(), base_dir);  // throws the parser's message about the type
       desc.fail("material: bad type");
     }
     const std::string type = type_it->get<std::string>();
@@ -368,11 +368,11 @@ struct Loader {
     }
     json probe = d;
     for (const Slot& s : slots) s.put(probe, material_param_info(s.param).probe);
-    material_from_json(probe, desc.where());
+    material_from_json(probe, desc.where(), base_dir);
 
-    auto why_invalid = [](const json& description) -> std::optional<std::string> {
+    auto why_invalid = [this](const json& description) -> std::optional<std::string> {
       try {
-        material_from_json(description, "");
+        material_from_json(description, "", base_dir);
       } catch (const InputError& e) {
         return std::string(e.what());
       }
@@ -411,7 +411,7 @@ struct Loader {
     }
     // The largest values: a rough conductor then keeps its multiple-scattering lobe
     // unless every roughness is smooth (with_params).
-    MaterialWithSpectra parsed = material_with_spectra_from_json(corner[1], desc.where());
+    MaterialWithSpectra parsed = material_with_spectra_from_json(corner[1], desc.where(), base_dir);
     Material m{"", std::move(parsed.bxdf), {}, std::move(parsed.spectra)};
     for (const Slot& s : slots) {
       m.textures.push_back({s.param, s.texture});
