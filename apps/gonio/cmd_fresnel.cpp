@@ -95,8 +95,10 @@ void run_fresnel(const FresnelArgs& a) {
     index.emplace_back(a.eta, a.k);
   }
   // With --wavelength: one channel, and the index used.
+  // A named material's index is a float (the tables'), printed as one (SPEC §1: %.9g).
+  auto index_number = [&](double v) { return a.material.empty() ? json_number(v) : json_number(Float(v)); };
   const std::string used =
-      nm ? ",\"eta\":" + json_number(index[0].first) + ",\"k\":" + json_number(index[0].second) : std::string();
+      nm ? ",\"eta\":" + index_number(index[0].first) + ",\"k\":" + index_number(index[0].second) : std::string();
   std::vector<double> thetas;
   if (!a.theta_range.empty()) {
     thetas = angle_range(a.theta_range, "--theta-range", 0, 90);
