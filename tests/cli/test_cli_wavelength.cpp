@@ -188,6 +188,30 @@ TEST(CliWavelength, EveryColourIsAOneElementArray) {
   EXPECT_TRUE(h["theta"].is_null()) << h.dump();
 }
 
+TEST(CliWavelength, MonteCarloAlbedoAtOneWavelength) {
+  // Oren–Nayar with σ = 0 is Lambert (Oren & Nayar 1994, eq. 30: A = 1, B = 0), but has no
+  // closed-form albedo in gonio, so albedo takes the Monte Carlo path: ρ_dh = ρ_hh = ρ(λ),
+  // here 0.2 + 0.4 (595 − 360) / 470 = 0.4, nothing transmitted.
+  const std::string on = R"({"type":"orennayar","sigma":0,"reflectance":{"spectrum":[[360,0.2],[830,0.6]]}})";
+  for (const std::vector<std::string> where : {std::vector<std::string>{"--theta", "50"}, {"--hemispherical"}}) {
+    std::vector<std::string> args{"albedo", "--bsdf", on, "--wavelength", "595", "--samples", "4000"};
+    args.insert(args.end(), where.begin(), where.end());
+    const json j = run_one(args);
+    EXPECT_EQ(j["exact"], false) << j.dump();
+    const double se = one(j["stderr"]);
+    EXPECT_NEAR(one(j["reflectance"]), 0.4, 1e-5 + 5 * se) << j.dump();
+    EXPECT_NEAR(one(j["albedo"]), 0.4, 1e-5 + 5 * se) << j.dump();
+    EXPECT_EQ(one(j["transmittance"]), 0) << j.dump();
+  }
+  // A property: a material whose spectra are flat is the same model at every wavelength
+  // as in RGB mode, and the estimate uses the same samples, so the numbers agree.
+  const std::string flat = R"({"type":"roughconductor","alpha":0.3,"eta":1.2,"k":3})";
+  const json rgb = run_one({"albedo", "--bsdf", flat, "--theta", "40", "--samples", "3000", "--seed", "9"});
+  const json spec = run_one({"albedo", "--bsdf", flat, "--theta", "40", "--samples", "3000", "--seed", "9", "--wavelength", "430"});
+  for (const char* key : {"reflectance", "albedo", "stderr"})
+    EXPECT_NEAR(one(spec[key]), color3(rgb[key])[1], 1e-6) << key << " " << spec.dump() << " " << rgb.dump();
+}
+
 TEST(CliWavelength, SmoothBk7ReflectsTheSellmeierFresnel) {
   // A smooth dielectric's albedo at one wavelength: reflectance F(θ, n(λ)) exactly, the
   // rest transmitted (importance mode: energy).
