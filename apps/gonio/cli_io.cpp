@@ -1,6 +1,8 @@
 #include "cli_io.h"
 
 #include <algorithm>
+#include <bit>
+#include <type_traits>
 #include <charconv>
 #include <cmath>
 #include <cerrno>
@@ -17,7 +19,13 @@
 
 namespace gonio::cli {
 
-BxDF load_bsdf(const std::string& arg) {
+namespace {
+// --bsdf's text and the name its errors use: the JSON itself ("--bsdf") or a file's.
+struct BsdfText {
+  std::string text, source;
+};
+
+BsdfText read_bsdf_arg(const std::string& arg) {
   if (!arg.empty() && arg[0] == '@') {
     const std::string path = arg.substr(1);
     // Say why a file cannot be used, in words, before the reader's own checks.
@@ -38,9 +46,68 @@ BxDF load_bsdf(const std::string& arg) {
     } catch (const InputError& e) {
       throw InputError(std::string("--bsdf: ") + e.what());
     }
-    return parse_material(text, path);
+    return {std::move(text), path};
   }
-  return parse_material(arg, "--bsdf");
+  return {arg, "--bsdf"};
+}
+}  // namespace
+
+BxDF load_bsdf(const std::string& arg) {
+  const BsdfText b = read_bsdf_arg(arg);
+  return parse_material(b.text, b.source);
+}
+
+MaterialWithSpectra load_bsdf_with_spectra(const std::string& arg) {
+  const BsdfText b = read_bsdf_arg(arg);
+  return parse_material_with_spectra(b.text, b.source);
+}
+
+CLI::Option* add_wavelength_option(CLI::App& cmd, std::string& text) {
+  return cmd.add_option("--wavelength", text,
+                        "NM: evaluate the material at this one wavelength in nm, [360, 830] (spectral "
+                        "mode); every colour is then printed as a one-element array [v]");
+}
+
+Float parse_wavelength(const std::string& text) {
+  const char* first = text.data();
+  const char* last = first + text.size();
+  if (first != last && *first == '+') ++first;
+  double nm = 0;
+  const auto res = std::from_chars(first, last, nm);
+  const bool number = first != last && res.ec == std::errc() && res.ptr == last;
+  if (!number || !std::isfinite(nm) || nm < double(kLambdaMin) || nm > double(kLambdaMax))
+    throw InputError("--wavelength must be a number of nanometres in [" + format_number(double(kLambdaMin)) + ", " +
+                     format_number(double(kLambdaMax)) + "], got '" + text + "'");
+  return Float(nm);
+}
+
+SampledWavelengths single_wavelength(Float nm) {
+  // SampledWavelengths has no factory for one wavelength (only sample_visible and
+  // sample_uniform), and its arrays are private: build its representation, two arrays
+  // of kSpectrumSamples floats (λ, then pdf), and check the result through the public
+  // accessors, so that a change of layout fails loudly instead of silently.
+  struct Representation {
+    std::array<Float, kSpectrumSamples> lambda, pdf;
+  };
+  static_assert(sizeof(Representation) == sizeof(SampledWavelengths));
+  static_assert(std::is_trivially_copyable_v<SampledWavelengths>);
+  Representation r;
+  r.lambda.fill(nm);
+  r.pdf.fill(1);
+  const auto w = std::bit_cast<SampledWavelengths>(r);
+  for (int j = 0; j < SampledWavelengths::size(); ++j)
+    if (!(w[j] == nm && w.pdf(j) == 1)) throw std::logic_error("single_wavelength: SampledWavelengths' layout changed");
+  return w;
+}
+
+std::unique_ptr<MaterialAtWavelength> load_bsdf_at_wavelength(const std::string& arg, Float nm) {
+  auto m = std::make_unique<MaterialAtWavelength>();
+  m->material = load_bsdf_with_spectra(arg);
+  m->wavelengths = single_wavelength(nm);
+  // A dispersive dielectric terminates the secondary slots; they hold the same
+  // wavelength as the hero, which is the only one printed.
+  m->bxdf = to_spectral(m->material.bxdf, m->material.spectra, m->wavelengths, m->scratch);
+  return m;
 }
 
 CLI::Validator decimal_in_range(std::int64_t lo, std::int64_t hi) {
@@ -156,5 +223,7 @@ std::string json_color(const Color& c) {
   }
   return s + "]";
 }
+
+std::string json_color(const SampledSpectrum& s) { return "[" + json_number(s[0]) + "]"; }
 
 }  // namespace gonio::cli

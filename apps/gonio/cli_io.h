@@ -6,6 +6,7 @@
 #include <array>
 #include <cstdint>
 #include <istream>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -13,12 +14,37 @@
 
 #include "gonio/bxdf.h"
 #include "gonio/error.h"
+#include "gonio/spectral_material.h"
+#include "gonio/spectrum/wavelengths.h"
 
 namespace gonio::cli {
 
 // --bsdf value: the JSON text itself, or @path to a file holding it (read through the
 // bounded reader: at most kMaxJsonFileBytes, devices and pipes included).
 BxDF load_bsdf(const std::string& arg);
+// The same material with its spectra recorded (spectral mode: --wavelength).
+MaterialWithSpectra load_bsdf_with_spectra(const std::string& arg);
+
+// --wavelength NM (SPEC §1 "Spectral mode"): evaluate at one wavelength in nanometres.
+// The option is read as text so that the error names it and the value as typed.
+CLI::Option* add_wavelength_option(CLI::App& cmd, std::string& text);
+// NM as a finite number in [kLambdaMin, kLambdaMax] (360 to 830 nm); InputError otherwise.
+Float parse_wavelength(const std::string& text);
+// The 4 wavelength slots of a path all at `nm` (pdf 1 each, never terminated by the
+// caller), so that a spectral model evaluates that one wavelength in every slot.
+SampledWavelengths single_wavelength(Float nm);
+
+// A material evaluated at one wavelength: the spectra, the scratch its blend parts live
+// in and the spectral model, kept together (the model points into the scratch).
+struct MaterialAtWavelength {
+  MaterialWithSpectra material;
+  SpectralScratch scratch;
+  SampledWavelengths wavelengths;
+  SpectralBxDF bxdf;
+};
+// load_bsdf_with_spectra(arg), made spectral at `nm` (to_spectral). Heap-allocated so
+// that the model's pointers into the scratch stay valid.
+std::unique_ptr<MaterialAtWavelength> load_bsdf_at_wavelength(const std::string& arg, Float nm);
 
 // SPEC §3's ranges of the integer options, shared by every command that has them.
 inline constexpr std::int64_t kMaxSamples = 1'000'000'000'000;  // --samples 1 to 10^12
@@ -61,5 +87,8 @@ std::vector<double> angle_range(const std::vector<double>& from_to_count, const 
 std::string json_number(float v);
 std::string json_number(double v);
 std::string json_color(const Color& c);
+// Spectral mode at one wavelength (single_wavelength): the one-element array [v] (SPEC §1),
+// v the value at the wavelength (slot 0; every slot holds the same wavelength).
+std::string json_color(const SampledSpectrum& s);
 
 }  // namespace gonio::cli

@@ -3,6 +3,7 @@
 #include <iostream>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "cli_io.h"
 #include "commands.h"
@@ -13,22 +14,35 @@ namespace {
 struct EvalArgs {
   std::string bsdf;
   std::string mode = "radiance";
+  std::string wavelength;
+  bool spectral = false;  // --wavelength given
 };
 
-void run_eval(const EvalArgs& a) {
-  const BxDF bxdf = load_bsdf(a.bsdf);
-  const TransportMode mode = parse_mode(a.mode);
-  const auto rows = read_six_numbers(std::cin);
+// The output lines for an RGB model or a spectral one at a single wavelength.
+template <typename C>
+std::string eval_lines(const BxDFT<C>& bxdf, TransportMode mode, const std::vector<std::array<double, 6>>& rows) {
   std::string out;
   out.reserve(rows.size() * 64);
   for (size_t i = 0; i < rows.size(); ++i) {
     const auto& r = rows[i];
     const Vec3 wo = unit_vector(r[0], r[1], r[2], i + 1, "wo");
     const Vec3 wi = unit_vector(r[3], r[4], r[5], i + 1, "wi");
-    const BSDFEval e = bxdf.eval(wo, wi, mode);
+    const auto e = bxdf.eval(wo, wi, mode);
     out += "{\"f\":" + json_color(e.f) + ",\"pdf\":" + json_number(e.pdf) + "}\n";
   }
-  std::cout << out;
+  return out;
+}
+
+void run_eval(const EvalArgs& a) {
+  const TransportMode mode = parse_mode(a.mode);
+  if (a.spectral) {
+    const Float nm = parse_wavelength(a.wavelength);
+    const auto m = load_bsdf_at_wavelength(a.bsdf, nm);
+    std::cout << eval_lines(m->bxdf, mode, read_six_numbers(std::cin));
+    return;
+  }
+  const BxDF bxdf = load_bsdf(a.bsdf);
+  std::cout << eval_lines(bxdf, mode, read_six_numbers(std::cin));
 }
 }  // namespace
 
@@ -40,7 +54,11 @@ void register_eval(CLI::App& app) {
       "prints {\"f\":[r,g,b],\"pdf\":p} per line");
   cmd->add_option("--bsdf", args->bsdf, "material JSON text, or @path to a file holding it")->required();
   add_mode_option(*cmd, args->mode);
-  cmd->callback([args] { run_eval(*args); });
+  auto* wavelength = add_wavelength_option(*cmd, args->wavelength);
+  cmd->callback([args, wavelength] {
+    args->spectral = wavelength->count() > 0;
+    run_eval(*args);
+  });
 }
 
 }  // namespace gonio::cli

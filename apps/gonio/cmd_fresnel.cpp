@@ -14,6 +14,7 @@
 #include "gonio/fresnel.h"
 #include "gonio/metals.h"
 #include "gonio/spectrum/glasses.h"
+#include "gonio/spectrum/metal_spectra.h"
 #include "gonio/spectrum/spectrum_to_rgb.h"  // kRgbIndexWavelengths
 
 namespace gonio::cli {
@@ -24,6 +25,8 @@ struct FresnelArgs {
   std::vector<double> theta_range;
   std::string material;
   bool schlick = false;
+  std::string wavelength;
+  bool spectral = false;  // --wavelength given
 };
 
 // One channel's results, formatted.
@@ -44,7 +47,8 @@ FresnelLine fresnel_at(double eta, double k, double theta_deg) {
   return l;
 }
 
-std::string object(const std::vector<FresnelLine>& channels, bool schlick) {
+// `index`: with --wavelength, the "eta" and "k" used (SPEC §3), appended.
+std::string object(const std::vector<FresnelLine>& channels, bool schlick, const std::string& index = "") {
   // One channel: numbers (SPEC §3); three (a named material in RGB mode): arrays.
   auto field = [&](std::string FresnelLine::*member) {
     if (channels.size() == 1) return channels[0].*member;
@@ -56,19 +60,28 @@ std::string object(const std::vector<FresnelLine>& channels, bool schlick) {
                     ",\"R\":" + field(&FresnelLine::r) + ",\"T\":" + field(&FresnelLine::t) +
                     ",\"cos_t\":" + field(&FresnelLine::cos_t);
   if (schlick) out += ",\"schlick\":" + field(&FresnelLine::schlick);
-  return out + "}\n";
+  return out + index + "}\n";
 }
 
 void run_fresnel(const FresnelArgs& a) {
   const std::string index_range = "[" + format_number(kMinIndex) + ", " + format_number(kMaxIndex) + "]";
   // (eta, k) per channel.
   std::vector<std::pair<double, double>> index;
+  const std::optional<Float> nm = a.spectral ? std::optional<Float>(parse_wavelength(a.wavelength)) : std::nullopt;
   if (!a.material.empty()) {
-    if (const auto metal = named_metal(a.material)) {
+    if (nm) {
+      // The measured index at that one wavelength, linearly interpolated in the tables
+      // of data/metals/ and data/glasses/ (metal_spectra.h, glasses.h).
+      if (const auto metal = named_metal_spectra(a.material))
+        index.emplace_back(metal->eta.eval(*nm), metal->k.eval(*nm));
+      else if (const auto glass = named_glass(a.material))
+        index.emplace_back(glass->eval(*nm), 0.0);
+    } else if (const auto metal = named_metal(a.material)) {
       for (int c = 0; c < 3; ++c) index.emplace_back(metal->eta[c], metal->k[c]);
     } else if (const auto glass = named_glass(a.material)) {
-      for (Float nm : kRgbIndexWavelengths) index.emplace_back(glass->eval(nm), 0.0);
-    } else {
+      for (Float lambda : kRgbIndexWavelengths) index.emplace_back(glass->eval(lambda), 0.0);
+    }
+    if (index.empty()) {
       std::string known;
       for (auto n : named_metal_names()) known += (known.empty() ? "" : ", ") + std::string(n);
       for (auto n : named_glass_names()) known += ", " + std::string(n);
@@ -81,6 +94,11 @@ void run_fresnel(const FresnelArgs& a) {
       throw InputError("--k must be in [0, " + format_number(kMaxIndex) + "], got " + format_number(a.k));
     index.emplace_back(a.eta, a.k);
   }
+  // With --wavelength: one channel, and the index used.
+  // A named material's index is a float (the tables'), printed as one (SPEC §1: %.9g).
+  auto index_number = [&](double v) { return a.material.empty() ? json_number(v) : json_number(Float(v)); };
+  const std::string used =
+      nm ? ",\"eta\":" + index_number(index[0].first) + ",\"k\":" + index_number(index[0].second) : std::string();
   std::vector<double> thetas;
   if (!a.theta_range.empty()) {
     thetas = angle_range(a.theta_range, "--theta-range", 0, 90);
@@ -94,7 +112,7 @@ void run_fresnel(const FresnelArgs& a) {
   for (double theta : thetas) {
     std::vector<FresnelLine> channels;
     for (const auto& [eta, k] : index) channels.push_back(fresnel_at(eta, k, theta));
-    out += object(channels, a.schlick);
+    out += object(channels, a.schlick, used);
   }
   std::cout << out;
 }
@@ -120,7 +138,12 @@ void register_fresnel(CLI::App& app) {
                     ->expected(3);
   range->excludes(theta);
   cmd->add_flag("--schlick", args->schlick, "also print Schlick's approximation");
-  cmd->callback([args, eta, material, theta, range] {
+  auto* wavelength = cmd->add_option(
+      "--wavelength", args->wavelength,
+      "NM: the index at this one wavelength in nm, [360, 830] (a named --material's measured n, k there); "
+      "the fields stay numbers and \"eta\", \"k\" (the index used) are added");
+  cmd->callback([args, eta, material, theta, range, wavelength] {
+    args->spectral = wavelength->count() > 0;
     if (eta->count() == 0 && material->count() == 0) throw InputError("fresnel: give --eta N (or --material NAME)");
     if (theta->count() == 0 && range->count() == 0)
       throw InputError("fresnel: give --theta DEG (or --theta-range FROM TO COUNT)");

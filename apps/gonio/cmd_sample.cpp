@@ -18,6 +18,8 @@ struct SampleArgs {
   std::string mode = "radiance";
   std::int64_t count = 0;  // 0: the u's come from stdin
   std::int64_t seed = 1;
+  std::string wavelength;
+  bool spectral = false;  // --wavelength given
 };
 
 // Largest --count: samples drawn per input line.
@@ -31,7 +33,8 @@ Float unit_interval(double u, size_t line, const char* name) {
   return std::min(Float(u), kOneMinusEpsilon);
 }
 
-void append_sample(std::string& out, const BxDF& bxdf, const Vec3& wo, Float u0, Float u1, Float u2,
+template <typename C>
+void append_sample(std::string& out, const BxDFT<C>& bxdf, const Vec3& wo, Float u0, Float u1, Float u2,
                    TransportMode mode) {
   const auto s = bxdf.sample(wo, u0, u1, u2, mode);
   if (!s) {
@@ -45,8 +48,9 @@ void append_sample(std::string& out, const BxDF& bxdf, const Vec3& wo, Float u0,
          (s->lobe == Lobe::Reflection ? "reflection" : "transmission") + "\"}\n";
 }
 
-void run_sample(const SampleArgs& a) {
-  const BxDF bxdf = load_bsdf(a.bsdf);
+// The samples of an RGB model or of a spectral one at a single wavelength.
+template <typename C>
+void run_sample_with(const SampleArgs& a, const BxDFT<C>& bxdf) {
   const TransportMode mode = parse_mode(a.mode);
   if (a.count > 0) {
     // Lines 'wo' only; line i draws its u's from PCG32 stream i of the seed, so a line's
@@ -82,6 +86,15 @@ void run_sample(const SampleArgs& a) {
   }
   std::cout << out;
 }
+void run_sample(const SampleArgs& a) {
+  if (a.spectral) {
+    const Float nm = parse_wavelength(a.wavelength);
+    const auto m = load_bsdf_at_wavelength(a.bsdf, nm);
+    run_sample_with(a, m->bxdf);
+    return;
+  }
+  run_sample_with(a, load_bsdf(a.bsdf));
+}
 }  // namespace
 
 void register_sample(CLI::App& app) {
@@ -99,7 +112,11 @@ void register_sample(CLI::App& app) {
   cmd->add_option("--seed", args->seed, "random seed for --count, 0 to 2147483647 (default 1)")
       ->transform(decimal_in_range(0, kMaxSeed))
       ->needs(count);
-  cmd->callback([args] { run_sample(*args); });
+  auto* wavelength = add_wavelength_option(*cmd, args->wavelength);
+  cmd->callback([args, wavelength] {
+    args->spectral = wavelength->count() > 0;
+    run_sample(*args);
+  });
 }
 
 }  // namespace gonio::cli
