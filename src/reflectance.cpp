@@ -17,23 +17,24 @@ namespace gonio {
 namespace {
 
 // Per-channel mean and standard error of the mean, accumulated in double.
-class ColorStats {
+template <typename C>
+class ChannelStats {
  public:
-  void add(const Color& c) {
-    for (int i = 0; i < Color::size(); ++i) {
+  void add(const C& c) {
+    for (int i = 0; i < C::size(); ++i) {
       sum_[i] += c[i];
       sum2_[i] += double(c[i]) * double(c[i]);
     }
   }
-  Color mean(std::uint64_t n) const {
-    Color m;
-    for (int i = 0; i < Color::size(); ++i) m[i] = static_cast<Float>(sum_[i] / double(n));
+  C mean(std::uint64_t n) const {
+    C m;
+    for (int i = 0; i < C::size(); ++i) m[i] = static_cast<Float>(sum_[size_t(i)] / double(n));
     return m;
   }
-  Color standard_error(std::uint64_t n) const {
-    Color se;
+  C standard_error(std::uint64_t n) const {
+    C se;
     if (n < 2) return se;
-    for (int i = 0; i < Color::size(); ++i) {
+    for (int i = 0; i < C::size(); ++i) {
       const double mean = sum_[i] / double(n);
       const double var = std::max(0.0, (sum2_[i] / double(n) - mean * mean)) * double(n) / double(n - 1);
       se[i] = static_cast<Float>(std::sqrt(var / double(n)));
@@ -42,8 +43,9 @@ class ColorStats {
   }
 
  private:
-  std::array<double, kColorChannels> sum_{}, sum2_{};
+  std::array<double, size_t(C::size())> sum_{}, sum2_{};
 };
+using ColorStats = ChannelStats<Color>;
 
 Vec3 unit_or_throw(const Vec3& w, const char* what) {
   const Vec3 n = normalize(w);
@@ -185,8 +187,9 @@ ReflectanceEstimate reflectance(const BxDF& bxdf, const SolidAngleDomain& incide
 namespace {
 
 // Splits one importance-mode sample from wo into reflected and transmitted parts.
-void add_albedo_sample(const BxDF& bxdf, const Vec3& wo, Pcg32& rng, ColorStats& r,
-                       ColorStats& t, ColorStats& a) {
+template <typename C>
+void add_albedo_sample(const BxDFT<C>& bxdf, const Vec3& wo, Pcg32& rng, ChannelStats<C>& r,
+                       ChannelStats<C>& t, ChannelStats<C>& a) {
   const Float u0 = rng.next_float(), u1 = rng.next_float(), u2 = rng.next_float();
   const auto s = bxdf.sample(wo, u0, u1, u2, TransportMode::Importance);
   if (!s || s->wi.z == 0) return;  // no direction: contributes 0 to every sum
@@ -195,9 +198,10 @@ void add_albedo_sample(const BxDF& bxdf, const Vec3& wo, Pcg32& rng, ColorStats&
   a.add(s->weight);
 }
 
-AlbedoEstimate finish(const ColorStats& r, const ColorStats& t, const ColorStats& a,
-                      std::uint64_t n) {
-  AlbedoEstimate e;
+template <typename C>
+AlbedoEstimateT<C> finish(const ChannelStats<C>& r, const ChannelStats<C>& t, const ChannelStats<C>& a,
+                          std::uint64_t n) {
+  AlbedoEstimateT<C> e;
   e.reflectance = r.mean(n);
   e.transmittance = t.mean(n);
   e.albedo = a.mean(n);
@@ -209,11 +213,12 @@ AlbedoEstimate finish(const ColorStats& r, const ColorStats& t, const ColorStats
 
 }  // namespace
 
-AlbedoEstimate directional_albedo(const BxDF& bxdf, const Vec3& wo_in, const ReflectanceOptions& opt) {
+template <typename C>
+AlbedoEstimateT<C> directional_albedo(const BxDFT<C>& bxdf, const Vec3& wo_in, const ReflectanceOptions& opt) {
   if (opt.samples == 0) throw InputError("albedo: samples must be > 0");
   const Vec3 wo = unit_or_throw(wo_in, "albedo: wo");
   if (const auto exact = bxdf.exact_albedo(wo, TransportMode::Importance)) {
-    AlbedoEstimate e;
+    AlbedoEstimateT<C> e;
     e.reflectance = exact->reflectance;
     e.transmittance = exact->transmittance;
     e.albedo = exact->reflectance + exact->transmittance;
@@ -221,35 +226,36 @@ AlbedoEstimate directional_albedo(const BxDF& bxdf, const Vec3& wo_in, const Ref
     return e;
   }
   Pcg32 rng(opt.seed, 0x2545f4914f6cdd1dULL);
-  ColorStats r, t, a;
+  ChannelStats<C> r, t, a;
   for (std::uint64_t i = 0; i < opt.samples; ++i) add_albedo_sample(bxdf, wo, rng, r, t, a);
   return finish(r, t, a, opt.samples);
 }
 
-AlbedoEstimate hemispherical_albedo(const BxDF& bxdf, bool inside, const ReflectanceOptions& opt) {
+template <typename C>
+AlbedoEstimateT<C> hemispherical_albedo(const BxDFT<C>& bxdf, bool inside, const ReflectanceOptions& opt) {
   if (opt.samples == 0) throw InputError("albedo: samples must be > 0");
   const bool upper = !inside;
   if (bxdf.is_isotropic() && bxdf.exact_albedo(direction_at_mu(0.5, upper), TransportMode::Importance)) {
     const auto avg = cosine_weighted_average([&](double mu) {
       const auto ex = bxdf.exact_albedo(direction_at_mu(mu, upper), TransportMode::Importance);
-      std::array<double, 2 * kColorChannels> v{};
-      for (int i = 0; i < Color::size(); ++i) {
+      std::array<double, 2 * size_t(C::size())> v{};
+      for (int i = 0; i < C::size(); ++i) {
         v[size_t(i)] = ex->reflectance[i];
-        v[size_t(kColorChannels + i)] = ex->transmittance[i];
+        v[size_t(C::size() + i)] = ex->transmittance[i];
       }
       return v;
     });
-    AlbedoEstimate e;
-    for (int i = 0; i < Color::size(); ++i) {
+    AlbedoEstimateT<C> e;
+    for (int i = 0; i < C::size(); ++i) {
       e.reflectance[i] = Float(avg[size_t(i)]);
-      e.transmittance[i] = Float(avg[size_t(kColorChannels + i)]);
+      e.transmittance[i] = Float(avg[size_t(C::size() + i)]);
     }
     e.albedo = e.reflectance + e.transmittance;
     e.exact = true;
     return e;
   }
   Pcg32 rng(opt.seed, 0x5851f42d4c957f2dULL);
-  ColorStats r, t, a;
+  ChannelStats<C> r, t, a;
   for (std::uint64_t i = 0; i < opt.samples; ++i) {
     Vec3 wo = square_to_cosine_hemisphere(rng.next_float(), rng.next_float());
     if (wo.z == 0) continue;  // measure zero; counts as a zero sample
@@ -258,5 +264,10 @@ AlbedoEstimate hemispherical_albedo(const BxDF& bxdf, bool inside, const Reflect
   }
   return finish(r, t, a, opt.samples);
 }
+
+template AlbedoEstimateT<Color> directional_albedo(const BxDF&, const Vec3&, const ReflectanceOptions&);
+template AlbedoEstimateT<SampledSpectrum> directional_albedo(const SpectralBxDF&, const Vec3&, const ReflectanceOptions&);
+template AlbedoEstimateT<Color> hemispherical_albedo(const BxDF&, bool, const ReflectanceOptions&);
+template AlbedoEstimateT<SampledSpectrum> hemispherical_albedo(const SpectralBxDF&, bool, const ReflectanceOptions&);
 
 }  // namespace gonio

@@ -1,7 +1,6 @@
 #include "cli_io.h"
 
 #include <algorithm>
-#include <bit>
 #include <type_traits>
 #include <charconv>
 #include <cmath>
@@ -81,29 +80,10 @@ Float parse_wavelength(const std::string& text) {
   return Float(nm);
 }
 
-SampledWavelengths single_wavelength(Float nm) {
-  // SampledWavelengths has no factory for one wavelength (only sample_visible and
-  // sample_uniform), and its arrays are private: build its representation, two arrays
-  // of kSpectrumSamples floats (λ, then pdf), and check the result through the public
-  // accessors, so that a change of layout fails loudly instead of silently.
-  struct Representation {
-    std::array<Float, kSpectrumSamples> lambda, pdf;
-  };
-  static_assert(sizeof(Representation) == sizeof(SampledWavelengths));
-  static_assert(std::is_trivially_copyable_v<SampledWavelengths>);
-  Representation r;
-  r.lambda.fill(nm);
-  r.pdf.fill(1);
-  const auto w = std::bit_cast<SampledWavelengths>(r);
-  for (int j = 0; j < SampledWavelengths::size(); ++j)
-    if (!(w[j] == nm && w.pdf(j) == 1)) throw std::logic_error("single_wavelength: SampledWavelengths' layout changed");
-  return w;
-}
-
 std::unique_ptr<MaterialAtWavelength> load_bsdf_at_wavelength(const std::string& arg, Float nm) {
   auto m = std::make_unique<MaterialAtWavelength>();
   m->material = load_bsdf_with_spectra(arg);
-  m->wavelengths = single_wavelength(nm);
+  m->wavelengths = SampledWavelengths::single(nm);
   // A dispersive dielectric terminates the secondary slots; they hold the same
   // wavelength as the hero, which is the only one printed.
   m->bxdf = to_spectral(m->material.bxdf, m->material.spectra, m->wavelengths, m->scratch);

@@ -30,9 +30,6 @@ MaterialWithSpectra load_bsdf_with_spectra(const std::string& arg);
 CLI::Option* add_wavelength_option(CLI::App& cmd, std::string& text);
 // NM as a finite number in [kLambdaMin, kLambdaMax] (360 to 830 nm); InputError otherwise.
 Float parse_wavelength(const std::string& text);
-// The 4 wavelength slots of a path all at `nm` (pdf 1 each, never terminated by the
-// caller), so that a spectral model evaluates that one wavelength in every slot.
-SampledWavelengths single_wavelength(Float nm);
 
 // A material evaluated at one wavelength: the spectra, the scratch its blend parts live
 // in and the spectral model, kept together (the model points into the scratch).
@@ -87,7 +84,7 @@ std::vector<double> angle_range(const std::vector<double>& from_to_count, const 
 std::string json_number(float v);
 std::string json_number(double v);
 std::string json_color(const Color& c);
-// Spectral mode at one wavelength (single_wavelength): the one-element array [v] (SPEC §1),
+// Spectral mode at one wavelength (SampledWavelengths::single): the one-element array [v] (SPEC §1),
 // v the value at the wavelength (slot 0; every slot holds the same wavelength).
 std::string json_color(const SampledSpectrum& s);
 

@@ -39,104 +39,6 @@ double checked_degrees(double v, double lo, double hi, const char* name) {
   return v * kPiD / 180;
 }
 
-// --- Spectral mode at one wavelength ------------------------------------------------
-// reflectance.h's directional_albedo and hemispherical_albedo take the RGB model only;
-// this is their computation for a SpectralBxDF whose 4 slots hold one wavelength (so
-// only slot 0 is accumulated): the model's exact albedo where it has one (and, for
-// ρ_hh of an isotropic model, reflectance.cpp's deterministic quadrature of it), else
-// the same Monte Carlo estimator with the same PCG32 streams, so that a material whose
-// spectrum is flat gives the RGB run's numbers. To go once reflectance.h is a template
-// on the colour type.
-struct SpectralAlbedoEstimate {
-  SampledSpectrum reflectance, transmittance, albedo;
-  SampledSpectrum se_reflectance, se_transmittance, se_albedo;
-  bool exact = false;
-};
-
-// Mean and standard error of the mean of one channel, accumulated in double.
-struct ChannelStats {
-  double sum = 0, sum2 = 0;
-  void add(Float v) {
-    sum += v;
-    sum2 += double(v) * double(v);
-  }
-  Float mean(std::uint64_t n) const { return Float(sum / double(n)); }
-  Float standard_error(std::uint64_t n) const {
-    if (n < 2) return 0;
-    const double m = sum / double(n);
-    const double var = std::max(0.0, sum2 / double(n) - m * m) * double(n) / double(n - 1);
-    return Float(std::sqrt(var / double(n)));
-  }
-};
-
-struct AlbedoStats {
-  ChannelStats r, t, a;
-  // One importance-mode sample from wo, split into its reflected and transmitted parts.
-  void add_sample(const SpectralBxDF& bxdf, const Vec3& wo, Pcg32& rng) {
-    const Float u0 = rng.next_float(), u1 = rng.next_float(), u2 = rng.next_float();
-    const auto s = bxdf.sample(wo, u0, u1, u2, TransportMode::Importance);
-    if (!s || s->wi.z == 0) return;  // no direction: a zero sample
-    (same_hemisphere(s->wi, wo) ? r : t).add(s->weight[0]);
-    a.add(s->weight[0]);
-  }
-  SpectralAlbedoEstimate finish(std::uint64_t n) const {
-    SpectralAlbedoEstimate e;
-    e.reflectance = SampledSpectrum(r.mean(n));
-    e.transmittance = SampledSpectrum(t.mean(n));
-    e.albedo = SampledSpectrum(a.mean(n));
-    e.se_reflectance = SampledSpectrum(r.standard_error(n));
-    e.se_transmittance = SampledSpectrum(t.standard_error(n));
-    e.se_albedo = SampledSpectrum(a.standard_error(n));
-    return e;
-  }
-};
-
-SpectralAlbedoEstimate directional_albedo(const SpectralBxDF& bxdf, const Vec3& wo, const ReflectanceOptions& opt) {
-  if (const auto exact = bxdf.exact_albedo(wo, TransportMode::Importance)) {
-    SpectralAlbedoEstimate e;
-    e.reflectance = exact->reflectance;
-    e.transmittance = exact->transmittance;
-    e.albedo = exact->reflectance + exact->transmittance;
-    e.exact = true;
-    return e;
-  }
-  Pcg32 rng(opt.seed, 0x2545f4914f6cdd1dULL);  // reflectance.cpp's stream for ρ_dh
-  AlbedoStats stats;
-  for (std::uint64_t i = 0; i < opt.samples; ++i) stats.add_sample(bxdf, wo, rng);
-  return stats.finish(opt.samples);
-}
-
-Vec3 direction_at_mu(double mu, bool upper) {
-  const double s = std::sqrt(std::max(0.0, 1 - mu * mu));
-  return {Float(s), 0, Float(upper ? mu : -mu)};
-}
-
-// ρ_hh = 2 ∫₀¹ ρ_dh(μ) μ dμ (lecture §4, eq. 12 with Γi = H²).
-SpectralAlbedoEstimate hemispherical_albedo(const SpectralBxDF& bxdf, bool inside, const ReflectanceOptions& opt) {
-  const bool upper = !inside;
-  if (bxdf.is_isotropic() && bxdf.exact_albedo(direction_at_mu(0.5, upper), TransportMode::Importance)) {
-    const auto avg = cosine_weighted_average([&](double mu) {
-      const auto ex = bxdf.exact_albedo(direction_at_mu(mu, upper), TransportMode::Importance);
-      return std::array<double, 2>{ex ? double(ex->reflectance[0]) : 0.0, ex ? double(ex->transmittance[0]) : 0.0};
-    });
-    SpectralAlbedoEstimate e;
-    e.reflectance = SampledSpectrum(Float(avg[0]));
-    e.transmittance = SampledSpectrum(Float(avg[1]));
-    e.albedo = e.reflectance + e.transmittance;
-    e.exact = true;
-    return e;
-  }
-  Pcg32 rng(opt.seed, 0x5851f42d4c957f2dULL);  // reflectance.cpp's stream for ρ_hh
-  AlbedoStats stats;
-  for (std::uint64_t i = 0; i < opt.samples; ++i) {
-    Vec3 wo = square_to_cosine_hemisphere(rng.next_float(), rng.next_float());
-    if (wo.z == 0) continue;  // measure zero; counts as a zero sample
-    if (inside) wo.z = -wo.z;
-    stats.add_sample(bxdf, wo, rng);
-  }
-  return stats.finish(opt.samples);
-}
-
 // --- Output -------------------------------------------------------------------------
 template <typename Estimate>
 std::string albedo_line(const Estimate& e, const std::string& theta) {
@@ -147,7 +49,7 @@ std::string albedo_line(const Estimate& e, const std::string& theta) {
          (e.exact ? "true" : "false") + "}\n";
 }
 
-// An RGB model (reflectance.h) or a spectral one at a single wavelength (above).
+// An RGB model or a spectral one at a single wavelength (reflectance.h takes both).
 template <typename Model>
 void run_albedo_with(const AlbedoArgs& a, const Model& bxdf) {
   const ReflectanceOptions opt{std::uint64_t(a.samples), std::uint64_t(a.seed)};

@@ -57,18 +57,30 @@ ReflectanceEstimate reflectance(const BxDF& bxdf, const SolidAngleDomain& incide
 
 // SPEC §3 `gonio albedo`: for light arriving along wo, the fraction reflected (into wo's
 // hemisphere) and transmitted (into the other), and their sum, with standard errors.
-struct AlbedoEstimate {
-  Color reflectance, transmittance, albedo;
-  Color se_reflectance, se_transmittance, se_albedo;
+// For either colour mode: an RGB model (BxDF) or a spectral one (SpectralBxDF, e.g. at
+// one wavelength, `gonio albedo --wavelength`).
+template <typename C>
+struct AlbedoEstimateT {
+  C reflectance, transmittance, albedo;
+  C se_reflectance, se_transmittance, se_albedo;
   bool exact = false;
 };
+using AlbedoEstimate = AlbedoEstimateT<Color>;
 
 // ρ_dh for light arriving along wo (importance mode).
-AlbedoEstimate directional_albedo(const BxDF& bxdf, const Vec3& wo,
-                                  const ReflectanceOptions& options = {});
+template <typename C>
+AlbedoEstimateT<C> directional_albedo(const BxDFT<C>& bxdf, const Vec3& wo, const ReflectanceOptions& options = {});
 
 // ρ_hh: the cosine-weighted average of directional_albedo over every wo on one side.
-AlbedoEstimate hemispherical_albedo(const BxDF& bxdf, bool inside,
-                                    const ReflectanceOptions& options = {});
+template <typename C>
+AlbedoEstimateT<C> hemispherical_albedo(const BxDFT<C>& bxdf, bool inside, const ReflectanceOptions& options = {});
+
+// Instantiated in src/reflectance.cpp for both modes.
+extern template AlbedoEstimateT<Color> directional_albedo(const BxDF&, const Vec3&, const ReflectanceOptions&);
+extern template AlbedoEstimateT<SampledSpectrum> directional_albedo(const SpectralBxDF&, const Vec3&,
+                                                                    const ReflectanceOptions&);
+extern template AlbedoEstimateT<Color> hemispherical_albedo(const BxDF&, bool, const ReflectanceOptions&);
+extern template AlbedoEstimateT<SampledSpectrum> hemispherical_albedo(const SpectralBxDF&, bool,
+                                                                      const ReflectanceOptions&);
 
 }  // namespace gonio
