@@ -46,8 +46,9 @@ inline std::string write_scratch(const uint8_t* data, size_t size, const char* e
 inline void check_value(const char* what, double v) {
   if (!std::isfinite(v) || v < 0) fail(what, v);
 }
-inline void check_color(const char* what, const gonio::Color& c) {
-  for (int i = 0; i < gonio::Color::size(); ++i) check_value(what, c[i]);
+template <int N>
+void check_color(const char* what, const gonio::BasicColor<N>& c) {
+  for (int i = 0; i < N; ++i) check_value(what, c[i]);
 }
 
 }  // namespace gonio_fuzz
