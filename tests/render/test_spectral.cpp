@@ -111,7 +111,7 @@ void expect_furnace(const Image& img, const std::array<double, 3>& expected, con
 TEST(SpectralRender, WhiteFurnaceRgbInputs) {
   const auto white = d65_white();
   for (int c = 0; c < 3; ++c) EXPECT_NEAR(white[size_t(c)], 1.0, 2e-3);
-  expect_furnace(render_text(furnace_scene(R"({"type": "diffuse", "reflectance": 1})", "1", spp(64, 32))), white,
+  expect_furnace(render_text(furnace_scene(R"({"type": "diffuse", "reflectance": 1})", "1", spp(256, 64))), white,
                  "diffuse, RGB inputs");
 }
 
@@ -120,12 +120,12 @@ TEST(SpectralRender, WhiteFurnaceRgbInputs) {
 TEST(SpectralRender, WhiteFurnaceSpectrumInputs) {
   const std::string flat = R"({"spectrum": [[360, 1], [830, 1]]})";
   expect_furnace(render_text(furnace_scene(R"({"type": "diffuse", "reflectance": )" + flat + "}",
-                                           R"({"illuminant": "D65"})", spp(64, 32))),
+                                           R"({"illuminant": "D65"})", spp(256, 64))),
                  d65_white(), "diffuse, flat reflectance spectrum, D65 illuminant");
   const auto e = srgb_of_radiance([](double) { return 2.0; });
   EXPECT_GT(e[0], 1.1 * e[2]);  // illuminant E is reddish next to D65
   expect_furnace(render_text(furnace_scene(R"({"type": "diffuse", "reflectance": )" + flat + "}",
-                                           R"({"spectrum": [[360, 2], [830, 2]]})", spp(64, 32))),
+                                           R"({"spectrum": [[360, 2], [830, 2]]})", spp(256, 64))),
                  e, "diffuse, flat environment spectrum of radiance 2");
 }
 
