@@ -225,5 +225,90 @@ TEST(SpectralRender, HeroWavelengthsUnbiasedForRgbInputs) {
                          [&](double l) { return double(rho.eval(Float(l))) * double(sky.eval(Float(l))); }, "RGB inputs");
 }
 
+// Lights given as spectra (a quad with a piecewise-linear radiance, a point light of a
+// 3000 K blackbody, a sphere of D65) over a diffuse plane ρ(λ): one bounce, so the image
+// is G(x, y) ρ(λ) S(λ), with G the geometry alone. G is measured by rendering the same
+// geometry in RGB mode with ρ = 1 and a light of 1 (no spectral code involved); each
+// 8×8 block of the spectral image must be G times the sRGB of ρ S integrated here.
+TEST(SpectralRender, SpectrumLightsOverAPlaneAreTheGeometryTimesTheirColour) {
+  const std::string plane_rho = R"({"spectrum": [[360, 0.1], [500, 0.9], [600, 0.2], [830, 0.6]]})";
+  auto rho = [](double l) {
+    if (l <= 500) return 0.1 + 0.8 * (l - 360) / 140;
+    if (l <= 600) return 0.9 - 0.7 * (l - 500) / 100;
+    return 0.2 + 0.4 * (l - 600) / 230;
+  };
+  // Planck's law (SI 2019 constants), normalised here to luminance Y = 1 as SPEC §2's
+  // {"blackbody": K} is.
+  auto planck = [](double l_nm) {
+    const double h = 6.62607015e-34, c = 299792458, k = 1.380649e-23, l = l_nm * 1e-9, T = 3000;
+    return 2 * h * c * c / std::pow(l, 5) / std::expm1(h * c / (l * k * T));
+  };
+  const double planck_y = xyz_of_radiance(planck)[1];
+  const auto d65 = read_data("cie/cie_illuminant_d65.csv");
+  const double d65_y = xyz_of_radiance([&](double l) { return lerp_rows(d65, l); })[1];
+  struct Case {
+    std::string name, light_spectral, light_grey;
+    std::function<double(double)> emission;
+  };
+  const std::vector<Case> cases = {
+      {"quad", R"({"type": "quad", "corner": [1.2, 1, -0.5], "edge1": [1, 0, 0], "edge2": [0, 0, 1], "radiance": {"spectrum": [[360, 1], [550, 6], [830, 3]]}})",
+       R"({"type": "quad", "corner": [1.2, 1, -0.5], "edge1": [1, 0, 0], "edge2": [0, 0, 1], "radiance": 1})",
+       [](double l) { return l <= 550 ? 1 + 5 * (l - 360) / 190 : 6 - 3 * (l - 550) / 280; }},
+      {"point", R"({"type": "point", "position": [0.3, 1.5, -0.2], "intensity": {"blackbody": 3000}})",
+       R"({"type": "point", "position": [0.3, 1.5, -0.2], "intensity": 1})",
+       [&](double l) { return planck(l) / planck_y; }},
+      {"sphere", R"({"type": "sphere", "center": [-1.5, 1.2, 0.5], "radius": 0.3, "radiance": {"illuminant": "D65"}})",
+       R"({"type": "sphere", "center": [-1.5, 1.2, 0.5], "radius": 0.3, "radiance": 1})",
+       [&](double l) { return lerp_rows(d65, l) / d65_y; }},
+  };
+  auto scene = [&](const std::string& rho_json, const std::string& light, bool spectral, int seed) {
+    return std::string(R"({"camera": {"position": [0, 3, 0], "look_at": [0, 0, 0], "up": [0, 0, -1], "fov": 40, "width": 32, "height": 32},
+      "render": {"spp": )") + std::to_string(spp(64, 16)) + R"(, "seed": )" + std::to_string(seed) + R"(, "spectral": )" +
+           (spectral ? "true" : "false") + R"(},
+      "shapes": [{"type": "quad", "corner": [-5, 0, -5], "edge1": [0, 0, 10], "edge2": [10, 0, 0], "material": {"type": "diffuse", "reflectance": )" +
+           rho_json + R"(}}], "lights": [)" + light + "]}";
+  };
+  for (const Case& k : cases) {
+    const Image g = render_text(scene("1", k.light_grey, false, 5));
+    const Image s = render_text(scene(plane_rho, k.light_spectral, true, 6));
+    const auto colour = srgb_of_radiance([&](double l) { return rho(l) * k.emission(l); });
+    for (int by = 0; by < 32; by += 8) {
+      for (int bx = 0; bx < 32; bx += 8) {
+        const Stat geo = block_stat({g}, bx, by, 8, 8, 0);
+        for (int c = 0; c < 3; ++c) {
+          const Stat b = block_stat({s}, bx, by, 8, 8, c);
+          const double e = colour[size_t(c)];
+          const double expected = geo.mean * e;
+          const double sigma = std::sqrt(b.se * b.se + e * e * geo.se * geo.se);
+          EXPECT_NEAR(b.mean, expected, 5 * sigma + 3e-3 * std::abs(expected))
+              << k.name << " light, block " << bx << "," << by << " channel " << c;
+        }
+      }
+    }
+  }
+}
+
+// Textured colours in spectral mode are upsampled from the texel's RGB: a checker of two
+// colours too fine for a pixel renders, under a white environment, to the mean of the
+// two colours, as in RGB mode.
+TEST(SpectralRender, TexturedColoursRenderAsInRgbMode) {
+  auto scene = [](bool spectral, int seed) {
+    return std::string(R"({"camera": {"position": [0, 3, 0], "look_at": [0, 0, 0], "up": [0, 0, -1], "fov": 40, "width": 32, "height": 32},
+      "render": {"spp": )") + std::to_string(spp(32, 8)) + R"(, "seed": )" + std::to_string(seed) + R"(, "spectral": )" +
+           (spectral ? "true" : "false") + R"(},
+      "shapes": [{"type": "quad", "corner": [-5, 0, -5], "edge1": [0, 0, 10], "edge2": [10, 0, 0],
+                  "material": {"type": "diffuse", "reflectance": {"checker": [[0.8, 0.3, 0.1], [0.1, 0.5, 0.9]], "uv_scale": [2000, 2000]}}}],
+      "environment": {"radiance": 1}})";
+  };
+  const Image rgb = render_text(scene(false, 7));
+  const Image spec = render_text(scene(true, 8));
+  const double expected[3] = {0.45, 0.4, 0.5};
+  for (int c = 0; c < 3; ++c) {
+    const Stat a = block_stat({rgb}, 0, 0, 32, 32, c), b = block_stat({spec}, 0, 0, 32, 32, c);
+    EXPECT_NEAR(a.mean, expected[c], 0.01) << "RGB mode, channel " << c;
+    EXPECT_NEAR(b.mean, a.mean, 5 * std::sqrt(a.se * a.se + b.se * b.se) + 3e-3) << "channel " << c;
+  }
+}
+
 }  // namespace
 }  // namespace gonio::render::test
