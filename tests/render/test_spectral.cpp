@@ -225,11 +225,14 @@ TEST(SpectralRender, HeroWavelengthsUnbiasedForRgbInputs) {
                          [&](double l) { return double(rho.eval(Float(l))) * double(sky.eval(Float(l))); }, "RGB inputs");
 }
 
-// Lights given as spectra (a quad with a piecewise-linear radiance, a point light of a
-// 3000 K blackbody, a sphere of D65) over a diffuse plane ρ(λ): one bounce, so the image
+// Lights given as spectra (a quad and a point light each emitting a 20 nm band, a point
+// light of a 3000 K blackbody, a sphere of D65) over a diffuse plane ρ(λ): one bounce, so
+// the image
 // is G(x, y) ρ(λ) S(λ), with G the geometry alone. G is measured by rendering the same
 // geometry in RGB mode with ρ = 1 and a light of 1 (no spectral code involved); each
-// 8×8 block of the spectral image must be G times the sRGB of ρ S integrated here.
+// 8×8 block of the spectral image must be G times the sRGB of ρ S integrated here. The
+// bands make the light's spectrum matter: reduced to RGB and upsampled again (a smooth
+// metamer), the result would differ by tens of percent.
 TEST(SpectralRender, SpectrumLightsOverAPlaneAreTheGeometryTimesTheirColour) {
   const std::string plane_rho = R"({"spectrum": [[360, 0.1], [500, 0.9], [600, 0.2], [830, 0.6]]})";
   auto rho = [](double l) {
@@ -251,9 +254,12 @@ TEST(SpectralRender, SpectrumLightsOverAPlaneAreTheGeometryTimesTheirColour) {
     std::function<double(double)> emission;
   };
   const std::vector<Case> cases = {
-      {"quad", R"({"type": "quad", "corner": [1.2, 1, -0.5], "edge1": [1, 0, 0], "edge2": [0, 0, 1], "radiance": {"spectrum": [[360, 1], [550, 6], [830, 3]]}})",
+      {"quad", R"({"type": "quad", "corner": [1.2, 1, -0.5], "edge1": [1, 0, 0], "edge2": [0, 0, 1], "radiance": {"spectrum": [[360, 0], [590, 0], [600, 40], [610, 0], [830, 0]]}})",
        R"({"type": "quad", "corner": [1.2, 1, -0.5], "edge1": [1, 0, 0], "edge2": [0, 0, 1], "radiance": 1})",
-       [](double l) { return l <= 550 ? 1 + 5 * (l - 360) / 190 : 6 - 3 * (l - 550) / 280; }},
+       [](double l) { return std::max(0.0, 40 - 4 * std::abs(l - 600)); }},
+      {"point band", R"({"type": "point", "position": [0.3, 1.5, -0.2], "intensity": {"spectrum": [[360, 0], [450, 0], [460, 10], [470, 0], [830, 0]]}})",
+       R"({"type": "point", "position": [0.3, 1.5, -0.2], "intensity": 1})",
+       [](double l) { return std::max(0.0, 10 - std::abs(l - 460)); }},
       {"point", R"({"type": "point", "position": [0.3, 1.5, -0.2], "intensity": {"blackbody": 3000}})",
        R"({"type": "point", "position": [0.3, 1.5, -0.2], "intensity": 1})",
        [&](double l) { return planck(l) / planck_y; }},
