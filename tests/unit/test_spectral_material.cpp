@@ -245,6 +245,64 @@ TEST(SpectralMaterial, RgbColoursRoundTripThroughTheirSpectrum) {
   }
 }
 
+// Every colour parameter of every type given as RGB is its upsampled spectrum: at λ, the
+// spectral model equals the RGB model whose parameters are the grey values ρ_A(λ), ρ_B(λ)
+// — read off a diffuse model of the same RGB (π f) — in every channel.
+TEST(SpectralMaterial, EveryColourParameterIsItsUpsampledSpectrum) {
+  const std::string A = "[0.45,0.1,0.05]", B = "[0.1,0.3,0.5]";
+  const auto da = parse_material_with_spectra(R"({"type":"diffuse","reflectance":)" + A + "}");
+  const auto db = parse_material_with_spectra(R"({"type":"diffuse","reflectance":)" + B + "}");
+  // JSON with the colour parameters as @A and @B.
+  const std::vector<std::string> templates = {
+      R"({"type":"diffuse","reflectance":@A})",
+      R"({"type":"mirror","reflectance":@A})",
+      R"({"type":"orennayar","reflectance":@A,"sigma":30})",
+      R"({"type":"phong","kd":@A,"ks":@B,"exponent":15})",
+      R"({"type":"blinnphong","kd":@A,"ks":@B,"exponent":15})",
+      R"({"type":"ward","kd":@A,"ks":@B,"alpha":0.3})",
+      R"({"type":"ashikhminshirley","rd":@A,"rs":@B,"nu":20,"nv":5})",
+      R"({"type":"plastic","reflectance":@A,"eta":1.5,"alpha":0.2})",
+      R"({"type":"plastic","reflectance":@B,"eta":1.5})",
+      R"({"type":"conductor","fresnel":"schlick","f0":@B})",
+      R"({"type":"roughconductor","fresnel":"schlick","f0":@A,"alpha":0.25})",
+      R"({"type":"blend","weight":0.4,"bsdfs":[{"type":"diffuse","reflectance":@A},{"type":"phong","kd":0,"ks":@B,"exponent":30}]})",
+  };
+  auto fill = [](std::string t, const std::string& a, const std::string& b) {
+    for (auto [key, v] : {std::pair{std::string("@A"), a}, std::pair{std::string("@B"), b}})
+      for (size_t at; (at = t.find(key)) != std::string::npos;) t.replace(at, 2, v);
+    return t;
+  };
+  auto num = [](double v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.9g", v);
+    return std::string(buf);
+  };
+  SpectralScratch scratch;
+  for (const auto& t : templates) {
+    const auto m = parse_material_with_spectra(fill(t, A, B));
+    for (double lambda : {380.0, 470.0, 530.0, 610.0, 720.0}) {
+      const double a = diffuse_rho(da, lambda), b = diffuse_rho(db, lambda);
+      const BxDF grey = parse_material(fill(t, num(a), num(b)));
+      SampledWavelengths w = at(lambda);
+      const SpectralBxDF s = spectral(m, w, scratch);
+      for (double to : {0.0, 35.0, 80.0}) {
+        for (double ti : {5.0, 35.0, 60.0, 88.0}) {
+          const Vec3 wo = dir(to, 0), wi = dir(ti, 160);
+          const double e = grey.f(wo, wi)[0];
+          EXPECT_NEAR(s.f(wo, wi)[0], e, 1e-4 * std::max(1.0, e)) << t << " λ=" << w[0] << " θo=" << to << " θi=" << ti;
+        }
+        // A delta-only model has no f: compare its sampled weight. (Other models may choose
+        // lobes by the mean over the wavelengths, so their samples legitimately differ.)
+        if (!is_delta_only(grey.flags())) continue;
+        const auto q = s.sample(dir(to, 0), 0.4f, 0.3f, 0.6f);
+        const auto r = grey.sample(dir(to, 0), 0.4f, 0.3f, 0.6f);
+        ASSERT_EQ(bool(q), bool(r)) << t;
+        if (q) EXPECT_NEAR(q->weight[0], r->weight[0], 1e-4 * std::max(1.0f, r->weight[0])) << t << " λ=" << w[0];
+      }
+    }
+  }
+}
+
 // --- 5. Dielectrics: named glass and dispersion -----------------------------------------
 
 TEST(SpectralMaterial, NamedGlassUsesSellmeierAtTheHeroAndTerminatesTheOthers) {
@@ -262,6 +320,13 @@ TEST(SpectralMaterial, NamedGlassUsesSellmeierAtTheHeroAndTerminatesTheOthers) {
       EXPECT_FLOAT_EQ(w.pdf(0), hero_pdf / 4) << json;
       EXPECT_NEAR(s.relative_eta(), bk7_sellmeier(w[0]), 1.5e-4) << json << " λ=" << w[0];
     }
+  }
+  // A plastic's coat keeps its index at 550 nm (spectral_material.h): no termination.
+  {
+    const auto m = parse_material_with_spectra(R"({"type":"plastic","reflectance":0.5,"eta":"BK7"})");
+    SampledWavelengths w = at(420);
+    spectral(m, w, scratch);
+    EXPECT_FALSE(w.secondary_terminated());
   }
   // Published: N-BK7 n_d (587.56 nm) = 1.51680 (SCHOTT data sheet).
   EXPECT_NEAR(bk7_sellmeier(587.5618), 1.51680, 1e-5);
@@ -440,6 +505,14 @@ TEST(SpectralMaterial, FiniteAtTheEndsOfTheRangeAtGrazingAndBelowTheHorizon) {
             if (!smp) continue;
             EXPECT_TRUE(finite(smp->weight) && std::isfinite(smp->pdf) && smp->pdf >= 0) << json << " λ0=" << w[0];
             EXPECT_TRUE(std::isfinite(smp->wi.x) && std::isfinite(smp->wi.y) && std::isfinite(smp->wi.z)) << json;
+            // A non-delta sample is consistent with pdf() and f() (contract.h): weight =
+            // f |cos θi| / pdf, checked where the numbers are well conditioned.
+            if (smp->delta || !(smp->pdf > 1e-3f) || std::abs(wo.z) < 1e-3f || std::abs(smp->wi.z) < 1e-3f) continue;
+            EXPECT_NEAR(s.pdf(wo, smp->wi), smp->pdf, 1e-3 * smp->pdf) << json << " λ0=" << w[0];
+            const SampledSpectrum f = s.f(wo, smp->wi);
+            for (int j = 0; j < 4; ++j)
+              EXPECT_NEAR(smp->weight[j], f[j] * std::abs(smp->wi.z) / smp->pdf, 1e-3 * std::max(1.0f, smp->weight[j]))
+                  << json << " λ=" << w[j];
           }
         }
       }
