@@ -3,7 +3,8 @@
 // the RGB model at every wavelength, colours reduced to XYZ by this file's own Simpson
 // quadrature of data/cie/*.csv (read by tests/data_csv.h), the Schott Sellmeier formula
 // for BK7, the normal-incidence Fresnel reflectance of data/metals/Au.csv, and finiteness
-// at the ends of the visible range and at grazing and below-horizon directions.
+// (and sample/pdf/f consistency) at the ends of the visible range and at grazing and
+// below-horizon directions.
 
 #include <gtest/gtest.h>
 
@@ -297,7 +298,9 @@ TEST(SpectralMaterial, EveryColourParameterIsItsUpsampledSpectrum) {
         const auto q = s.sample(dir(to, 0), 0.4f, 0.3f, 0.6f);
         const auto r = grey.sample(dir(to, 0), 0.4f, 0.3f, 0.6f);
         ASSERT_EQ(bool(q), bool(r)) << t;
-        if (q) EXPECT_NEAR(q->weight[0], r->weight[0], 1e-4 * std::max(1.0f, r->weight[0])) << t << " λ=" << w[0];
+        if (q) {
+          EXPECT_NEAR(q->weight[0], r->weight[0], 1e-4 * std::max(1.0f, r->weight[0])) << t << " λ=" << w[0];
+        }
       }
     }
   }
