@@ -198,5 +198,25 @@ TEST(SceneSpectra, LightColoursTakeEmissionSpectra) {
                {"u.json: /lights/0/intensity", "sellmeier"});
 }
 
+// A material's {"spectrum": "file.csv"} is read relative to the scene file, as a light's
+// is, whatever the working directory: a flat reflectance of 0.25 is the grey 0.25 under
+// D65 in RGB mode (sRGB's white is D65), and the spectrum itself in spectral mode.
+TEST(SceneSpectra, MaterialSpectrumFilesAreRelativeToTheScene) {
+  ScratchDir dir;
+  dir.file("quarter.csv", "nm,value\n360,0.25\n830,0.25\n");
+  const Scene s = load_scene_file(dir.file("s.json", R"({"shapes": [{"type": "sphere", "center": [0, 0, 0],
+      "radius": 1, "material": {"type": "diffuse", "reflectance": {"spectrum": "quarter.csv"}}}]})"));
+  ASSERT_EQ(s.materials.size(), 1u);
+  const Vec3 n{0, 0, 1};
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(s.materials[0].bxdf.f(n, n)[c] * kPiD, 0.25, 1e-3) << c;
+  const auto& spectrum = s.materials[0].spectra.colour[size_t(MaterialParam::Reflectance)];
+  ASSERT_TRUE(spectrum.has_value());
+  for (const Float l : {380.f, 550.f, 800.f}) EXPECT_FLOAT_EQ(spectrum->eval(l), 0.25f) << l;
+  // Not found next to the working directory's files either: the error names the file.
+  expect_error(load_error(dir.file("t.json", R"({"shapes": [{"type": "sphere", "center": [0, 0, 0], "radius": 1,
+      "material": {"type": "diffuse", "reflectance": {"spectrum": "missing.csv"}}}]})")),
+               {"t.json", "reflectance", "missing.csv"});
+}
+
 }  // namespace
 }  // namespace gonio::render
