@@ -407,6 +407,20 @@ BxDF make_roughdielectric(Params& p) {
     if (m.eta < 0.25f || m.eta > 4)
       p.fail("multiscatter needs eta in [0.25, 4] (the range of its albedo tables), got " + format_number(m.eta));
     if (!m.specular()) m.multiscatter = DielectricMultiscatterLobe::make(m.distribution, m.eta);
+    // A dispersive index: spectral mode remakes the lobe at the hero wavelength, with
+    // F̄(λ) tabulated here (2048 panels per wavelength would cost microseconds per
+    // shading point); the index must stay within the tables at every wavelength.
+    if (m.multiscatter && p.spectra().dispersive) {
+      std::vector<std::pair<double, double>> points;
+      for (Float l = kLambdaMin; l <= kLambdaMax; l += 5) {
+        const Float n = p.spectra().index->eval(l);
+        if (!(n >= 0.25f && n <= 4))
+          p.fail("multiscatter needs eta in [0.25, 4] (the range of its albedo tables) over 360-830 nm, got " +
+                 format_number(n) + " at " + format_number(l) + " nm");
+        points.emplace_back(l, average_dielectric_fresnel(n));
+      }
+      p.spectra().f_avg = PiecewiseLinearSpectrum::from_points(points, "F_avg");
+    }
   }
   return m;
 }

@@ -96,7 +96,9 @@ struct Converter {
     s.distribution = m.distribution;
     s.eta = index(m.eta);
     if (m.multiscatter)
-      s.multiscatter = s.eta == m.eta ? *m.multiscatter : DielectricMultiscatterLobe::make(m.distribution, s.eta);
+      s.multiscatter = s.eta == m.eta || !spectra.f_avg
+                           ? *m.multiscatter
+                           : DielectricMultiscatterLobe::remake(m.distribution, s.eta, spectra.f_avg->eval(w[0]));
     return s;
   }
   SpectralBxDF operator()(const OrenNayarBxDF& m) const {

@@ -39,8 +39,9 @@ struct MaterialSpectra {
   // is one number.
   std::optional<Spectrum> index;
   bool dispersive = false;
-  // A multiple-scattering rough conductor's F_avg(λ) = 2 ∫ F(μ, λ) μ dμ, tabulated at
-  // parse time (64 panels per wavelength would cost microseconds per shading point).
+  // A multiple-scattering rough conductor's F_avg(λ) = 2 ∫ F(μ, λ) μ dμ, or a dispersive
+  // multiple-scattering rough dielectric's F̄(λ) seen from outside, tabulated every 5 nm at
+  // parse time (the quadrature per wavelength would cost microseconds per shading point).
   std::optional<Spectrum> f_avg;
   // A blend's two parts.
   std::vector<MaterialSpectra> parts;

@@ -103,5 +103,34 @@ TEST(Dispersion, DispersiveSurfaceKeepsOnlyTheHero) {
   EXPECT_FALSE(w2.secondary_terminated());
 }
 
+// A dispersive rough dielectric with multiple scattering: the lobe at the hero wavelength
+// is the one made for the index there (F̄ from its table, every 5 nm), and an index that
+// leaves the lobe's tables anywhere in the visible is refused, naming the wavelength.
+TEST(Dispersion, MultiscatterLobeFollowsTheHeroIndex) {
+  const MaterialWithSpectra glass = parse_material_with_spectra(
+      R"({"type":"roughdielectric","alpha":0.3,"multiscatter":true,"eta":{"sellmeier":{"B":[1.73759695,0.313747346,)"
+      R"(1.89878101],"C":[0.013188707,0.0623068142,155.23629]}}})");
+  SpectralScratch scratch;
+  for (const double nm : {452.5, 587.0, 701.0}) {
+    SampledWavelengths w = SampledWavelengths::single(Float(nm));
+    const SpectralBxDF m = to_spectral(glass.bxdf, glass.spectra, w, scratch);
+    const auto* rd = std::get_if<RoughDielectricBxDFT<SampledSpectrum>>(&m.models());
+    ASSERT_TRUE(rd && rd->multiscatter);
+    const Float n = Float(sf11_index(nm));
+    EXPECT_NEAR(rd->eta, n, 2e-6);
+    const DielectricMultiscatterLobe direct = DielectricMultiscatterLobe::make(rd->distribution, n);
+    EXPECT_NEAR(rd->multiscatter->fbar_out, direct.fbar_out, 2e-5) << nm;
+    EXPECT_NEAR(rd->multiscatter->t_out, direct.t_out, 2e-5) << nm;
+    EXPECT_NEAR(rd->multiscatter->t_in, direct.t_in, 2e-5) << nm;
+  }
+  try {
+    (void)parse_material_with_spectra(
+        R"({"type":"roughdielectric","alpha":0.3,"multiscatter":true,"eta":{"spectrum":[[360,5],[830,1.5]]}})");
+    ADD_FAILURE() << "an index of 5 at 360 nm was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("at 360 nm"), std::string::npos) << e.what();
+  }
+}
+
 }  // namespace
 }  // namespace gonio
