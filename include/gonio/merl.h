@@ -1,0 +1,78 @@
+#pragma once
+// The MERL isotropic BRDF table (Matusik, Pfister, Brand & McMillan 2003, "A Data-Driven
+// Reflectance Model"; format as SPEC §2 `measured` fixes it): f sampled in Rusinkiewicz's
+// half/difference angles (Rusinkiewicz 1998, "A New Change of Variables for Efficient
+// BRDF Representation") on a 90 × 90 × 180 grid,
+//   entry (i, j, k) at θh = ((i + ½)/90)² · π/2,  θd = (j + ½)°,  φd = (k + ½)°,
+// φd folded into [0°, 180°) because swapping wi and wo adds 180° to it (reciprocity).
+// The θh axis is non-uniform (index = 90 √(θh / (π/2))): the bins crowd near the
+// specular peak. On disk: three little-endian int32 (90, 90, 180), then three channels
+// (red, green, blue) of 1,458,000 little-endian doubles each, entry k + 180 j + 16200 i,
+// each f / scale with scale = 1/1500, 1.15/1500, 1.66/1500; a negative entry was not
+// measured.
+//
+// In memory the table is held as interleaved floats (r, g, b per entry): one lookup
+// touches one cache line per entry instead of three far-apart doubles.
+
+#include <array>
+#include <cstddef>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "gonio/color.h"
+#include "gonio/math/vec3.h"
+
+namespace gonio {
+
+struct MerlTable {
+  static constexpr int kThetaH = 90, kThetaD = 90, kPhiD = 180;
+  static constexpr std::size_t kEntries = std::size_t(kThetaH) * kThetaD * kPhiD;  // 1,458,000
+  // f = stored value × scale, per channel (MERL's reference reader).
+  static constexpr std::array<double, 3> kScale = {1.0 / 1500, 1.15 / 1500, 1.66 / 1500};
+  // The value stored for an entry that was not measured.
+  static constexpr float kMissing = -1;
+
+  // 3 × kEntries floats: f in 1/sr of entry e at rgb[3e .. 3e+2], or kMissing in all three.
+  std::vector<float> rgb = std::vector<float>(3 * kEntries, 0.0f);
+
+  static constexpr std::size_t index(int i, int j, int k) {
+    return std::size_t(k) + std::size_t(kPhiD) * std::size_t(j) + std::size_t(kPhiD) * kThetaD * std::size_t(i);
+  }
+  bool measured(int i, int j, int k) const { return rgb[3 * index(i, j, k)] >= 0; }
+  Color at(int i, int j, int k) const {
+    const float* p = &rgb[3 * index(i, j, k)];
+    return {p[0], p[1], p[2]};
+  }
+  void set(int i, int j, int k, const Color& f) {
+    float* p = &rgb[3 * index(i, j, k)];
+    p[0] = f[0], p[1] = f[1], p[2] = f[2];
+  }
+  void set_missing(int i, int j, int k) {
+    float* p = &rgb[3 * index(i, j, k)];
+    p[0] = p[1] = p[2] = kMissing;
+  }
+};
+
+// Bin centres, in radians.
+double merl_theta_h(int i);  // ((i + ½)/90)² · π/2
+double merl_theta_d(int j);  // (j + ½)°
+double merl_phi_d(int k);    // (k + ½)°
+
+// Rusinkiewicz coordinates of a pair of directions on the same side (z > 0), θh and θd in
+// [0, π/2], φd in [0, π) (folded). `wi` is the one rotated into the difference frame.
+struct HalfDiff {
+  double theta_h, theta_d, phi_d;
+};
+HalfDiff half_diff(const Vec3& wo, const Vec3& wi);
+// The pair (wo, wi) of the half/difference angles, with φh = 0: the inverse of half_diff
+// (either direction may lie below the horizon, z < 0, for large θh + θd).
+std::pair<Vec3, Vec3> merl_directions(double theta_h, double theta_d, double phi_d);
+
+// Reads a MERL file. Throws InputError "PATH: ..." (one line) for a file that cannot be
+// read, a wrong header, a wrong size or a NaN/Inf entry.
+MerlTable read_merl(const std::string& path);
+// Writes `table` (missing entries as -1 in the file). Throws InputError on I/O failure.
+void write_merl(const std::string& path, const MerlTable& table);
+
+}  // namespace gonio

@@ -1,0 +1,148 @@
+// The MERL table format (merl.h): reading, writing, and the half/difference angles.
+
+#include "gonio/merl.h"
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <fstream>
+#include <system_error>
+#include <filesystem>
+
+#include "gonio/error.h"
+#include "gonio/math/constants.h"
+
+namespace gonio {
+namespace {
+
+constexpr double kDeg = kPiD / 180;
+constexpr std::size_t kHeaderBytes = 3 * sizeof(std::int32_t);
+constexpr std::size_t kFileBytes = kHeaderBytes + 3 * MerlTable::kEntries * sizeof(double);
+
+// The file is little-endian whatever the host.
+template <typename T>
+T from_little_endian(const unsigned char* p) {
+  std::array<unsigned char, sizeof(T)> b;
+  std::memcpy(b.data(), p, sizeof(T));
+  if constexpr (std::endian::native == std::endian::big) std::reverse(b.begin(), b.end());
+  T v;
+  std::memcpy(&v, b.data(), sizeof(T));
+  return v;
+}
+template <typename T>
+void to_little_endian(T v, unsigned char* p) {
+  std::memcpy(p, &v, sizeof(T));
+  if constexpr (std::endian::native == std::endian::big) std::reverse(p, p + sizeof(T));
+}
+
+std::string quoted(const std::string& path) { return escape_control(path); }
+
+}  // namespace
+
+double merl_theta_h(int i) {
+  const double x = (i + 0.5) / MerlTable::kThetaH;
+  return x * x * (kPiD / 2);
+}
+double merl_theta_d(int j) { return (j + 0.5) * kDeg; }
+double merl_phi_d(int k) { return (k + 0.5) * kDeg; }
+
+HalfDiff half_diff(const Vec3& wo, const Vec3& wi) {
+  const double ox = wo.x, oy = wo.y, oz = wo.z, ix = wi.x, iy = wi.y, iz = wi.z;
+  double hx = ox + ix, hy = oy + iy, hz = oz + iz;
+  const double len = std::sqrt(hx * hx + hy * hy + hz * hz);
+  if (!(len > 0)) return {0, kPiD / 2, 0};  // opposite directions: no half vector
+  hx /= len, hy /= len, hz /= len;
+  const double sin_h = std::sqrt(hx * hx + hy * hy);
+  const double theta_h = std::atan2(sin_h, hz);
+  // Rotate wi by −φh about z, then by −θh about y (Rusinkiewicz 1998, §3).
+  const double cp = sin_h > 0 ? hx / sin_h : 1, sp = sin_h > 0 ? hy / sin_h : 0;
+  const double x1 = cp * ix + sp * iy, y1 = -sp * ix + cp * iy, z1 = iz;
+  const double ct = hz, st = sin_h;
+  const double dx = ct * x1 - st * z1, dy = y1, dz = st * x1 + ct * z1;
+  const double theta_d = std::atan2(std::sqrt(dx * dx + dy * dy), dz);
+  double phi_d = std::atan2(dy, dx);
+  if (phi_d < 0) phi_d += kPiD;  // fold: (φd + π) is the same entry by reciprocity
+  if (phi_d >= kPiD) phi_d -= kPiD;
+  return {theta_h, std::min(theta_d, kPiD / 2), phi_d};
+}
+
+std::pair<Vec3, Vec3> merl_directions(double theta_h, double theta_d, double phi_d) {
+  // d in the half-vector frame, then rotated by θh about y (φh = 0); wo is d mirrored
+  // through h: wo = 2 (h·d) h − d.
+  const double st = std::sin(theta_d), ct = std::cos(theta_d);
+  const double dx = st * std::cos(phi_d), dy = st * std::sin(phi_d), dz = ct;
+  const double sh = std::sin(theta_h), ch = std::cos(theta_h);
+  const double ix = ch * dx + sh * dz, iy = dy, iz = -sh * dx + ch * dz;
+  const double hx = sh, hy = 0, hz = ch;
+  const double hd = hx * ix + hy * iy + hz * iz;
+  const double ox = 2 * hd * hx - ix, oy = 2 * hd * hy - iy, oz = 2 * hd * hz - iz;
+  return {Vec3{Float(ox), Float(oy), Float(oz)}, Vec3{Float(ix), Float(iy), Float(iz)}};
+}
+
+MerlTable read_merl(const std::string& path) {
+  const std::string name = quoted(path);
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) throw InputError(name + ": is a directory, not a MERL table");
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(name + ": cannot open the MERL table (" + std::string(std::strerror(errno)) + ")");
+  unsigned char header[kHeaderBytes];
+  if (!in.read(reinterpret_cast<char*>(header), kHeaderBytes))
+    throw InputError(name + ": not a MERL table: shorter than its 12-byte header");
+  const std::int32_t dims[3] = {from_little_endian<std::int32_t>(header), from_little_endian<std::int32_t>(header + 4),
+                                from_little_endian<std::int32_t>(header + 8)};
+  if (dims[0] != MerlTable::kThetaH || dims[1] != MerlTable::kThetaD || dims[2] != MerlTable::kPhiD)
+    throw InputError(name + ": not a MERL table: header says " + std::to_string(dims[0]) + " x " +
+                     std::to_string(dims[1]) + " x " + std::to_string(dims[2]) + ", expected 90 x 90 x 180");
+  std::vector<unsigned char> body(kFileBytes - kHeaderBytes);
+  in.read(reinterpret_cast<char*>(body.data()), std::streamsize(body.size()));
+  const std::size_t got = std::size_t(in.gcount());
+  if (got != body.size())
+    throw InputError(name + ": truncated MERL table: " + std::to_string(kHeaderBytes + got) + " bytes, expected " +
+                     std::to_string(kFileBytes));
+  if (in.peek() != std::ifstream::traits_type::eof())
+    throw InputError(name + ": MERL table longer than " + std::to_string(kFileBytes) + " bytes (trailing data)");
+  MerlTable table;
+  for (int c = 0; c < 3; ++c) {
+    const unsigned char* channel = body.data() + std::size_t(c) * MerlTable::kEntries * sizeof(double);
+    for (std::size_t e = 0; e < MerlTable::kEntries; ++e) {
+      const double v = from_little_endian<double>(channel + e * sizeof(double));
+      if (!std::isfinite(v)) {
+        const std::size_t i = e / (MerlTable::kThetaD * MerlTable::kPhiD),
+                          j = e / MerlTable::kPhiD % MerlTable::kThetaD, k = e % MerlTable::kPhiD;
+        throw InputError(name + ": MERL entry (" + std::to_string(i) + ", " + std::to_string(j) + ", " +
+                         std::to_string(k) + ") of channel " + "rgb"[c] + " is " + format_number(v));
+      }
+      // An entry missing in one channel is missing in all: an interpolation must not mix
+      // a measured red with an unmeasured blue.
+      table.rgb[3 * e + c] = v < 0 ? MerlTable::kMissing : float(v * MerlTable::kScale[c]);
+    }
+  }
+  for (std::size_t e = 0; e < MerlTable::kEntries; ++e) {
+    float* p = &table.rgb[3 * e];
+    if (p[0] < 0 || p[1] < 0 || p[2] < 0) p[0] = p[1] = p[2] = MerlTable::kMissing;
+  }
+  return table;
+}
+
+void write_merl(const std::string& path, const MerlTable& table) {
+  std::vector<unsigned char> bytes(kFileBytes);
+  const std::int32_t dims[3] = {MerlTable::kThetaH, MerlTable::kThetaD, MerlTable::kPhiD};
+  for (int d = 0; d < 3; ++d) to_little_endian(dims[d], bytes.data() + 4 * d);
+  for (int c = 0; c < 3; ++c) {
+    unsigned char* channel = bytes.data() + kHeaderBytes + std::size_t(c) * MerlTable::kEntries * sizeof(double);
+    for (std::size_t e = 0; e < MerlTable::kEntries; ++e) {
+      const float f = table.rgb[3 * e + c];
+      const double stored = f < 0 ? -1.0 : double(f) / MerlTable::kScale[c];
+      to_little_endian(stored, channel + e * sizeof(double));
+    }
+  }
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  if (!out) throw InputError(quoted(path) + ": cannot write (" + std::string(std::strerror(errno)) + ")");
+  out.write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
+  out.close();
+  if (!out) throw InputError(quoted(path) + ": write failed (" + std::string(std::strerror(errno)) + ")");
+}
+
+}  // namespace gonio
