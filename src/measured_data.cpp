@@ -17,22 +17,14 @@ namespace {
 constexpr Float kDegPerRad = Float(180 / kPiD);
 
 // Half vector and difference angles of (wo, wi), both z > 0, in float: the hot path of
-// lookup. The double version (merl.cpp half_diff) is the reference the tests use.
+// lookup (merl.h, half_diff_angles).
 struct HalfDiffF {
   Float theta_h, theta_d, phi_d;  // radians; φd in [−π, π] (not folded)
 };
 inline HalfDiffF half_diff_f(const Vec3& wo, const Vec3& wi) {
-  Vec3 h = wo + wi;
-  const Float len = length(h);
-  h = h / len;
-  const Float sin_h = std::sqrt(h.x * h.x + h.y * h.y);
-  const Float theta_h = fast_atan2(sin_h, h.z);
-  const Float cp = sin_h > 0 ? h.x / sin_h : Float(1), sp = sin_h > 0 ? h.y / sin_h : Float(0);
-  // wi rotated by −φh about z, then by −θh about y (Rusinkiewicz 1998, §3).
-  const Float x1 = cp * wi.x + sp * wi.y, y1 = -sp * wi.x + cp * wi.y;
-  const Float dx = h.z * x1 - sin_h * wi.z, dz = sin_h * x1 + h.z * wi.z;
-  const Float theta_d = fast_atan2(std::sqrt(dx * dx + y1 * y1), dz);
-  return {theta_h, theta_d, fast_atan2(y1, dx)};
+  HalfDiffF a;
+  half_diff_angles<Float>(wo, wi, [](Float y, Float x) { return fast_atan2(y, x); }, a.theta_h, a.theta_d, a.phi_d);
+  return a;
 }
 
 // Linear interpolation coordinate clamped to [0, n − 1]: index and fraction.
@@ -106,7 +98,9 @@ inline MirrorFrame mirror_frame(const Vec3& wo) {
 }  // namespace
 
 void MeasuredData::build_sampler() {
+  constexpr int kNodesT = kThetaCells + 1, kNodesP = kPhiCells + 1;
   const size_t cells = size_t(kThetaCells) * kPhiCells;
+  node_.assign(size_t(kThetaOBins) * kNodesT * kNodesP, 0.0f);
   cell_prob_.assign(size_t(kThetaOBins) * cells, 0.0f);
   marginal_cdf_.assign(size_t(kThetaOBins) * (kThetaCells + 1), 0.0f);
   conditional_cdf_.assign(size_t(kThetaOBins) * kThetaCells * (kPhiCells + 1), 0.0f);
@@ -117,47 +111,50 @@ void MeasuredData::build_sampler() {
     const double theta_o = (1 - (1 - t) * (1 - t)) * (kPiD / 2);
     const Vec3 wo{Float(std::sin(theta_o)), 0, Float(std::cos(theta_o))};
     const MirrorFrame fr = mirror_frame(wo);
-    float* prob = &cell_prob_[size_t(b) * cells];
-    double total = 0;
-    for (int ix = 0; ix < kThetaCells; ++ix) {
-      const double ca = cos_edge_[size_t(ix)], cb = cos_edge_[size_t(ix) + 1];
-      for (int ip = 0; ip < kPhiCells; ++ip) {
-        // ∫ over the cell of f cos θi dωi, by a 2 × 2 stratified midpoint rule.
-        double sum = 0;
-        for (int s = 0; s < 4; ++s) {
-          const double ct = ca + (cb - ca) * ((s & 1) + 0.5) / 2;
-          const double ph = (ip + ((s >> 1) + 0.5) / 2) * dphi;
-          const double st = std::sqrt(std::max(0.0, 1 - ct * ct));
-          const Vec3 wi = normalize(Float(ct) * fr.wr + Float(st * std::cos(ph)) * fr.xp + Float(st * std::sin(ph)) * fr.yp);
-          if (!(wi.z > 0)) continue;
-          const Color f = lookup(wo, wi);
-          sum += double(f[0] + f[1] + f[2]) * wi.z;
-        }
-        const double omega = (ca - cb) * dphi;
-        prob[size_t(ix) * kPhiCells + size_t(ip)] = float(sum / 4 * omega);
-        total += sum / 4 * omega;
+    // The target f cos θi (summed over channels) at the nodes.
+    float* node = &node_[size_t(b) * kNodesT * kNodesP];
+    for (int it = 0; it < kNodesT; ++it) {
+      const double ct = cos_edge_[size_t(it)], st = std::sqrt(std::max(0.0, 1 - ct * ct));
+      for (int ip = 0; ip < kNodesP; ++ip) {
+        const double ph = ip * dphi;
+        const Vec3 wi = normalize(Float(ct) * fr.wr + Float(st * std::cos(ph)) * fr.xp + Float(st * std::sin(ph)) * fr.yp);
+        const Color f = wi.z > 0 ? lookup(wo, wi) : Color(0);
+        node[it * kNodesP + ip] = wi.z > 0 ? (f[0] + f[1] + f[2]) * wi.z : 0.0f;
       }
     }
+    // Each cell's mass: ∫ of the bilinear patch over it = area × mean of its corners
+    // (area in (cos θ', φ'), which is solid angle).
+    float* prob = &cell_prob_[size_t(b) * cells];
+    double total = 0;
+    for (int it = 0; it < kThetaCells; ++it)
+      for (int ip = 0; ip < kPhiCells; ++ip) {
+        const double mean = (double(node[it * kNodesP + ip]) + node[it * kNodesP + ip + 1] + node[(it + 1) * kNodesP + ip] +
+                             node[(it + 1) * kNodesP + ip + 1]) / 4;
+        const double mass = mean * (cos_edge_[size_t(it)] - cos_edge_[size_t(it) + 1]) * dphi;
+        prob[size_t(it) * kPhiCells + size_t(ip)] = float(mass);
+        total += mass;
+      }
     has_table_[size_t(b)] = total > 0 && std::isfinite(total);
     if (!has_table_[size_t(b)]) continue;
+    for (int n = 0; n < kNodesT * kNodesP; ++n) node[n] = float(node[n] / total);
     float* marginal = &marginal_cdf_[size_t(b) * (kThetaCells + 1)];
     double run = 0;
-    for (int ix = 0; ix < kThetaCells; ++ix) {
-      float* cond = &conditional_cdf_[(size_t(b) * kThetaCells + size_t(ix)) * (kPhiCells + 1)];
+    for (int it = 0; it < kThetaCells; ++it) {
+      float* cond = &conditional_cdf_[(size_t(b) * kThetaCells + size_t(it)) * (kPhiCells + 1)];
       double row = 0;
       for (int ip = 0; ip < kPhiCells; ++ip) {
-        float& p = prob[size_t(ix) * kPhiCells + size_t(ip)];
+        float& p = prob[size_t(it) * kPhiCells + size_t(ip)];
         p = float(p / total);
         row += p;
       }
       double c = 0;
       for (int ip = 0; ip < kPhiCells; ++ip) {
-        c += prob[size_t(ix) * kPhiCells + size_t(ip)];
+        c += prob[size_t(it) * kPhiCells + size_t(ip)];
         cond[ip + 1] = row > 0 ? float(c / row) : float(ip + 1) / kPhiCells;
       }
       cond[kPhiCells] = 1;
       run += row;
-      marginal[ix + 1] = float(run);
+      marginal[it + 1] = float(run);
     }
     marginal[kThetaCells] = 1;
   }
@@ -178,7 +175,18 @@ inline int theta_o_bin(const Vec3& wo, int bins) {
 }
 }  // namespace
 
+namespace {
+// A sample of the density ∝ (1 − x) a + x b on [0, 1] by inverting its CDF, in the form
+// that stays accurate when a or b is 0 (pbrt-v4, SampleLinear).
+inline Float sample_linear(Float u, Float a, Float b) {
+  if (u == 0 && a == 0) return 0;
+  const Float x = u * (a + b) / (a + std::sqrt(std::max(Float(0), (1 - u) * a * a + u * b * b)));
+  return std::min(x, kOneMinusEpsilon);
+}
+}  // namespace
+
 Float MeasuredData::tabulated_pdf(const Vec3& wo, const Vec3& wi) const {
+  constexpr int kNodesP = kPhiCells + 1;
   const int b = theta_o_bin(wo, kThetaOBins);
   if (!has_table_[size_t(b)]) return 0;
   const MirrorFrame fr = mirror_frame(wo);
@@ -189,12 +197,16 @@ Float MeasuredData::tabulated_pdf(const Vec3& wo, const Vec3& wi) const {
   const Float rel = std::abs(fast_atan2(sy, sx));
   const Float x = std::sqrt(theta * Float(1 / kPiD));
   if (!std::isfinite(x + rel)) return 0;
-  const int ix = std::clamp(int(x * kThetaCells), 0, kThetaCells - 1);
-  const int ip = std::clamp(int(rel / Float(kPiD) * kPhiCells), 0, kPhiCells - 1);
-  const Float p = cell_prob_[(size_t(b) * kThetaCells + size_t(ix)) * kPhiCells + size_t(ip)];
-  // Uniform in solid angle over the cell and its mirror image: 2 Ω_cell.
-  const Float omega = (cos_edge_[size_t(ix)] - cos_edge_[size_t(ix) + 1]) * Float(kPiD / kPhiCells);
-  return omega > 0 ? p / (2 * omega) : Float(0);
+  const int it = std::clamp(int(x * kThetaCells), 0, kThetaCells - 1);
+  const Float pc = rel * Float(kPhiCells / kPiD);
+  const int ip = std::clamp(int(pc), 0, kPhiCells - 1);
+  // Bilinear between the cell's corners, in (cos θ', φ').
+  const Float c0 = cos_edge_[size_t(it)], c1 = cos_edge_[size_t(it) + 1];
+  const Float tu = c0 > c1 ? std::clamp((c0 - std::clamp(c, Float(-1), Float(1))) / (c0 - c1), Float(0), Float(1)) : Float(0);
+  const Float tp = std::clamp(pc - Float(ip), Float(0), Float(1));
+  const float* n = &node_[(size_t(b) * (kThetaCells + 1) + size_t(it)) * kNodesP + size_t(ip)];
+  const Float v = (1 - tu) * ((1 - tp) * n[0] + tp * n[1]) + tu * ((1 - tp) * n[kNodesP] + tp * n[kNodesP + 1]);
+  return v / 2;  // the cell and its mirror image share the mass
 }
 
 Float MeasuredData::pdf(const Vec3& wo, const Vec3& wi) const {
@@ -205,22 +217,30 @@ Float MeasuredData::pdf(const Vec3& wo, const Vec3& wi) const {
 }
 
 Vec3 MeasuredData::sample(const Vec3& wo, Float u_lobe, Float u1, Float u2) const {
+  constexpr int kNodesP = kPhiCells + 1;
   const int b = theta_o_bin(wo, kThetaOBins);
   const Float c = has_table_[size_t(b)] ? kDefensive : Float(1);
   if (u_lobe < c) return square_to_cosine_hemisphere(u1, u2);
   const Float u_mirror = (u_lobe - c) / (1 - c);
+  // The cell, from the discrete distribution of the patches' masses; the remainders of u1
+  // and u2 place the point within it.
   const float* marginal = &marginal_cdf_[size_t(b) * (kThetaCells + 1)];
-  const int ix = find_interval(marginal, kThetaCells, u1);
-  const Float m0 = marginal[ix], m1 = marginal[ix + 1];
-  const Float v1 = m1 > m0 ? std::clamp((u1 - m0) / (m1 - m0), Float(0), Float(1)) : Float(0.5);
-  const float* cond = &conditional_cdf_[(size_t(b) * kThetaCells + size_t(ix)) * (kPhiCells + 1)];
+  const int it = find_interval(marginal, kThetaCells, u1);
+  const Float m0 = marginal[it], m1 = marginal[it + 1];
+  const Float v1 = m1 > m0 ? std::clamp((u1 - m0) / (m1 - m0), Float(0), kOneMinusEpsilon) : Float(0.5);
+  const float* cond = &conditional_cdf_[(size_t(b) * kThetaCells + size_t(it)) * (kPhiCells + 1)];
   const int ip = find_interval(cond, kPhiCells, u2);
   const Float c0 = cond[ip], c1 = cond[ip + 1];
-  const Float v2 = c1 > c0 ? std::clamp((u2 - c0) / (c1 - c0), Float(0), Float(1)) : Float(0.5);
-  // Uniform in solid angle within the cell: cos θ uniform between the edges.
-  const Float ct = cos_edge_[size_t(ix)] + (cos_edge_[size_t(ix) + 1] - cos_edge_[size_t(ix)]) * v1;
+  const Float v2 = c1 > c0 ? std::clamp((u2 - c0) / (c1 - c0), Float(0), kOneMinusEpsilon) : Float(0.5);
+  // Within the bilinear patch (corners n00, n01 along φ', n10, n11 one row down in cos θ'):
+  // first the cos θ' coordinate from its linear marginal, then φ' given it (pbrt-v4,
+  // SampleBilinear).
+  const float* n = &node_[(size_t(b) * (kThetaCells + 1) + size_t(it)) * kNodesP + size_t(ip)];
+  const Float tu = sample_linear(v1, n[0] + n[1], n[kNodesP] + n[kNodesP + 1]);
+  const Float tp = sample_linear(v2, (1 - tu) * n[0] + tu * n[kNodesP], (1 - tu) * n[1] + tu * n[kNodesP + 1]);
+  const Float ct = cos_edge_[size_t(it)] + (cos_edge_[size_t(it) + 1] - cos_edge_[size_t(it)]) * tu;
   const Float st = std::sqrt(std::max(Float(0), 1 - ct * ct));
-  Float rel = (Float(ip) + v2) * Float(kPiD / kPhiCells);
+  Float rel = (Float(ip) + tp) * Float(kPiD / kPhiCells);
   if (u_mirror < Float(0.5)) rel = -rel;
   const MirrorFrame fr = mirror_frame(wo);
   return normalize(ct * fr.wr + (st * std::cos(rel)) * fr.xp + (st * std::sin(rel)) * fr.yp);

@@ -50,23 +50,12 @@ double merl_theta_d(int j) { return (j + 0.5) * kDeg; }
 double merl_phi_d(int k) { return (k + 0.5) * kDeg; }
 
 HalfDiff half_diff(const Vec3& wo, const Vec3& wi) {
-  const double ox = wo.x, oy = wo.y, oz = wo.z, ix = wi.x, iy = wi.y, iz = wi.z;
-  double hx = ox + ix, hy = oy + iy, hz = oz + iz;
-  const double len = std::sqrt(hx * hx + hy * hy + hz * hz);
-  if (!(len > 0)) return {0, kPiD / 2, 0};  // opposite directions: no half vector
-  hx /= len, hy /= len, hz /= len;
-  const double sin_h = std::sqrt(hx * hx + hy * hy);
-  const double theta_h = std::atan2(sin_h, hz);
-  // Rotate wi by −φh about z, then by −θh about y (Rusinkiewicz 1998, §3).
-  const double cp = sin_h > 0 ? hx / sin_h : 1, sp = sin_h > 0 ? hy / sin_h : 0;
-  const double x1 = cp * ix + sp * iy, y1 = -sp * ix + cp * iy, z1 = iz;
-  const double ct = hz, st = sin_h;
-  const double dx = ct * x1 - st * z1, dy = y1, dz = st * x1 + ct * z1;
-  const double theta_d = std::atan2(std::sqrt(dx * dx + dy * dy), dz);
-  double phi_d = std::atan2(dy, dx);
-  if (phi_d < 0) phi_d += kPiD;  // fold: (φd + π) is the same entry by reciprocity
-  if (phi_d >= kPiD) phi_d -= kPiD;
-  return {theta_h, std::min(theta_d, kPiD / 2), phi_d};
+  double th, td, pd;
+  half_diff_angles<double>(wo, wi, [](double y, double x) { return std::atan2(y, x); }, th, td, pd);
+  if (!(th == th)) return {0, kPiD / 2, 0};  // opposite directions: no half vector
+  if (pd < 0) pd += kPiD;  // fold: (φd + π) is the same entry by reciprocity
+  if (pd >= kPiD) pd -= kPiD;
+  return {th, std::min(td, kPiD / 2), pd};
 }
 
 std::pair<Vec3, Vec3> merl_directions(double theta_h, double theta_d, double phi_d) {

@@ -11,15 +11,17 @@
 //
 // Sampling. For isotropic f the density of wi given wo depends only on θo and on wi's
 // place relative to wo. Per bin of θo (kThetaOBins, narrowing towards grazing), the target
-// f(wo, wi) cos θi is tabulated over cells of wi in spherical coordinates around the
-// mirror direction of wo: the angle θ' from it cut at √(θ'/π) uniform (fine near the
-// specular peak, like MERL's own θh axis), the azimuth around it in [0, π] (f is symmetric
-// under the mirror through the plane of incidence; the sign is drawn separately). Centred
-// on the mirror direction, the horizon cuts the cells along a smooth curve even at grazing
-// incidence (over half vectors it leaves a sliver no grid resolves). Within a cell wi is
-// uniform in solid angle, so the density is bounded. A fraction kDefensive of samples is
-// cosine-distributed, so that the pdf is positive wherever f is (Hesterberg 1995,
-// defensive mixtures).
+// f(wo, wi) cos θi is tabulated at the nodes of a grid of wi in spherical coordinates
+// around the mirror direction of wo: the angle θ' from it cut at √(θ'/π) uniform (fine
+// near the specular peak, like MERL's own θh axis), the azimuth φ' around it in [0, π] (f
+// is symmetric under the mirror through the plane of incidence; the sign is drawn
+// separately). Centred on the mirror direction, the horizon cuts the cells along a smooth
+// curve even at grazing incidence (over half vectors it leaves a sliver no grid
+// resolves). The density is bilinear in (cos θ', φ') between the nodes — continuous and
+// bounded, per unit solid angle since dω = d(cos θ') dφ' — and sampled as bilinear patches
+// (a cell by its mass, then the point within it; pbrt-v4's SampleBilinear). A fraction
+// kDefensive of samples is cosine-distributed, so that the pdf is positive wherever f is
+// (Hesterberg 1995, defensive mixtures).
 
 #include <array>
 #include <cmath>
@@ -61,9 +63,10 @@ class MeasuredData {
 
   MerlTable table_;
   std::string path_;
-  // Per θo bin: the cells' probabilities (kThetaCells × kPhiCells), the marginal CDF over
+  // Per θo bin: the normalised density at the cells' corners ((kThetaCells + 1) ×
+  // (kPhiCells + 1)), the cells' probabilities (kThetaCells × kPhiCells), the marginal CDF over
   // θ' (kThetaCells + 1) and the conditional CDFs over φ' (kThetaCells × (kPhiCells + 1)).
-  std::vector<float> cell_prob_, marginal_cdf_, conditional_cdf_;
+  std::vector<float> node_, cell_prob_, marginal_cdf_, conditional_cdf_;
   std::array<bool, kThetaOBins> has_table_{};  // false: the bin's target was 0 everywhere
   std::array<float, kThetaCells + 1> cos_edge_{};  // cos θ' at the cells' edges
 };

@@ -15,6 +15,7 @@
 // touches one cache line per entry instead of three far-apart doubles.
 
 #include <array>
+#include <cmath>
 #include <cstddef>
 #include <string>
 #include <utility>
@@ -65,6 +66,27 @@ struct HalfDiff {
   double theta_h, theta_d, phi_d;
 };
 HalfDiff half_diff(const Vec3& wo, const Vec3& wi);
+
+// The same in precision T, φd unfolded in [−π, π]; `atan2` is the arctangent to use. For
+// unit vectors wi = cos θd h + sin θd d and wo = cos θd h − sin θd d, so θd is taken as
+// atan2(|wi − wo|, |wi + wo|) and φd as the azimuth of wi − wo in the half vector's frame
+// (Rusinkiewicz 1998, §3: rotate by −φh about z, then by −θh about y). Written that way,
+// both are exactly symmetric in wo and wi (φd up to π): the table lookup is reciprocal even
+// for float inputs a few ulps off unit length, where rotating wi alone (MERL's code) gave
+// θd's differing by 2e-4° near grazing.
+template <typename T, typename Atan2>
+void half_diff_angles(const Vec3& wo, const Vec3& wi, Atan2 atan2, T& theta_h, T& theta_d, T& phi_d) {
+  const T sx = T(wo.x) + T(wi.x), sy = T(wo.y) + T(wi.y), sz = T(wo.z) + T(wi.z);
+  const T ex = T(wi.x) - T(wo.x), ey = T(wi.y) - T(wo.y), ez = T(wi.z) - T(wo.z);
+  const T sum = std::sqrt(sx * sx + sy * sy + sz * sz);
+  const T hz = sz / sum, sin_h = std::sqrt(sx * sx + sy * sy) / sum;
+  theta_h = atan2(sin_h, hz);
+  theta_d = atan2(std::sqrt(ex * ex + ey * ey + ez * ez), sum);
+  const T sp_len = std::sqrt(sx * sx + sy * sy);
+  const T cp = sp_len > 0 ? sx / sp_len : T(1), sp = sp_len > 0 ? sy / sp_len : T(0);
+  const T x1 = cp * ex + sp * ey, y1 = -sp * ex + cp * ey;
+  phi_d = atan2(y1, hz * x1 - sin_h * ez);
+}
 // The pair (wo, wi) of the half/difference angles, with φh = 0: the inverse of half_diff
 // (either direction may lie below the horizon, z < 0, for large θh + θd).
 std::pair<Vec3, Vec3> merl_directions(double theta_h, double theta_d, double phi_d);
