@@ -128,11 +128,11 @@ constexpr MaterialTypeSpec kTypes[] = {
     {"plastic", "Dielectric coat (smooth or rough) over a Lambertian base, internal reflections summed.",
      "Weidlich & Wilkie 2007; Kelemen & Szirmay-Kalos 2001; Kulla & Conty 2017", kPlastic,
      "A rough coat needs an isotropic alpha (a number)."},
+    {"blend", "Linear blend of two materials: (1 - w) f0 + w f1.", "The lecture, §2 and §3.4", kBlend,
+     "Two parts that both refract must have the same eta."},
     {"measured", "A measured isotropic BRDF: a MERL table, interpolated in half/difference angles and importance-sampled.",
      "Matusik et al. 2003 (MERL format); Rusinkiewicz 1998 (half/difference angles)", kMeasured,
      "Reflection only; docs/measured.md says how it interpolates, treats unmeasured entries and samples."},
-    {"blend", "Linear blend of two materials: (1 - w) f0 + w f1.", "The lecture, §2 and §3.4", kBlend,
-     "Two parts that both refract must have the same eta."},
 };
 
 std::string number_text(double v) {

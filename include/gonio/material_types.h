@@ -56,7 +56,7 @@ struct MaterialTypeSpec {
   std::string_view notes;    // constraints between parameters; may be empty
 };
 
-// Every material type, in SPEC §2's order (blend last).
+// Every material type, in SPEC §2's order.
 std::span<const MaterialTypeSpec> material_types();
 // The type named `name`, or nullptr.
 const MaterialTypeSpec* find_material_type(std::string_view name);

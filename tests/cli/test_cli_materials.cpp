@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "../merl_files.h"
 #include "gonio/material.h"
 #include "gonio/material_types.h"
 #include "run_gonio.h"
@@ -43,7 +44,7 @@ TEST(CliMaterials, DocsMaterialsMdIsTheGeneratedReference) {
 // taken from the registry).
 const std::vector<std::string> kImplemented = {"diffuse", "mirror",     "conductor", "dielectric", "roughconductor",
                                                "roughdielectric", "orennayar", "phong", "blinnphong", "ward",
-                                               "ashikhminshirley", "plastic", "blend"};
+                                               "ashikhminshirley", "plastic", "blend", "measured"};
 
 TEST(CliMaterials, ListsEveryTypeOnOneLine) {
   const RunResult r = run_gonio({"materials"});
@@ -120,6 +121,7 @@ const std::map<std::string, nlohmann::json> kMinimal = {
     {"ashikhminshirley", {{"type", "ashikhminshirley"}, {"rd", 0}, {"rs", 0}, {"nu", 10}, {"nv", 10}}},
     {"plastic", {{"type", "plastic"}}},
     {"blend", {{"type", "blend"}, {"weight", 0.5}, {"bsdfs", {{{"type", "diffuse"}}, {{"type", "mirror"}}}}}},
+    {"measured", {{"type", "measured"}, {"file", gonio_test_merl::lambert_table()}}},
 };
 
 bool parses(const nlohmann::json& j, std::string* error = nullptr) {

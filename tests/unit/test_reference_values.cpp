@@ -214,9 +214,13 @@ TEST(ReferenceValues, EveryMaterialTypeHasRecords) {
   for (const auto& r : records())
     if (r.j.contains("material") && r.j["material"].contains("type"))
       covered.insert(r.j["material"]["type"].get<std::string>());
-  for (std::string_view type : material_type_names())
+  for (std::string_view type : material_type_names()) {
+    // A measured material is its table: test_measured.cpp reads tables written byte by
+    // byte by the tests and compares with closed forms there.
+    if (type == "measured") continue;
     EXPECT_TRUE(covered.count(std::string(type))) << "material type \"" << type
                                                   << "\" has no record in " << data_dir();
+  }
 }
 
 }  // namespace

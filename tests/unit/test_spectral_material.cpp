@@ -8,6 +8,8 @@
 
 #include <gtest/gtest.h>
 
+#include "../merl_files.h"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -101,6 +103,7 @@ std::map<std::string, std::string> grey_materials(double g) {
       {"plastic", R"({"type":"plastic","reflectance":)" + G + R"(,"eta":1.5,"alpha":0.2})"},
       {"blend", R"({"type":"blend","weight":0.3,"bsdfs":[{"type":"diffuse","reflectance":)" + G +
                     R"(},{"type":"roughconductor","alpha":0.2,"fresnel":"schlick","f0":)" + G + "}]}"},
+      {"measured", R"({"type":"measured","file":")" + gonio_test_merl::lambert_table() + R"("})"},
   };
 }
 
