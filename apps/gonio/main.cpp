@@ -40,6 +40,9 @@ int main(int argc, char** argv) {
 #endif
   gonio::cli::register_spectrum(app);
   gonio::cli::register_materials(app);
+#ifdef GONIO_HAVE_FIT
+  gonio::cli::register_fit(app);
+#endif
   // CLI11 reports an unknown first word only as "a subcommand is required"; name it.
   if (argc > 1 && argv[1][0] != '-') {
     const std::string word = argv[1];
