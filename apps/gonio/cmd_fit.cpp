@@ -34,12 +34,15 @@ void run_fit(const FitArgs& a) {
   options.stride = int(a.stride);
   if (!a.init.empty()) {
     // The JSON text itself or @path, as --bsdf.
-    const bool file = a.init[0] == '@';
-    const std::string text = file ? read_text_file(a.init.substr(1), kMaxJsonFileBytes, "an --init file") : a.init;
-    try {
-      options.init = parse_json_text(text, file ? a.init.substr(1) : "--init");
-    } catch (const InputError& e) {
-      throw InputError(file ? std::string("--init: ") + e.what() : e.what());
+    if (a.init[0] == '@') {
+      try {
+        const std::string path = a.init.substr(1);
+        options.init = parse_json_text(read_text_file(path, kMaxJsonFileBytes, "an --init file"), path);
+      } catch (const InputError& e) {
+        throw InputError(std::string("--init: ") + e.what());
+      }
+    } else {
+      options.init = parse_json_text(a.init, "--init");
     }
   }
   // The model and its init are checked before the 35 MB table is read.

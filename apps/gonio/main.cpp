@@ -52,6 +52,9 @@ int main(int argc, char** argv) {
       known |= sub->get_name() == word;
       names += (names.empty() ? "" : ", ") + sub->get_name();
     }
+#ifndef GONIO_HAVE_FIT
+    if (word == "fit") return fail(2, "fit: this gonio was built without Ceres (GONIO_BUILD_FIT=OFF)");
+#endif
 #ifndef GONIO_HAVE_RENDERER
     if (word == "render")
       return fail(2, "render: this gonio was built without the renderer (GONIO_BUILD_RENDERER=OFF)");

@@ -185,7 +185,7 @@ std::vector<Sample> subsample(const MerlTable& table, FitMetric metric, int stri
     for (int j = sd / 2; j < MerlTable::kThetaD; j += sd) {
       const double w = merl_entry_weight(i, j);
       for (int k = sp / 2; k < MerlTable::kPhiD; k += sp) {
-        if (!table.measured(i, j, k)) continue;
+        if (!merl_entry_measured(table.at(i, j, k))) continue;
         const auto [wo, wi] = merl_directions(merl_theta_h(i), merl_theta_d(j), merl_phi_d(k));
         if (!(wo.z > 0 && wi.z > 0)) continue;
         const Color f = table.at(i, j, k);

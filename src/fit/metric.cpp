@@ -35,7 +35,7 @@ double fit_error(const MerlTable& table, const BxDF& model, FitMetric metric, lo
     for (int j = 0; j < MerlTable::kThetaD; ++j) {
       const double w = merl_entry_weight(i, j);
       for (int k = 0; k < MerlTable::kPhiD; ++k) {
-        if (!table.measured(i, j, k)) continue;
+        if (!merl_entry_measured(table.at(i, j, k))) continue;
         const auto [wo, wi] = merl_directions(merl_theta_h(i), merl_theta_d(j), merl_phi_d(k));
         if (!(wo.z > 0 && wi.z > 0)) continue;
         const Color f = table.at(i, j, k), g = model.f(wo, wi);

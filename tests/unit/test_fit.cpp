@@ -113,6 +113,17 @@ TEST(Fit, NoisyGgxTableWithMissingEntriesGivesBackAlphaAndF0Within5Percent) {
   expect_roughconductor(r.material, 0.2, {0.9, 0.6, 0.3}, 0.05);
 }
 
+TEST(Fit, AnEntryWithOneNegativeChannelIsMissing) {
+  // A table made in memory may mark an entry missing in one channel only; such entries,
+  // here with absurd values in the other two, must not count.
+  MerlTable t = ggx_table();
+  for (int i = 0; i < 90; i += 2)
+    for (int j = 1; j < 90; j += 2)
+      for (int k = 0; k < 180; k += 2) t.set(i, j, k, Color{100, -1, 100});
+  const FitResult r = fit_merl(t, options("roughconductor"));
+  expect_roughconductor(r.material, 0.2, {0.9, 0.6, 0.3}, 0.01);
+}
+
 TEST(Fit, BeckmannTableWithDistributionBeckmann) {
   const MerlTable t = make_table(
       R"({"type":"roughconductor","distribution":"beckmann","alpha":0.35,"fresnel":"schlick","f0":[0.95,0.8,0.5]})");

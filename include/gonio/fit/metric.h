@@ -30,6 +30,10 @@ inline double fit_transform(FitMetric m, double f, double cos_theta_i) {
   return m == FitMetric::Ngan ? v : std::log1p(v);
 }
 
+// An entry counts as measured when no channel is negative (MERL's "not measured") or NaN;
+// read_merl marks all three, a table made in memory may not.
+inline bool merl_entry_measured(const Color& f) { return f[0] >= 0 && f[1] >= 0 && f[2] >= 0; }
+
 // The weight of entry (i, j, ·) up to a constant factor: the solid-angle measure of its bin,
 // dωi dωo = 4 cos θd sin θd sin θh dθh dφh dθd dφd (docs/fitting.md), at the bin centre,
 // with the θh bin's width (π/2)(2i + 1)/90² (its axis is quadratic in the index).
