@@ -7,6 +7,7 @@ packages=(
   cmake g++ make pkg-config
   libgtest-dev libgmock-dev libbenchmark-dev
   nlohmann-json3-dev libcli11-dev
+  libceres-dev              # gonio fit (GONIO_BUILD_FIT)
   libembree-dev libtbb-dev libopenexr-dev libpng-dev libtinyobjloader-dev
   clang libclang-rt-14-dev  # libFuzzer and the sanitizer runtimes of the fuzz pass
   binutils                  # strings: the consumer test checks the installed files for build paths

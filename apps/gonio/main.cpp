@@ -41,6 +41,9 @@ int main(int argc, char** argv) {
   gonio::cli::register_spectrum(app);
   gonio::cli::register_materials(app);
   gonio::cli::register_tabulate(app);
+#ifdef GONIO_HAVE_FIT
+  gonio::cli::register_fit(app);
+#endif
   // CLI11 reports an unknown first word only as "a subcommand is required"; name it.
   if (argc > 1 && argv[1][0] != '-') {
     const std::string word = argv[1];
@@ -50,6 +53,9 @@ int main(int argc, char** argv) {
       known |= sub->get_name() == word;
       names += (names.empty() ? "" : ", ") + sub->get_name();
     }
+#ifndef GONIO_HAVE_FIT
+    if (word == "fit") return fail(2, "fit: this gonio was built without Ceres (GONIO_BUILD_FIT=OFF)");
+#endif
 #ifndef GONIO_HAVE_RENDERER
     if (word == "render")
       return fail(2, "render: this gonio was built without the renderer (GONIO_BUILD_RENDERER=OFF)");
