@@ -23,9 +23,11 @@ if(GONIO_BUILD_RENDERER)
 endif()
 install(TARGETS gonio_cli RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
 
-set(GONIO_HEADER_EXCLUDES)
+# gonio_fit is linked into the tool only (a static library, Ceres private): its headers
+# would declare a library that is not installed.
+set(GONIO_HEADER_EXCLUDES PATTERN fit EXCLUDE)
 if(NOT GONIO_BUILD_RENDERER)
-  set(GONIO_HEADER_EXCLUDES PATTERN render EXCLUDE)
+  list(APPEND GONIO_HEADER_EXCLUDES PATTERN render EXCLUDE)
 endif()
 install(DIRECTORY include/gonio DESTINATION ${CMAKE_INSTALL_INCLUDEDIR} ${GONIO_HEADER_EXCLUDES})
 install(FILES ${GONIO_GENERATED_INCLUDE}/gonio/version.h DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/gonio)

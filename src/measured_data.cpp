@@ -37,9 +37,10 @@ inline void clamp_coord(Float c, int n, int& i0, Float& t) {
 }  // namespace
 
 MeasuredData::MeasuredData(MerlTable table, std::string path) : table_(std::move(table)), path_(std::move(path)) {
+  // Cells uniform in x = √(sin(θ'/2)): cos θ' = 1 − 2 sin²(θ'/2) = 1 − 2 x⁴ at the edges.
   for (int i = 0; i <= kThetaCells; ++i) {
     const double x = double(i) / kThetaCells;
-    cos_edge_[size_t(i)] = float(std::cos(x * x * kPiD));
+    cos_edge_[size_t(i)] = float(1 - 2 * x * x * x * x);
   }
   build_sampler();
 }
@@ -55,8 +56,9 @@ Color MeasuredData::lookup(const Vec3& wo, const Vec3& wi) const {
               ti);
   clamp_coord(a.theta_d * kDegPerRad - Float(0.5), MerlTable::kThetaD, j0, tj);
   // φd periodic with period 180°: fold, then interpolate across the seam.
-  Float w = a.phi_d * kDegPerRad - Float(0.5);
-  w -= Float(180) * std::floor(w / Float(180));
+  Float w = a.phi_d * kDegPerRad - Float(0.5);  // in [−180.5, 179.5]
+  if (w < 0) w += Float(180);
+  if (w < 0) w += Float(180);
   int k0 = std::min(int(w), MerlTable::kPhiD - 1);
   const Float tk = std::clamp(w - Float(k0), Float(0), Float(1));
   const int k1 = k0 + 1 == MerlTable::kPhiD ? 0 : k0 + 1;
@@ -77,7 +79,8 @@ Color MeasuredData::lookup(const Vec3& wo, const Vec3& wi) const {
     }
   }
   if (!(weight_sum > 0)) return Color(0);
-  return {acc[0] / weight_sum, acc[1] / weight_sum, acc[2] / weight_sum};
+  const Float inv = 1 / weight_sum;
+  return {acc[0] * inv, acc[1] * inv, acc[2] * inv};
 }
 
 // --- sampling ------------------------------------------------------------------------
@@ -90,8 +93,8 @@ struct MirrorFrame {
   Vec3 wr, xp, yp;
 };
 inline MirrorFrame mirror_frame(const Vec3& wo) {
-  const Float so = std::sqrt(wo.x * wo.x + wo.y * wo.y);
-  const Float cp = so > 0 ? wo.x / so : Float(1), sp = so > 0 ? wo.y / so : Float(0);
+  const Float so = std::sqrt(wo.x * wo.x + wo.y * wo.y), inv = so > 0 ? 1 / so : Float(0);
+  const Float cp = so > 0 ? wo.x * inv : Float(1), sp = wo.y * inv;
   const Float co = wo.z;
   return {Vec3{-wo.x, -wo.y, co}, Vec3{co * cp, co * sp, so}, Vec3{-sp, cp, 0}};
 }
@@ -190,19 +193,22 @@ Float MeasuredData::tabulated_pdf(const Vec3& wo, const Vec3& wi) const {
   const int b = theta_o_bin(wo, kThetaOBins);
   if (!has_table_[size_t(b)]) return 0;
   const MirrorFrame fr = mirror_frame(wo);
-  const Float c = dot(wi, fr.wr), sx = dot(wi, fr.xp), sy = dot(wi, fr.yp);
-  // Angle from the mirror direction (its √ is the cell coordinate) and the azimuth around
-  // it, folded into [0, π] by the mirror symmetry through the plane of incidence.
-  const Float theta = fast_atan2(std::sqrt(sx * sx + sy * sy), c);
-  const Float rel = std::abs(fast_atan2(sy, sx));
-  const Float x = std::sqrt(theta * Float(1 / kPiD));
+  // The chord |wi − wr| = 2 sin(θ'/2) gives the cell coordinate x = √(sin(θ'/2)) and
+  // cos θ' = 1 − |wi − wr|²/2 without an arccosine, and accurately near the peak.
+  const Vec3 d = wi - fr.wr;
+  const Float chord2 = dot(d, d), half_chord = std::sqrt(chord2) / 2;
+  const Float c = 1 - chord2 / 2;
+  // The azimuth around wr, folded into [0, π] by the mirror symmetry through the plane of
+  // incidence.
+  const Float rel = std::abs(fast_atan2(dot(wi, fr.yp), dot(wi, fr.xp)));
+  const Float x = std::sqrt(std::min(half_chord, Float(1)));
   if (!std::isfinite(x + rel)) return 0;
   const int it = std::clamp(int(x * kThetaCells), 0, kThetaCells - 1);
   const Float pc = rel * Float(kPhiCells / kPiD);
   const int ip = std::clamp(int(pc), 0, kPhiCells - 1);
   // Bilinear between the cell's corners, in (cos θ', φ').
   const Float c0 = cos_edge_[size_t(it)], c1 = cos_edge_[size_t(it) + 1];
-  const Float tu = c0 > c1 ? std::clamp((c0 - std::clamp(c, Float(-1), Float(1))) / (c0 - c1), Float(0), Float(1)) : Float(0);
+  const Float tu = c0 > c1 ? std::clamp((c0 - c) / (c0 - c1), Float(0), Float(1)) : Float(0);
   const Float tp = std::clamp(pc - Float(ip), Float(0), Float(1));
   const float* n = &node_[(size_t(b) * (kThetaCells + 1) + size_t(it)) * kNodesP + size_t(ip)];
   const Float v = (1 - tu) * ((1 - tp) * n[0] + tp * n[1]) + tu * ((1 - tp) * n[kNodesP] + tp * n[kNodesP + 1]);

@@ -12,8 +12,8 @@
 // Sampling. For isotropic f the density of wi given wo depends only on θo and on wi's
 // place relative to wo. Per bin of θo (kThetaOBins, narrowing towards grazing), the target
 // f(wo, wi) cos θi is tabulated at the nodes of a grid of wi in spherical coordinates
-// around the mirror direction of wo: the angle θ' from it cut at √(θ'/π) uniform (fine
-// near the specular peak, like MERL's own θh axis), the azimuth φ' around it in [0, π] (f
+// around the mirror direction of wo: the angle θ' from it cut at √(sin(θ'/2)) uniform
+// (fine near the specular peak, like MERL's own θh axis: the first cell ends at 0.028°), the azimuth φ' around it in [0, π] (f
 // is symmetric under the mirror through the plane of incidence; the sign is drawn
 // separately). Centred on the mirror direction, the horizon cuts the cells along a smooth
 // curve even at grazing incidence (over half vectors it leaves a sliver no grid

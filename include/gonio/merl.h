@@ -78,12 +78,13 @@ template <typename T, typename Atan2>
 void half_diff_angles(const Vec3& wo, const Vec3& wi, Atan2 atan2, T& theta_h, T& theta_d, T& phi_d) {
   const T sx = T(wo.x) + T(wi.x), sy = T(wo.y) + T(wi.y), sz = T(wo.z) + T(wi.z);
   const T ex = T(wi.x) - T(wo.x), ey = T(wi.y) - T(wo.y), ez = T(wi.z) - T(wo.z);
-  const T sum = std::sqrt(sx * sx + sy * sy + sz * sz);
-  const T hz = sz / sum, sin_h = std::sqrt(sx * sx + sy * sy) / sum;
+  const T sp_len = std::sqrt(sx * sx + sy * sy);
+  const T sum = std::sqrt(sp_len * sp_len + sz * sz), inv_sum = 1 / sum;
+  const T hz = sz * inv_sum, sin_h = sp_len * inv_sum;
   theta_h = atan2(sin_h, hz);
   theta_d = atan2(std::sqrt(ex * ex + ey * ey + ez * ez), sum);
-  const T sp_len = std::sqrt(sx * sx + sy * sy);
-  const T cp = sp_len > 0 ? sx / sp_len : T(1), sp = sp_len > 0 ? sy / sp_len : T(0);
+  const T inv_sp = sp_len > 0 ? 1 / sp_len : T(0);
+  const T cp = sp_len > 0 ? sx * inv_sp : T(1), sp = sy * inv_sp;
   const T x1 = cp * ex + sp * ey, y1 = -sp * ex + cp * ey;
   phi_d = atan2(y1, hz * x1 - sin_h * ez);
 }
