@@ -215,6 +215,12 @@ Float MeasuredData::tabulated_pdf(const Vec3& wo, const Vec3& wi) const {
   return v / 2;  // the cell and its mirror image share the mass
 }
 
+MeasuredData::Eval MeasuredData::eval(const Vec3& wo, const Vec3& wi) const {
+  // Both in one function, so that the compiler inlines them and the processor overlaps the
+  // table lookup's wait for memory with the pdf's arithmetic.
+  return {lookup(wo, wi), pdf(wo, wi)};
+}
+
 Float MeasuredData::pdf(const Vec3& wo, const Vec3& wi) const {
   if (!(wo.z > 0) || !(wi.z > 0)) return 0;
   const int b = theta_o_bin(wo, kThetaOBins);

@@ -50,6 +50,12 @@ class MeasuredData {
   Color lookup(const Vec3& wo, const Vec3& wi) const;
   // The sampling density of wi given wo (both z > 0), per unit solid angle.
   Float pdf(const Vec3& wo, const Vec3& wi) const;
+  // lookup and pdf together.
+  struct Eval {
+    Color f;
+    Float pdf;
+  };
+  Eval eval(const Vec3& wo, const Vec3& wi) const;
   // A direction wi for wo (z > 0) from three uniform numbers; z ≤ 0 when the drawn half
   // vector reflects wo below the surface (no sample).
   Vec3 sample(const Vec3& wo, Float u_lobe, Float u1, Float u2) const;

@@ -45,7 +45,11 @@ struct MeasuredBxDFT {
     if (!data || !same_side(wo, wi)) return 0;
     return data->pdf(upper(wo, wo), upper(wo, wi));
   }
-  BSDFEvalT<C> eval(const Vec3& wo, const Vec3& wi, TransportMode mode) const { return {f(wo, wi, mode), pdf(wo, wi, mode)}; }
+  BSDFEvalT<C> eval(const Vec3& wo, const Vec3& wi, TransportMode) const {
+    if (!data || !same_side(wo, wi)) return {C(0), 0};
+    const MeasuredData::Eval e = data->eval(upper(wo, wo), upper(wo, wi));
+    return {colour(e.f), e.pdf};
+  }
   std::optional<BSDFSampleT<C>> sample(const Vec3& wo, Float u_lobe, Float u1, Float u2, TransportMode) const {
     if (!data || wo.z == 0 || !is_finite(wo)) return std::nullopt;
     const Vec3 o = upper(wo, wo);
