@@ -178,6 +178,8 @@ TEST(HalfDiff, MatchesRusinkiewiczFramesAndFoldsByReciprocity) {
     const HalfDiff a = half_diff(to_vec(wo), to_vec(wi));
     EXPECT_NEAR(a.theta_h, th, 2e-6);
     EXPECT_NEAR(a.theta_d, td, 2e-6);
+    EXPECT_GE(a.phi_d, 0);  // folded into [0, π) (SPEC §2)
+    EXPECT_LT(a.phi_d, kPi);
     const double folded = std::fmod(pd, kPi);
     const double dphi = std::abs(a.phi_d - folded);
     EXPECT_LT(std::min(dphi, kPi - dphi), 1e-4 / std::max(std::sin(td), 1e-3)) << th << " " << td << " " << pd;
