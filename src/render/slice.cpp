@@ -230,7 +230,8 @@ SliceFigure make_slice(const BxDF& a, const BxDF* b, const SliceOptions& o) {
   st.ink = code(kSliceInk);
   st.background = code(kSliceBackground);
   st.horizon = code(kSliceHorizon);
-  const int margin = 4 * st.s, spacing = 8 * st.s, bar_w = 8 * st.s;
+  // Panels of one row 12 font pixels apart: the 90 under one and the 0 under the next stay clear.
+  const int margin = 4 * st.s, spacing = 8 * st.s, panel_gap = 12 * st.s, bar_w = 8 * st.s;
   const int left = margin + text_width("\u03b8d", st.s) + 2 * st.gap + text_width("90", st.s) + st.tick + 2;
   const int top = margin + st.glyph_h + 2 * st.gap;
   const int bottom = st.tick + 3 * st.gap + 2 * st.glyph_h + margin;
@@ -241,7 +242,7 @@ SliceFigure make_slice(const BxDF& a, const BxDF* b, const SliceOptions& o) {
   int x = left;
   for (size_t k = 0; k < values.size(); ++k) {
     fig.panels.push_back({x, top, n, n});
-    x += n + spacing;
+    x += n + (k + 1 < values.size() ? panel_gap : spacing);
   }
   const auto ticks = log_ticks(lo, hi);
   const std::string bar_title = "f (1/sr)";

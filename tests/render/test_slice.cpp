@@ -121,6 +121,16 @@ TEST(Slice, RoughConductorPixelsShowTheClosedFormOnTheBar) {
       EXPECT_LT(code_distance(pixel_at(fig, 0, th, td), bar_colour_of_value(fig, y)), kBarTolerance)
           << "θh " << th << " θd " << td << " Y " << y;
     }
+  // On the √θh axis the pixel at u shows θh = u² · 90°.
+  o.theta_h_axis = ThetaHAxis::Sqrt;
+  const SliceFigure sq = make_slice(rc, nullptr, o);
+  for (const double u : {0.1, 0.3, 0.6, 0.9}) {
+    const Rect& p = sq.panels[0];
+    const int px = int(u * kSize), py = kSize / 2;
+    const double uc = (px + 0.5) / kSize, td = (1 - (py + 0.5) / kSize) * 90;
+    const double y = ggx_schlick_luminance(alpha, f0, uc * uc * kPi / 2, td * kDeg);
+    EXPECT_LT(code_distance(sq.image.at(p.x + px, p.y + py), bar_colour_of_value(sq, y)), kBarTolerance) << "u " << u;
+  }
   // The specular peak: the θh = 0 column is brighter than θh = 60° at every θd below 80°.
   for (const double td : {5.0, 30.0, 60.0, 80.0})
     EXPECT_GT(luminance(pixel_at(fig, 0, 0, td)), 1.5 * luminance(pixel_at(fig, 0, 60, td))) << td;
@@ -145,6 +155,15 @@ TEST(Slice, HorizonIsGreyExactlyWhereWiDips) {
       ASSERT_EQ(is_horizon(fig.image.at(p.x + px, p.y + py)), below) << th << " " << td;
     }
   EXPECT_GT(grey, kSize * kSize / 3);
+  // At φd = 180° the roles swap: wo = (sin(θh + θd), 0, cos(θh + θd)) dips.
+  o.phi_d = kPi;
+  const SliceFigure swapped = make_slice(diffuse, nullptr, o);
+  for (int py = 0; py < p.height; ++py)
+    for (int px = 0; px < p.width; ++px) {
+      const double th = (px + 0.5) / kSize * 90, td = (1 - (py + 0.5) / kSize) * 90;
+      if (std::abs(th + td - 90) < 0.5) continue;
+      ASSERT_EQ(is_horizon(swapped.image.at(p.x + px, p.y + py)), th + td > 90) << th << " " << td;
+    }
   // At φd = 90° both directions stay above the horizon everywhere.
   o.phi_d = kPi / 2;
   const SliceFigure up = make_slice(diffuse, nullptr, o);
