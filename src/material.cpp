@@ -2,8 +2,10 @@
 
 #include "gonio/material.h"
 
+#include <filesystem>
 #include <cfloat>
 #include <cmath>
+#include <filesystem>
 #include <array>
 #include <iterator>
 #include <type_traits>
@@ -492,6 +494,20 @@ BxDF make_plastic(Params& p) {
   return PlasticBxDF::make(reflectance, eta, coat);
 }
 
+// The table is read once per file (load_measured); a relative path is the scene's or the
+// working directory's.
+BxDF make_measured(Params& p) {
+  const std::string file = p.string("file");
+  if (file.empty()) p.fail("file must name a MERL table, got \"\"");
+  std::filesystem::path path(file);
+  if (path.is_relative() && !p.base_dir().empty()) path = std::filesystem::path(p.base_dir()) / path;
+  try {
+    return MeasuredBxDF::make(load_measured(path.string()));
+  } catch (const InputError& e) {
+    p.fail(e.what());
+  }
+}
+
 BxDF make_blend(Params& p, const std::string& where, int depth);
 BxDF parse_description(const json& description, const std::string& where, int blend_depth, MaterialSpectra& spectra,
                        const std::string& base_dir);
@@ -514,6 +530,7 @@ constexpr TypeEntry kMakers[] = {
     {"ward", make_ward},
     {"ashikhminshirley", make_ashikhminshirley},
     {"plastic", make_plastic},
+    {"measured", make_measured},
 };
 
 }  // namespace
@@ -757,7 +774,7 @@ BxDF with_params(const BxDF& model, std::span<const ParamValue> values) noexcept
   return std::visit(
       [&](const auto& base) -> BxDF {
         using M = std::decay_t<decltype(base)>;
-        if constexpr (std::is_same_v<M, BlendBxDF> || std::is_same_v<M, UserBxDF>) {
+        if constexpr (std::is_same_v<M, BlendBxDF> || std::is_same_v<M, UserBxDF> || std::is_same_v<M, MeasuredBxDF>) {
           return base;  // nothing of theirs varies
         } else {
           M m = base;

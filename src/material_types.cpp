@@ -91,6 +91,10 @@ constexpr ParamSpec kPlastic[] = {
     {"distribution", K::Choice, "\"ggx\"", {}, "", "ggx|beckmann", false,
      "Microfacet distribution of a rough coat; needs alpha."},
 };
+constexpr ParamSpec kMeasured[] = {
+    {"file", K::File, "", {}, "", "", true,
+     "A MERL .binary table (SPEC §2); relative to the scene file, or to the working directory on the command line."},
+};
 constexpr ParamSpec kBlend[] = {
     {"weight", K::Number, "", closed(0, 1), "", "", true, "w in (1 - w) f0 + w f1."},
     {"bsdfs", K::Materials, "", {}, "", "", true, "The two materials [f0, f1]; blends nest at most 8 deep."},
@@ -124,6 +128,9 @@ constexpr MaterialTypeSpec kTypes[] = {
     {"plastic", "Dielectric coat (smooth or rough) over a Lambertian base, internal reflections summed.",
      "Weidlich & Wilkie 2007; Kelemen & Szirmay-Kalos 2001; Kulla & Conty 2017", kPlastic,
      "A rough coat needs an isotropic alpha (a number)."},
+    {"measured", "A measured isotropic BRDF: a MERL table, interpolated in half/difference angles and importance-sampled.",
+     "Matusik et al. 2003 (MERL format); Rusinkiewicz 1998 (half/difference angles)", kMeasured,
+     "Reflection only; docs/measured.md says how it interpolates, treats unmeasured entries and samples."},
     {"blend", "Linear blend of two materials: (1 - w) f0 + w f1.", "The lecture, §2 and §3.4", kBlend,
      "Two parts that both refract must have the same eta."},
 };

@@ -6,6 +6,7 @@
 #include <bit>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <system_error>
@@ -85,6 +86,9 @@ MerlTable read_merl(const std::string& path) {
   const std::string name = quoted(path);
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec)) throw InputError(name + ": is a directory, not a MERL table");
+  // Only regular files: a FIFO or a terminal could block the reader forever.
+  if (std::filesystem::exists(path, ec) && !std::filesystem::is_regular_file(path, ec))
+    throw InputError(name + ": not a regular file, cannot be a MERL table");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(name + ": cannot open the MERL table (" + std::string(std::strerror(errno)) + ")");
   unsigned char header[kHeaderBytes];
@@ -138,11 +142,25 @@ void write_merl(const std::string& path, const MerlTable& table) {
       to_little_endian(stored, channel + e * sizeof(double));
     }
   }
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  if (!out) throw InputError(quoted(path) + ": cannot write (" + std::string(std::strerror(errno)) + ")");
-  out.write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
-  out.close();
-  if (!out) throw InputError(quoted(path) + ": write failed (" + std::string(std::strerror(errno)) + ")");
+  // Written beside the target and renamed over it: an interrupted or failed write never
+  // leaves a truncated table under the name.
+  const std::string partial = path + ".partial";
+  {
+    std::ofstream out(partial, std::ios::binary | std::ios::trunc);
+    if (!out) throw InputError(quoted(path) + ": cannot write (" + std::string(std::strerror(errno)) + ")");
+    out.write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
+    out.close();
+    if (!out) {
+      std::remove(partial.c_str());
+      throw InputError(quoted(path) + ": write failed (" + std::string(std::strerror(errno)) + ")");
+    }
+  }
+  std::error_code ec;
+  std::filesystem::rename(partial, path, ec);
+  if (ec) {
+    std::remove(partial.c_str());
+    throw InputError(quoted(path) + ": cannot write (" + ec.message() + ")");
+  }
 }
 
 }  // namespace gonio

@@ -137,6 +137,12 @@ struct Converter {
   SpectralBxDF operator()(const PlasticBxDF& m) const {
     return PlasticBxDFT<SS>::make(static_cast<const PlasticCoat&>(m), colour(MP::Reflectance, m.reflectance));
   }
+  SpectralBxDF operator()(const MeasuredBxDF& m) const {
+    MeasuredBxDFT<SS> s;
+    s.data = m.data;  // the parsed material's table outlives the spectral model
+    s.wavelengths = w;
+    return s;
+  }
   SpectralBxDF operator()(const BlendBxDF& m) const {
     std::array<SpectralBxDF, 2>* parts = scratch.next_parts();
     if (!parts || spectra.parts.size() != 2) return DiffuseBxDFT<SS>{SS(0)};

@@ -16,6 +16,7 @@ void register_render(CLI::App& app);
 void register_slice(CLI::App& app);
 void register_spectrum(CLI::App& app);
 void register_materials(CLI::App& app);
+void register_tabulate(CLI::App& app);
 
 // Exit status of a run that completed without an error (1 when a check failed).
 int& exit_status();

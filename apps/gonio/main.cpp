@@ -41,6 +41,7 @@ int main(int argc, char** argv) {
 #endif
   gonio::cli::register_spectrum(app);
   gonio::cli::register_materials(app);
+  gonio::cli::register_tabulate(app);
   // CLI11 reports an unknown first word only as "a subcommand is required"; name it.
   if (argc > 1 && argv[1][0] != '-') {
     const std::string word = argv[1];

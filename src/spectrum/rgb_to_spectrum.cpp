@@ -87,4 +87,12 @@ SampledSpectrum rgb_illuminant(const Color& rgb, const SampledWavelengths& w) {
   return m * rgb_to_sigmoid_polynomial(r / m, g / m, b / m).eval(w) * d65(w);
 }
 
+SampledSpectrum rgb_unbounded(const Color& rgb, const SampledWavelengths& w) {
+  const auto clean = [](Float v) { return v > 0 ? std::min(v, RgbIlluminantSpectrum::kMaxComponent) : Float(0); };
+  const Float r = clean(rgb[0]), g = clean(rgb[1]), b = clean(rgb[2]);
+  const Float m = 2 * std::max(r, std::max(g, b));
+  if (!(m > 0)) return SampledSpectrum(0);
+  return m * rgb_to_sigmoid_polynomial(r / m, g / m, b / m).eval(w);
+}
+
 }  // namespace gonio

@@ -73,4 +73,9 @@ class RgbIlluminantSpectrum {
 // texel). Negative or NaN components count as 0.
 SampledSpectrum rgb_illuminant(const Color& rgb, const SampledWavelengths& w);
 
+// An unbounded RGB quantity ≥ 0 (a measured BRDF value, 1/sr) at the wavelengths w: the
+// same scaled sigmoid without the illuminant (pbrt-v4's RGBUnboundedSpectrum). Negative or
+// NaN components count as 0.
+SampledSpectrum rgb_unbounded(const Color& rgb, const SampledWavelengths& w);
+
 }  // namespace gonio
