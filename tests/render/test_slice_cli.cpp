@@ -47,18 +47,38 @@ TEST(SliceCli, CompareTakesAJsonFileOrAMerlTable) {
   const std::string json = dir.file("m.json", kDiffuse);
   RunResult r = run_gonio({"slice", "--bsdf", kDiffuse, "--compare", "@" + json, "-o", dir.path("a.png"), "--size", "16"});
   EXPECT_EQ(r.status, 0) << describe(r);
-  // A file with the MERL header is the measured material of that file.
+  // A MERL table of the Lambertian f = ρ/π at every entry: as --data and as --compare (a
+  // file with the MERL header) it is the measured material of that file, whose
+  // interpolation of a constant table is that constant: zero difference to the diffuse
+  // material, on the ±1% scale.
   gonio::MerlTable table;
+  const double pi = 3.14159265358979323846;
   for (int i = 0; i < gonio::MerlTable::kThetaH; ++i)
     for (int j = 0; j < gonio::MerlTable::kThetaD; ++j)
-      for (int k = 0; k < gonio::MerlTable::kPhiD; ++k) table.set(i, j, k, gonio::Color(0.2f, 0.5f, 0.8f));
+      for (int k = 0; k < gonio::MerlTable::kPhiD; ++k)
+        table.set(i, j, k, gonio::Color(float(0.2 / pi), float(0.5 / pi), float(0.8 / pi)));
   const std::string merl = dir.path("t.binary");
   gonio::write_merl(merl, table);
-  r = run_gonio({"slice", "--bsdf", kDiffuse, "--compare", merl, "-o", dir.path("b.png"), "--size", "16"});
-  if (r.status != 0) {
-    // Until the measured material exists, the parser names it (and not the option's form).
-    expect_bad_input(r, {"measured"});
+  for (const bool as_data : {true, false}) {
+    const std::string out = dir.path(as_data ? "data.png" : "compare.png");
+    r = as_data ? run_gonio({"slice", "--data", merl, "--compare", kDiffuse, "-o", out, "--size", "16"})
+                : run_gonio({"slice", "--bsdf", kDiffuse, "--compare", merl, "-o", out, "--size", "16"});
+    ASSERT_EQ(r.status, 0) << describe(r);
+    // The layout of the same figure drawn in-process (two equal materials: equal ticks).
+    gonio::render::SliceOptions o;
+    o.size = 16;
+    const auto d = gonio::parse_material(kDiffuse);
+    const gonio::render::SliceFigure fig = gonio::render::make_slice(d, &d, o);
+    const gonio::render::Image png = gonio::render::read_image(out, /*srgb=*/false);
+    ASSERT_EQ(png.width(), fig.image.width());
+    const gonio::render::Rect& p = fig.panels[2];
+    for (int y = p.y; y < p.y + p.height; ++y)
+      for (int x = p.x; x < p.x + p.width; ++x)
+        for (int c = 0; c < 3; ++c) ASSERT_NEAR(png.at(x, y)[c], 242 / 255.0, 1.01 / 255) << x << " " << y;  // 0.95
   }
+  // --data names a MERL table; a text file is refused with its name.
+  r = run_gonio({"slice", "--data", json, "-o", dir.path("c.png")});
+  expect_bad_input(r, {"m.json"});
 }
 
 TEST(SliceCli, BadArgumentsExitTwoWithOneLine) {
