@@ -4,6 +4,7 @@
 #include "gonio/render/slice.h"
 
 #include <algorithm>
+#include <cstddef>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -185,14 +186,22 @@ SliceFigure make_slice(const BxDF& a, const BxDF* b, const SliceOptions& o) {
   // The shared log scale.
   double lo = o.lo, hi = o.hi;
   if (auto_range) {
-    double max_y = 0, min_y = std::numeric_limits<double>::infinity();
+    // Percentiles, not the extremes: a microfacet model's f grows like 1 / cos θ in the
+    // top row (θd → 90°) and would otherwise push the whole slice into the bottom colours.
+    std::vector<double> positive;
     for (const auto& v : values)
       for (const double y : v)
-        if (y > 0) max_y = std::max(max_y, y), min_y = std::min(min_y, y);
-    if (!(max_y > 0))
+        if (y > 0) positive.push_back(y);
+    if (positive.empty())
       throw InputError("slice: f is 0 at every pixel (a specular material has no finite f to show)");
-    const int top = int(std::ceil(std::log10(max_y) - 1e-9));
-    const int bottom = std::clamp(int(std::floor(std::log10(min_y) + 1e-9)), top - kMaxDecades, top - 1);
+    const auto at = [&](double q) {
+      auto it = positive.begin() + std::ptrdiff_t(q * double(positive.size() - 1));
+      std::nth_element(positive.begin(), it, positive.end());
+      return *it;
+    };
+    const double high = at(kHighPercentile), low = at(kLowPercentile);
+    const int top = int(std::ceil(std::log10(high) - 1e-9));
+    const int bottom = std::clamp(int(std::floor(std::log10(low) + 1e-9)), top - kMaxDecades, top - 1);
     lo = std::pow(10.0, bottom), hi = std::pow(10.0, top);
   }
 

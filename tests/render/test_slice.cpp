@@ -4,8 +4,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <set>
+#include <vector>
 #include <string>
 
 #include "gonio/material.h"
@@ -131,6 +133,19 @@ TEST(Slice, RoughConductorPixelsShowTheClosedFormOnTheBar) {
     const double y = ggx_schlick_luminance(alpha, f0, uc * uc * kPi / 2, td * kDeg);
     EXPECT_LT(code_distance(sq.image.at(p.x + px, p.y + py), bar_colour_of_value(sq, y)), kBarTolerance) << "u " << u;
   }
+  // The automatic scale: whole decades around the 1st and 99th percentiles of the values
+  // at the pixel centres (here from 10^-2.x to 10^0.x; the top row's 1/cos θ growth, up
+  // to 10^1.x, lies beyond the 99th).
+  std::vector<double> ys;
+  for (int py = 0; py < kSize; ++py)
+    for (int px = 0; px < kSize; ++px)
+      ys.push_back(ggx_schlick_luminance(alpha, f0, (px + 0.5) / kSize * kPi / 2, (1 - (py + 0.5) / kSize) * kPi / 2));
+  std::sort(ys.begin(), ys.end());
+  const double p01 = ys[size_t(0.01 * double(ys.size() - 1))], p99 = ys[size_t(0.99 * double(ys.size() - 1))];
+  const SliceFigure automatic = make_slice(rc, nullptr, SliceOptions{.size = kSize});
+  EXPECT_DOUBLE_EQ(automatic.hi, std::pow(10.0, std::ceil(std::log10(p99))));
+  EXPECT_DOUBLE_EQ(automatic.lo, std::pow(10.0, std::floor(std::log10(p01))));
+  EXPECT_LT(automatic.hi, ys.back());
   // The specular peak: the θh = 0 column is brighter than θh = 60° at every θd below 80°.
   for (const double td : {5.0, 30.0, 60.0, 80.0})
     EXPECT_GT(luminance(pixel_at(fig, 0, 0, td)), 1.5 * luminance(pixel_at(fig, 0, 60, td))) << td;

@@ -27,8 +27,9 @@ struct SliceOptions {
   int size = 180;                                // side of a panel, pixels: 16 to 2048
   double phi_d = kPiD / 2;                       // radians, [0, π]
   ThetaHAxis theta_h_axis = ThetaHAxis::Linear;  // Sqrt: u = √(θh / 90°), MERL's bin spacing
-  // The log colour scale of f (1/sr); both 0: automatic (whole decades around the values,
-  // at most kMaxDecades).
+  // The log colour scale of f (1/sr); both 0: automatic (whole decades around the values
+  // from their 1st to their 99th percentile, at most kMaxDecades; values beyond take the
+  // colours of the ends).
   double lo = 0, hi = 0;
   // Half-width of the difference scale; 0: automatic (the smallest of 1%, 2%, 5%, 10%, …,
   // 100% that holds every difference; beyond 100% the colours saturate).
@@ -36,6 +37,7 @@ struct SliceOptions {
 };
 inline constexpr int kMinSliceSize = 16, kMaxSliceSize = 2048;
 inline constexpr int kMaxDecades = 5;
+inline constexpr double kLowPercentile = 0.01, kHighPercentile = 0.99;
 
 struct Rect {
   int x = 0, y = 0, width = 0, height = 0;
