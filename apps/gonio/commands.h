@@ -13,6 +13,7 @@ void register_fresnel(CLI::App& app);
 void register_table(CLI::App& app);
 void register_check(CLI::App& app);
 void register_render(CLI::App& app);
+void register_slice(CLI::App& app);
 void register_spectrum(CLI::App& app);
 void register_materials(CLI::App& app);
 void register_tabulate(CLI::App& app);

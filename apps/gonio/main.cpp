@@ -37,6 +37,7 @@ int main(int argc, char** argv) {
   gonio::cli::register_check(app);
 #ifdef GONIO_HAVE_RENDERER
   gonio::cli::register_render(app);
+  gonio::cli::register_slice(app);
 #endif
   gonio::cli::register_spectrum(app);
   gonio::cli::register_materials(app);
@@ -57,8 +58,8 @@ int main(int argc, char** argv) {
     if (word == "fit") return fail(2, "fit: this gonio was built without Ceres (GONIO_BUILD_FIT=OFF)");
 #endif
 #ifndef GONIO_HAVE_RENDERER
-    if (word == "render")
-      return fail(2, "render: this gonio was built without the renderer (GONIO_BUILD_RENDERER=OFF)");
+    if (word == "render" || word == "slice")
+      return fail(2, word + ": this gonio was built without the renderer (GONIO_BUILD_RENDERER=OFF)");
 #endif
     if (!known) return fail(2, "unknown subcommand '" + word + "' (known: " + names + ")");
   }
