@@ -4,7 +4,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/setup.sh
-cmake -S . -B build -DCMAKE_BUILD_TYPE=Release >/dev/null
+cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DGONIO_BUILD_BENCHMARKS=ON >/dev/null
 if (($# > 0)); then
   cmake --build build -j"$(nproc)" --target "$@"
 else

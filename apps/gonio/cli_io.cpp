@@ -206,4 +206,10 @@ std::string json_color(const Color& c) {
 
 std::string json_color(const SampledSpectrum& s) { return "[" + json_number(s[0]) + "]"; }
 
+std::string lower_extension(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  return ext;
+}
+
 }  // namespace gonio::cli

@@ -81,6 +81,9 @@ Vec3 unit_vector(double x, double y, double z, size_t line, const char* name);
 inline constexpr double kMaxRangeCount = 100000;
 std::vector<double> angle_range(const std::vector<double>& from_to_count, const char* option, double lo, double hi);
 
+// The extension of `path`, lower-cased, with its dot (".png"); empty without one.
+std::string lower_extension(const std::string& path);
+
 std::string json_number(float v);
 std::string json_number(double v);
 std::string json_color(const Color& c);

@@ -82,12 +82,6 @@ BxDF load_other(const std::string& arg) {
   throw InputError("--compare " + arg + ": not a MERL table (no 90 x 90 x 180 header) and not material JSON");
 }
 
-std::string lower_extension(const std::string& path) {
-  std::string ext = std::filesystem::path(path).extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
-  return ext;
-}
-
 void run_slice(const SliceArgs& a) {
   if (a.bsdf.empty() == a.data.empty()) throw InputError("slice: give one of --bsdf JSON and --data FILE");
   if (lower_extension(a.output) != ".png") throw InputError("-o " + a.output + ": the output must end in .png");
