@@ -182,6 +182,7 @@ namespace {
 // A sample of the density ∝ (1 − x) a + x b on [0, 1] by inverting its CDF, in the form
 // that stays accurate when a or b is 0 (pbrt-v4, SampleLinear).
 inline Float sample_linear(Float u, Float a, Float b) {
+  if (!(a + b > 0)) return u;  // no mass on this segment: any point is as good
   if (u == 0 && a == 0) return 0;
   const Float x = u * (a + b) / (a + std::sqrt(std::max(Float(0), (1 - u) * a * a + u * b * b)));
   return std::min(x, kOneMinusEpsilon);

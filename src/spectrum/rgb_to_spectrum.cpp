@@ -79,20 +79,16 @@ RgbIlluminantSpectrum::RgbIlluminantSpectrum(Float r, Float g, Float b) {
   poly_ = m > 0 ? rgb_to_sigmoid_polynomial(r / m, g / m, b / m) : rgb_to_sigmoid_polynomial(0, 0, 0);
 }
 
-SampledSpectrum rgb_illuminant(const Color& rgb, const SampledWavelengths& w) {
-  const auto clean = [](Float v) { return v > 0 ? std::min(v, RgbIlluminantSpectrum::kMaxComponent) : Float(0); };
-  const Float r = clean(rgb[0]), g = clean(rgb[1]), b = clean(rgb[2]);
-  const Float m = 2 * std::max(r, std::max(g, b));
-  if (!(m > 0)) return SampledSpectrum(0);
-  return m * rgb_to_sigmoid_polynomial(r / m, g / m, b / m).eval(w) * d65(w);
-}
-
 SampledSpectrum rgb_unbounded(const Color& rgb, const SampledWavelengths& w) {
   const auto clean = [](Float v) { return v > 0 ? std::min(v, RgbIlluminantSpectrum::kMaxComponent) : Float(0); };
   const Float r = clean(rgb[0]), g = clean(rgb[1]), b = clean(rgb[2]);
   const Float m = 2 * std::max(r, std::max(g, b));
   if (!(m > 0)) return SampledSpectrum(0);
   return m * rgb_to_sigmoid_polynomial(r / m, g / m, b / m).eval(w);
+}
+
+SampledSpectrum rgb_illuminant(const Color& rgb, const SampledWavelengths& w) {
+  return rgb_unbounded(rgb, w) * d65(w);
 }
 
 }  // namespace gonio
