@@ -9,6 +9,7 @@ packages=(
   nlohmann-json3-dev libcli11-dev
   libceres-dev              # gonio fit (GONIO_BUILD_FIT)
   libembree-dev libtbb-dev libopenexr-dev libpng-dev libtinyobjloader-dev
+  libfftw3-dev              # gonio measure: Gaussian random height fields
   clang libclang-rt-14-dev  # libFuzzer and the sanitizer runtimes of the fuzz pass
   binutils                  # strings: the consumer test checks the installed files for build paths
   dpkg-dev file             # cpack -G DEB: dpkg-shlibdeps computes Depends, file finds the ELF files
