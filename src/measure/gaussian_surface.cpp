@@ -92,6 +92,14 @@ void slope_variances(const std::vector<Mode>& modes, double lx, double ly, doubl
   }
 }
 
+// Whether the x slopes are steeper than wanted, Vx > target · Vy, at ℓx = ℓ e^{t/2},
+// ℓy = ℓ e^{−t/2}.
+bool too_steep_x(const std::vector<Mode>& modes, double target, double ell, double t) {
+  double vx = 0, vy = 0;
+  slope_variances(modes, ell * std::exp(t / 2), ell * std::exp(-t / 2), vx, vy);
+  return vx > target * vy;
+}
+
 void check(bool ok, const std::string& what) {
   if (!ok) throw std::invalid_argument("gaussian_height_field: " + what);
 }
@@ -131,37 +139,36 @@ HeightField gaussian_height_field(const GaussianSurfaceParams& params) {
   for (int qi = 1; qi < n; ++qi)
     if (qi > n - qi) g[static_cast<std::size_t>(qi) * half] = std::conj(g[static_cast<std::size_t>(n - qi) * half]);
 
-  // The modes that matter: the amplitude at the extreme correlation lengths of the search
-  // below (t within ±kSearch of its guess) above exp(−100) of the largest.
-  constexpr double kSearch = 4;
+  // Solve Vx/Vy = (αx/αy)² for t by bisection (Vx/Vy decreases as ℓx grows), first
+  // within ±1 of the continuous-field guess (the realised ratio is within a few percent
+  // of it), else within ±4. Only the modes whose amplitude at the extreme lengths of the
+  // search exceeds exp(−50) of the largest take part: for ℓ = 1/32 a few ten thousand.
   const double t_guess = 2 * std::log(params.alpha_y / params.alpha_x);  // ℓx/ℓy = αy/αx
-  const double lx_min = ell * std::exp((t_guess - kSearch) / 2), ly_min = ell * std::exp(-(t_guess + kSearch) / 2);
-  std::vector<Mode> modes;
-  for (int qi = 0; qi < n; ++qi)
-    for (int p = 0; p < half; ++p) {
-      const int q = signed_index(qi);
-      if (p == 0 && q == 0) continue;
-      if (even && (p == n / 2 || std::abs(q) == n / 2)) continue;
-      const double e = kTwoPi * kTwoPi * (lx_min * lx_min * p * p + ly_min * ly_min * q * q) / 4;
-      if (e > 100) continue;
-      const std::size_t idx = static_cast<std::size_t>(qi) * half + p;
-      const double s = std::sin(kTwoPi / 2 * p / n), c = std::sin(kTwoPi / 2 * q / n);
-      modes.push_back({p, q, idx, std::norm(g[idx]) * (p == 0 ? 1 : 2), 4 * s * s, 4 * c * c});
-    }
-
-  // Solve Vx/Vy = (αx/αy)² for t by bisection (Vx/Vy decreases as ℓx grows).
   const double target = (params.alpha_x / params.alpha_y) * (params.alpha_x / params.alpha_y);
-  const auto too_steep_x = [&](double t) {
-    double vx = 0, vy = 0;
-    slope_variances(modes, ell * std::exp(t / 2), ell * std::exp(-t / 2), vx, vy);
-    return vx > target * vy;
-  };
-  double lo = t_guess - kSearch, hi = t_guess + kSearch;
-  if (!too_steep_x(lo) || too_steep_x(hi))
-    throw std::logic_error("gaussian_height_field: anisotropy not reached within the search range");
-  for (int it = 0; it < 60 && hi - lo > 1e-13; ++it) {
+  std::vector<Mode> modes;
+  double lo = 0, hi = 0;
+  for (const double search : {1.0, 4.0}) {
+    const double lx_min = ell * std::exp((t_guess - search) / 2), ly_min = ell * std::exp(-(t_guess + search) / 2);
+    modes.clear();
+    for (int qi = 0; qi < n; ++qi)
+      for (int p = 0; p < half; ++p) {
+        const int q = signed_index(qi);
+        if (p == 0 && q == 0) continue;
+        if (even && (p == n / 2 || std::abs(q) == n / 2)) continue;
+        const double e = kTwoPi * kTwoPi * (lx_min * lx_min * p * p + ly_min * ly_min * q * q) / 4;
+        if (e > 100) continue;
+        const std::size_t idx = static_cast<std::size_t>(qi) * half + p;
+        const double sp = std::sin(kTwoPi / 2 * p / n), sq = std::sin(kTwoPi / 2 * q / n);
+        modes.push_back({p, q, idx, std::norm(g[idx]) * (p == 0 ? 1 : 2), 4 * sp * sp, 4 * sq * sq});
+      }
+    lo = t_guess - search;
+    hi = t_guess + search;
+    if (too_steep_x(modes, target, ell, lo) && !too_steep_x(modes, target, ell, hi)) break;
+    if (search == 4.0) throw std::logic_error("gaussian_height_field: anisotropy not reached within the search range");
+  }
+  while (hi - lo > 1e-10) {
     const double mid = (lo + hi) / 2;
-    (too_steep_x(mid) ? lo : hi) = mid;
+    (too_steep_x(modes, target, ell, mid) ? lo : hi) = mid;
   }
   const double t = (lo + hi) / 2;
   const double lx = ell * std::exp(t / 2), ly = ell * std::exp(-t / 2);
