@@ -110,6 +110,12 @@ double default_gaussian_correlation(int resolution) {
   return std::max(1.0 / 32, 8.0 / std::max(resolution, 1));
 }
 
+CorrelationLengths nominal_correlation_lengths(const GaussianSurfaceParams& params) {
+  const double ell = params.correlation > 0 ? params.correlation : default_gaussian_correlation(params.resolution);
+  const double r = std::sqrt(params.alpha_y / params.alpha_x);
+  return {ell * r, ell / r};
+}
+
 HeightField gaussian_height_field(const GaussianSurfaceParams& params) {
   using P = GaussianSurfaceParams;
   const int n = params.resolution;
@@ -118,6 +124,9 @@ HeightField gaussian_height_field(const GaussianSurfaceParams& params) {
   check(std::isfinite(params.size) && params.size > 0, "size must be positive");
   const double ell = params.correlation > 0 ? params.correlation : default_gaussian_correlation(n);
   check(ell * n >= P::kMinCorrelationCells && ell <= P::kMaxCorrelation, "correlation out of range");
+  const CorrelationLengths lengths = nominal_correlation_lengths(params);
+  for (const double l : {lengths.x, lengths.y})
+    check(l * n >= P::kMinCorrelationCells && l <= P::kMaxCorrelation, "anisotropy stretches a correlation length out of range");
 
   const int half = n / 2 + 1;  // kx = 0 .. ⌊n/2⌋
   const auto signed_index = [n](int k) { return k <= n / 2 ? k : k - n; };
@@ -141,13 +150,14 @@ HeightField gaussian_height_field(const GaussianSurfaceParams& params) {
 
   // Solve Vx/Vy = (αx/αy)² for t by bisection (Vx/Vy decreases as ℓx grows), first
   // within ±1 of the continuous-field guess (the realised ratio is within a few percent
-  // of it), else within ±4. Only the modes whose amplitude at the extreme lengths of the
+  // of it), else in a range doubled until it brackets the root. Only the modes whose amplitude at the extreme lengths of the
   // search exceeds exp(−50) of the largest take part: for ℓ = 1/32 a few ten thousand.
-  const double t_guess = 2 * std::log(params.alpha_y / params.alpha_x);  // ℓx/ℓy = αy/αx
+  const double t_guess = std::log(params.alpha_y / params.alpha_x);  // ℓx/ℓy = e^t = αy/αx
   const double target = (params.alpha_x / params.alpha_y) * (params.alpha_x / params.alpha_y);
   std::vector<Mode> modes;
   double lo = 0, hi = 0;
-  for (const double search : {1.0, 4.0}) {
+  for (double search = 1;; search *= 2) {
+    if (search > 64) throw std::logic_error("gaussian_height_field: anisotropy not reached within the search range");
     const double lx_min = ell * std::exp((t_guess - search) / 2), ly_min = ell * std::exp(-(t_guess + search) / 2);
     modes.clear();
     for (int qi = 0; qi < n; ++qi)
@@ -164,7 +174,6 @@ HeightField gaussian_height_field(const GaussianSurfaceParams& params) {
     lo = t_guess - search;
     hi = t_guess + search;
     if (too_steep_x(modes, target, ell, lo) && !too_steep_x(modes, target, ell, hi)) break;
-    if (search == 4.0) throw std::logic_error("gaussian_height_field: anisotropy not reached within the search range");
   }
   while (hi - lo > 1e-10) {
     const double mid = (lo + hi) / 2;

@@ -3,7 +3,7 @@
 
 #include <cmath>
 #include <filesystem>
-#include <set>
+#include <utility>
 #include <string>
 
 #include <nlohmann/json.hpp>
@@ -125,6 +125,15 @@ HeightField parse_gaussian(const Fields& f) {
   } else {
     p.correlation = default_gaussian_correlation(p.resolution);
   }
+  // An anisotropic surface stretches ℓ along the smoother axis and shrinks it along the
+  // other: both must stay resolved and within the patch.
+  const CorrelationLengths cl = nominal_correlation_lengths(p);
+  for (const auto& [axis, l] : {std::pair{"x", cl.x}, std::pair{"y", cl.y}})
+    if (!(l * p.resolution >= GaussianSurfaceParams::kMinCorrelationCells && l <= GaussianSurfaceParams::kMaxCorrelation))
+      f.fail("alpha [" + format_number(p.alpha_x) + ", " + format_number(p.alpha_y) + "] makes the correlation length along " +
+             axis + " " + format_number(l) + " (" + format_number(l * p.resolution) + " grid cells); it must be in [" +
+             format_number(GaussianSurfaceParams::kMinCorrelationCells / p.resolution) + ", " +
+             format_number(GaussianSurfaceParams::kMaxCorrelation) + "]: change correlation or resolution, or lower the anisotropy");
   p.size = read_size(f);
   p.seed = static_cast<std::uint64_t>(f.integer("seed", 1, 0, (1LL << 53)));
   return gaussian_height_field(p);

@@ -35,6 +35,14 @@ struct GaussianSurfaceParams {
 // than 8 grid cells (8/n for n < 256, where the patch then holds n/8 lengths).
 double default_gaussian_correlation(int resolution);
 
+// The correlation lengths along x and y before the balancing of the axes (which moves
+// them by a few percent): ℓ·√(alpha_y/alpha_x) and ℓ·√(alpha_x/alpha_y), ℓ the
+// correlation (or its default). Each must lie in [kMinCorrelationCells / n, kMaxCorrelation].
+struct CorrelationLengths {
+  double x = 0, y = 0;
+};
+CorrelationLengths nominal_correlation_lengths(const GaussianSurfaceParams& params);
+
 // The height field. Throws std::invalid_argument for parameters outside the ranges above
 // (parse_surface checks them first and reports them as InputError). Deterministic for a
 // given seed and parameters.
