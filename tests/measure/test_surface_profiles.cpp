@@ -79,12 +79,14 @@ TEST(ImageSurface, ExrHeightsReadBack) {
       EXPECT_FLOAT_EQ(s.field.at(x, w - 1 - r), float(0.5 * 4 * (0.125 * x - 0.25 * r))) << x << " " << r;
 }
 
-// A PNG's codes are data, not sRGB: code 255 is height · size, code 0 is 0.
+// A PNG's codes are data, not sRGB: code c is height · size · c/255.
 TEST(ImageSurface, PngCodesAreLinear) {
   TempDir dir("png");
   gonio::render::Image img(4, 4);
   img.at(1, 0) = gonio::Color(1.0f);  // top row, x = 1
   img.at(3, 2) = gonio::Color(1.0f);
+  img.at(2, 1) = gonio::Color(0.2f);  // written sRGB-encoded: code round(255 · encode(0.2)) = 124
+  const float mid = float(0.25 * std::round(255 * gonio::render::srgb_encode(0.2f)) / 255);
   gonio::render::write_png(img, (dir.path / "h.png").string(), {0, gonio::render::ToneMap::Clamp});
   const gm::Surface s = gm::parse_surface(R"({"type": "image", "file": "h.png", "height": 0.25,
                                               "material": {"type": "diffuse"}})",
@@ -92,8 +94,8 @@ TEST(ImageSurface, PngCodesAreLinear) {
   ASSERT_EQ(s.field.n, 4);
   for (int j = 0; j < 4; ++j)
     for (int i = 0; i < 4; ++i) {
-      const bool white = (i == 1 && j == 3) || (i == 3 && j == 1);
-      EXPECT_EQ(s.field.at(i, j), white ? 0.25f : 0.0f) << i << " " << j;
+      const bool white = (i == 1 && j == 3) || (i == 3 && j == 1), grey = i == 2 && j == 2;
+      EXPECT_FLOAT_EQ(s.field.at(i, j), white ? 0.25f : (grey ? mid : 0.0f)) << i << " " << j;
     }
 }
 
