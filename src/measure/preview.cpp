@@ -67,9 +67,13 @@ void write_surface_preview(const HeightField& field, const std::string& path, co
         const int i = static_cast<int>(x), j = static_cast<int>(y);
         const double u = x - i, v = y - j;
         const double z00 = field.at(i, j), z10 = field.at(i + 1, j), z01 = field.at(i, j + 1), z11 = field.at(i + 1, j + 1);
-        if (u + v < 1) s = shade((z10 - z00) * inv_h, (z01 - z00) * inv_h);  // lower-left triangle
-        else s = shade((z11 - z01) * inv_h, (z11 - z10) * inv_h);            // upper-right triangle
-        zsum = z00;
+        if (u + v < 1) {  // lower-left triangle; the height at the pixel centre for the tint
+          s = shade((z10 - z00) * inv_h, (z01 - z00) * inv_h);
+          zsum = z00 + u * (z10 - z00) + v * (z01 - z00);
+        } else {  // upper-right triangle
+          s = shade((z11 - z01) * inv_h, (z11 - z10) * inv_h);
+          zsum = z11 + (u - 1) * (z11 - z01) + (v - 1) * (z11 - z10);
+        }
       } else {
         // Reduced: the mean shading of the block of c × c cells (both triangles each).
         const int c = n / side;
