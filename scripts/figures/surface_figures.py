@@ -35,7 +35,7 @@ namespace gm = gonio::measure;
 
 int main(int argc, char** argv) {
   const std::string docs = argv[1];
-  gm::GaussianSurfaceParams p;  // n = 512, correlation 1/32, seed 1
+  gm::GaussianSurfaceParams p;  // n = 512, correlation 8 cells, seed 1
   p.alpha_x = p.alpha_y = 0.3;
   gm::write_surface_preview(gm::gaussian_height_field(p), docs + "/gonioreflectometer-surface-gaussian.png", {true, 512});
   p.alpha_x = 0.15;
@@ -44,9 +44,20 @@ int main(int argc, char** argv) {
   gm::write_surface_preview(gm::vgroove_height_field(30, 8), docs + "/gonioreflectometer-surface-vgroove.png", {true, 512});
 
   const int nbins = 24;
-  for (const double alpha : {0.1, 0.3, 0.6, 1.0}) {
+  struct Config {
+    double alpha;
+    int n;
+    double correlation;
+  };
+  // the four roughnesses at the defaults (n = 512, 64 correlation lengths per side), then
+  // α = 0.3 with 32 lengths per side (16 cells per length) and at n = 2048 (256 lengths)
+  for (const Config c : {Config{0.1, 512, 0}, Config{0.3, 512, 0}, Config{0.6, 512, 0}, Config{1.0, 512, 0},
+                         Config{0.3, 512, 1.0 / 32}, Config{0.3, 2048, 0}}) {
+    const double alpha = c.alpha;
     gm::GaussianSurfaceParams q;
     q.alpha_x = q.alpha_y = alpha;
+    q.resolution = c.n;
+    q.correlation = c.correlation;
     const gm::HeightField f = gm::gaussian_height_field(q);
     const double h = f.spacing();
     // bins uniform in θm up to atan(3α) (99.99% of the Beckmann facets), then the rest
@@ -70,7 +81,7 @@ int main(int argc, char** argv) {
     const auto density = [&](double th) {
       return 2 * 3.14159265358979323846 * d.D(gonio::Vec3(float(std::sin(th)), 0, float(std::cos(th)))) * std::cos(th) * std::sin(th);
     };
-    std::printf("{\"alpha\": %.17g, \"n\": %d, \"rms_x\": %.9g, \"rms_y\": %.9g, \"top\": %.17g, \"bins\": [", alpha, f.n,
+    std::printf("{\"alpha\": %.17g, \"n\": %d, \"correlation\": %.17g, \"rms_x\": %.9g, \"rms_y\": %.9g, \"top\": %.17g, \"bins\": [", alpha, f.n, c.correlation > 0 ? c.correlation : gm::default_gaussian_correlation(c.n, alpha, alpha),
                 std::sqrt(sx2 / total), std::sqrt(sy2 / total), top);
     for (int b = 0; b <= nbins; ++b) {
       const double a = top * b / nbins, e = b < nbins ? top * (b + 1) / nbins : 1.5707963267948966;
@@ -104,14 +115,13 @@ def main():
         out = subprocess.check_output([exe, docs], text=True)
     rows = [json.loads(line) for line in out.splitlines()]
 
-    print("| α | RMS slope x, y (α/√2) | max abs. difference of a bin's fraction | χ²/bins (as if independent) |")
-    print("|---|---|---|---|")
+    print("| α | n, ℓ | RMS slope along x, y (want α/√2) | largest difference of a bin's fraction | beyond atan(3α): surface, theory |")
+    print("|---|---|---|---|---|")
     for r in rows:
-        n_facets = 2 * r["n"] ** 2
         diff = max(abs(o - e) for _, _, o, e in r["bins"])
-        chi2 = sum(n_facets * (o - e) ** 2 / e for _, _, o, e in r["bins"] if e > 0)
-        print(f"| {r['alpha']:g} | {r['rms_x']:.4f}, {r['rms_y']:.4f} ({r['alpha'] / 2 ** 0.5:.4f}) | "
-              f"{diff:.4f} | {chi2 / len(r['bins']):.1f} |")
+        _, _, tail_o, tail_e = r["bins"][-1]
+        print(f"| {r['alpha']:g} | {r['n']}, 1/{1 / r['correlation']:g} | {r['rms_x']:.4f}, {r['rms_y']:.4f} ({r['alpha'] / 2 ** 0.5:.4f}) | "
+              f"{diff:.4f} | {tail_o:.1e}, {tail_e:.1e} |")
 
     try:
         import matplotlib
@@ -120,6 +130,7 @@ def main():
     except ImportError:
         print("matplotlib not installed: no histogram figure", file=sys.stderr)
         return
+    rows = rows[:4]  # the four roughnesses at the defaults
     fig, axes = plt.subplots(1, len(rows), figsize=(3.2 * len(rows), 3.0))
     for ax, r in zip(axes, rows):
         bins = r["bins"][:-1]  # the open tail bin is in the table

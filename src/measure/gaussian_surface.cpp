@@ -106,12 +106,13 @@ void check(bool ok, const std::string& what) {
 
 }  // namespace
 
-double default_gaussian_correlation(int resolution) {
-  return std::max(1.0 / 32, 8.0 / std::max(resolution, 1));
+double default_gaussian_correlation(int resolution, double alpha_x, double alpha_y) {
+  const double ratio = alpha_x > 0 && alpha_y > 0 ? std::max(alpha_x, alpha_y) / std::min(alpha_x, alpha_y) : 1;
+  return std::min(8.0 / std::max(resolution, 1) * std::sqrt(ratio), GaussianSurfaceParams::kMaxCorrelation);
 }
 
 CorrelationLengths nominal_correlation_lengths(const GaussianSurfaceParams& params) {
-  const double ell = params.correlation > 0 ? params.correlation : default_gaussian_correlation(params.resolution);
+  const double ell = params.correlation > 0 ? params.correlation : default_gaussian_correlation(params.resolution, params.alpha_x, params.alpha_y);
   const double r = std::sqrt(params.alpha_y / params.alpha_x);
   return {ell * r, ell / r};
 }
@@ -122,7 +123,7 @@ HeightField gaussian_height_field(const GaussianSurfaceParams& params) {
   check(n >= P::kMinResolution && n <= P::kMaxResolution, "resolution out of range");
   check(params.alpha_x > 0 && params.alpha_x <= 2 && params.alpha_y > 0 && params.alpha_y <= 2, "alpha out of range");
   check(std::isfinite(params.size) && params.size > 0, "size must be positive");
-  const double ell = params.correlation > 0 ? params.correlation : default_gaussian_correlation(n);
+  const double ell = params.correlation > 0 ? params.correlation : default_gaussian_correlation(n, params.alpha_x, params.alpha_y);
   check(ell * n >= P::kMinCorrelationCells && ell <= P::kMaxCorrelation, "correlation out of range");
   const CorrelationLengths lengths = nominal_correlation_lengths(params);
   for (const double l : {lengths.x, lengths.y})
@@ -151,7 +152,7 @@ HeightField gaussian_height_field(const GaussianSurfaceParams& params) {
   // Solve Vx/Vy = (αx/αy)² for t by bisection (Vx/Vy decreases as ℓx grows), first
   // within ±1 of the continuous-field guess (the realised ratio is within a few percent
   // of it), else in a range doubled until it brackets the root. Only the modes whose amplitude at the extreme lengths of the
-  // search exceeds exp(−50) of the largest take part: for ℓ = 1/32 a few ten thousand.
+  // search exceeds exp(−50) of the largest take part: for ℓ of 8 cells a few thousand.
   const double t_guess = std::log(params.alpha_y / params.alpha_x);  // ℓx/ℓy = e^t = αy/αx
   const double target = (params.alpha_x / params.alpha_y) * (params.alpha_x / params.alpha_y);
   std::vector<Mode> modes;

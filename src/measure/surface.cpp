@@ -123,7 +123,7 @@ HeightField parse_gaussian(const Fields& f) {
              std::to_string(p.resolution) + "), got " + format_number(d));
     p.correlation = d;
   } else {
-    p.correlation = default_gaussian_correlation(p.resolution);
+    p.correlation = default_gaussian_correlation(p.resolution, p.alpha_x, p.alpha_y);
   }
   // An anisotropic surface stretches ℓ along the smoother axis and shrinks it along the
   // other: both must stay resolved and within the patch.

@@ -199,11 +199,14 @@ TEST(GaussianSurface, DeterministicPerSeedDifferentAcrossSeeds) {
   for (const float z : a.z) ASSERT_TRUE(std::isfinite(z));
 }
 
-// The default correlation length: ≥ 8 cells, and 1/32 of the patch once that allows it.
+// The default correlation length: 8 cells, the patch n/8 lengths.
 TEST(GaussianSurface, DefaultCorrelation) {
-  EXPECT_DOUBLE_EQ(gm::default_gaussian_correlation(512), 1.0 / 32);
-  EXPECT_DOUBLE_EQ(gm::default_gaussian_correlation(2048), 1.0 / 32);
-  EXPECT_DOUBLE_EQ(gm::default_gaussian_correlation(128), 8.0 / 128);
-  for (int n = gm::GaussianSurfaceParams::kMinResolution; n <= gm::GaussianSurfaceParams::kMaxResolution; n *= 2)
-    EXPECT_GE(gm::default_gaussian_correlation(n) * n, 8.0) << n;
+  EXPECT_DOUBLE_EQ(gm::default_gaussian_correlation(512), 1.0 / 64);
+  EXPECT_DOUBLE_EQ(gm::default_gaussian_correlation(2048), 1.0 / 256);
+  EXPECT_DOUBLE_EQ(gm::default_gaussian_correlation(128), 1.0 / 16);
+  EXPECT_DOUBLE_EQ(gm::default_gaussian_correlation(16), 0.5);
+  // anisotropic: the shorter length stays at 8 cells
+  const gm::CorrelationLengths l = gm::nominal_correlation_lengths({0.1, 0.4, 0, 512, 1.0, 1});
+  EXPECT_NEAR(l.y * 512, 8.0, 1e-9);
+  EXPECT_NEAR(l.x * 512, 32.0, 1e-9);
 }

@@ -16,7 +16,8 @@ namespace gonio::measure {
 struct GaussianSurfaceParams {
   double alpha_x = 0.3, alpha_y = 0.3;  // Beckmann roughness per axis, each in (0, 2]
   // Correlation length ℓ of C(r) = σ² exp(−r²/ℓ²), in units of the patch side; for an
-  // anisotropic surface the geometric mean of the lengths along x and y. ≤ 0: the default.
+  // anisotropic surface the geometric mean of the lengths along x and y. ≤ 0: the default
+  // (default_gaussian_correlation).
   double correlation = 0;
   int resolution = 512;  // n, samples per side, in [kMinResolution, kMaxResolution]
   double size = 1.0;     // side of the patch; heights scale with it (slopes do not)
@@ -30,10 +31,14 @@ struct GaussianSurfaceParams {
   static constexpr double kMaxCorrelation = 0.5;
 };
 
-// The default correlation length for n samples per side: 1/32 of the patch (32 correlation
-// lengths across it, 16 grid cells per length at the default n = 512), but never fewer
-// than 8 grid cells (8/n for n < 256, where the patch then holds n/8 lengths).
-double default_gaussian_correlation(int resolution);
+// The default correlation length for n samples per side: 8 grid cells, 8/n of the patch
+// (64 lengths across it at the default n = 512, 256 at n = 2048): each bump is resolved
+// by 8 × 8 cells, and the patch holds (n/8)² independent correlation areas, which is
+// what makes one patch's facet statistics close to the ensemble's (the tail of the slope
+// distribution included). For n < 128 the patch holds fewer than 16 lengths. An
+// anisotropic surface gets the geometric mean that leaves its shorter length (along the
+// rougher axis) at 8 cells: (8/n) · √(max(αx, αy) / min(αx, αy)). At most kMaxCorrelation.
+double default_gaussian_correlation(int resolution, double alpha_x = 1, double alpha_y = 1);
 
 // The correlation lengths along x and y before the balancing of the axes (which moves
 // them by a few percent): ℓ·√(alpha_y/alpha_x) and ℓ·√(alpha_x/alpha_y), ℓ the
