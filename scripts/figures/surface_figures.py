@@ -4,7 +4,8 @@
 Builds a small driver against the library of a Release build (default: build/, after
 `cmake --build build --target gonio_measure`), which
   - writes the previews docs/gonioreflectometer-surface-{gaussian,anisotropic,vgroove}.png
-    with gonio::measure::write_surface_preview (what `gonio measure --preview` writes), and
+    with gonio::measure::write_surface_preview (what `gonio measure --preview` writes;
+    512 pixels a side here, 1024 there), and
   - prints, for Gaussian surfaces of alpha = 0.1, 0.3, 0.6, 1.0, the area-weighted histogram
     of the facet normals' θm against the integral of D(m) cos θm of gonio's Beckmann
     distribution over each bin (Simpson's rule).
@@ -35,11 +36,13 @@ namespace gm = gonio::measure;
 
 int main(int argc, char** argv) {
   const std::string docs = argv[1];
-  gm::GaussianSurfaceParams p;  // n = 512, correlation 8 cells, seed 1
+  gm::GaussianSurfaceParams p;  // correlation 8 cells (the default), seed 1
   p.alpha_x = p.alpha_y = 0.3;
+  p.resolution = 128;  // 4 pixels per cell: the facets show
   gm::write_surface_preview(gm::gaussian_height_field(p), docs + "/gonioreflectometer-surface-gaussian.png", {true, 512});
   p.alpha_x = 0.15;
   p.alpha_y = 0.6;
+  p.resolution = 256;
   gm::write_surface_preview(gm::gaussian_height_field(p), docs + "/gonioreflectometer-surface-anisotropic.png", {true, 512});
   gm::write_surface_preview(gm::vgroove_height_field(30, 8), docs + "/gonioreflectometer-surface-vgroove.png", {true, 512});
 

@@ -70,33 +70,44 @@ struct FftwFree {
 };
 
 // A mode of the half spectrum that carries weight: its signed wave numbers (cycles per
-// patch), its drawn coefficient and its multiplicity in the full spectrum (1 on the
-// kx = 0 column, whose conjugate partners are stored explicitly; 2 elsewhere).
+// patch) and its drawn coefficient's |g|² times its multiplicity in the full spectrum (1
+// on the kx = 0 column, whose conjugate partners are stored explicitly; 2 elsewhere).
 struct Mode {
-  int p, q;           // kx = 2π p, ky = 2π q (patch side 1)
-  std::size_t index;  // in FFTW's n × (n/2 + 1) complex array
-  double power;       // |g|² · multiplicity
-  double dx2, dy2;    // 4 sin²(π p/n), 4 sin²(π q/n): |e^{i k h} − 1|² with h = 1/n
+  int p, q;  // kx = 2π p, ky = 2π q (patch side 1); 0 ≤ p ≤ n/2, |q| ≤ n/2
+  double power;
 };
 
 // Mean squared forward difference per axis for correlation lengths (lx, ly), up to the
-// common factor that the final height scale removes.
-void slope_variances(const std::vector<Mode>& modes, double lx, double ly, double& vx, double& vy) {
-  vx = vy = 0;
+// common factor that the final height scale removes. S is separable,
+// exp(−kx² ℓx²/4) · exp(−ky² ℓy²/4): one table per axis, no exp per mode.
+void slope_variances(const std::vector<Mode>& modes, int n, double lx, double ly, double& vx, double& vy) {
+  thread_local std::vector<double> ex, ey, d2;
+  const auto half = static_cast<std::size_t>(n / 2 + 1);
+  ex.resize(half);
+  ey.resize(half);
+  d2.resize(half);
   const double ax = kTwoPi * kTwoPi * lx * lx / 4, ay = kTwoPi * kTwoPi * ly * ly / 4;
+  for (std::size_t k = 0; k < half; ++k) {
+    const double kk = double(k) * double(k);
+    ex[k] = std::exp(-ax * kk);
+    ey[k] = std::exp(-ay * kk);
+    const double sn = std::sin(kTwoPi / 2 * double(k) / n);
+    d2[k] = 4 * sn * sn;  // |e^{i k h} − 1|² with h = 1/n
+  }
+  vx = vy = 0;
   for (const Mode& m : modes) {
-    // |√S|² = S ∝ exp(−(kx² ℓx² + ky² ℓy²)/4)
-    const double w = m.power * std::exp(-(ax * m.p * m.p + ay * m.q * m.q));
-    vx += w * m.dx2;
-    vy += w * m.dy2;
+    const auto p = static_cast<std::size_t>(m.p), q = static_cast<std::size_t>(std::abs(m.q));
+    const double w = m.power * ex[p] * ey[q];
+    vx += w * d2[p];
+    vy += w * d2[q];
   }
 }
 
 // Whether the x slopes are steeper than wanted, Vx > target · Vy, at ℓx = ℓ e^{t/2},
 // ℓy = ℓ e^{−t/2}.
-bool too_steep_x(const std::vector<Mode>& modes, double target, double ell, double t) {
+bool too_steep_x(const std::vector<Mode>& modes, int n, double target, double ell, double t) {
   double vx = 0, vy = 0;
-  slope_variances(modes, ell * std::exp(t / 2), ell * std::exp(-t / 2), vx, vy);
+  slope_variances(modes, n, ell * std::exp(t / 2), ell * std::exp(-t / 2), vx, vy);
   return vx > target * vy;
 }
 
@@ -151,8 +162,9 @@ HeightField gaussian_height_field(const GaussianSurfaceParams& params) {
 
   // Solve Vx/Vy = (αx/αy)² for t by bisection (Vx/Vy decreases as ℓx grows), first
   // within ±1 of the continuous-field guess (the realised ratio is within a few percent
-  // of it), else in a range doubled until it brackets the root. Only the modes whose amplitude at the extreme lengths of the
-  // search exceeds exp(−50) of the largest take part: for ℓ of 8 cells a few thousand.
+  // of it), else in a range doubled until it brackets the root. Only the modes whose
+  // amplitude at the extreme lengths of the search exceeds exp(−15) of the largest take
+  // part (the others are left at 0 in the spectrum too).
   const double t_guess = std::log(params.alpha_y / params.alpha_x);  // ℓx/ℓy = e^t = αy/αx
   const double target = (params.alpha_x / params.alpha_y) * (params.alpha_x / params.alpha_y);
   std::vector<Mode> modes;
@@ -167,18 +179,16 @@ HeightField gaussian_height_field(const GaussianSurfaceParams& params) {
         if (p == 0 && q == 0) continue;
         if (even && (p == n / 2 || std::abs(q) == n / 2)) continue;
         const double e = kTwoPi * kTwoPi * (lx_min * lx_min * p * p + ly_min * ly_min * q * q) / 4;
-        if (e > 100) continue;
-        const std::size_t idx = static_cast<std::size_t>(qi) * half + p;
-        const double sp = std::sin(kTwoPi / 2 * p / n), sq = std::sin(kTwoPi / 2 * q / n);
-        modes.push_back({p, q, idx, std::norm(g[idx]) * (p == 0 ? 1 : 2), 4 * sp * sp, 4 * sq * sq});
+        if (e > 30) continue;  // power below 1e-13 of the largest
+        modes.push_back({p, q, std::norm(g[static_cast<std::size_t>(qi) * half + p]) * (p == 0 ? 1 : 2)});
       }
     lo = t_guess - search;
     hi = t_guess + search;
-    if (too_steep_x(modes, target, ell, lo) && !too_steep_x(modes, target, ell, hi)) break;
+    if (too_steep_x(modes, n, target, ell, lo) && !too_steep_x(modes, n, target, ell, hi)) break;
   }
-  while (hi - lo > 1e-10) {
+  while (hi - lo > 1e-9) {  // ℓx/ℓy to 1e-9: the slopes' ratio far below float precision
     const double mid = (lo + hi) / 2;
-    (too_steep_x(modes, target, ell, mid) ? lo : hi) = mid;
+    (too_steep_x(modes, n, target, ell, mid) ? lo : hi) = mid;
   }
   const double t = (lo + hi) / 2;
   const double lx = ell * std::exp(t / 2), ly = ell * std::exp(-t / 2);
@@ -191,9 +201,10 @@ HeightField gaussian_height_field(const GaussianSurfaceParams& params) {
   std::fill_n(&spec[0][0], 2 * static_cast<std::size_t>(n) * half, 0.0);
   const double ax = kTwoPi * kTwoPi * lx * lx / 8, ay = kTwoPi * kTwoPi * ly * ly / 8;
   for (const Mode& m : modes) {
-    const std::complex<double> c = g[m.index] * std::exp(-(ax * m.p * m.p + ay * m.q * m.q));
-    spec[m.index][0] = c.real();
-    spec[m.index][1] = c.imag();
+    const std::size_t index = static_cast<std::size_t>(m.q < 0 ? m.q + n : m.q) * half + static_cast<std::size_t>(m.p);
+    const std::complex<double> c = g[index] * std::exp(-(ax * m.p * m.p + ay * m.q * m.q));
+    spec[index][0] = c.real();
+    spec[index][1] = c.imag();
   }
   fftw_plan plan = nullptr;
   {

@@ -2,10 +2,11 @@
 // A Gaussian random microsurface (issue 13, SPEC §3 surface type "gaussian"): a stationary
 // Gaussian random height field made by spectral synthesis, whose facet slopes follow the
 // Beckmann distribution with roughness (alpha_x, alpha_y). A Gaussian process has
-// Gaussian slopes, and Beckmann's slope distribution is the normal one with variance
-// α²/2 per axis (Walter et al. 2007 eq. 28; Heitz 2014 §5.1): the RMS forward-difference
-// slope of the triangulation (heightfield.h) along x is set to alpha_x/√2 exactly, and
-// along y to alpha_y/√2 exactly, for the realised field (not only in expectation).
+// Gaussian slopes, and Beckmann's D (Walter et al. 2007 eq. 25; Heitz 2014 eq. 84) is,
+// as a density of slopes (D cos⁴θm), the normal one with variance α²/2 per axis. The RMS
+// forward-difference slope of the triangulation (heightfield.h) is set to alpha_x/√2
+// along x and alpha_y/√2 along y exactly, for the realised field (not only in
+// expectation). docs/gonioreflectometer.md "Surfaces" explains how.
 
 #include <cstdint>
 
