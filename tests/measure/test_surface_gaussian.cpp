@@ -118,8 +118,10 @@ TEST(GaussianSurface, FacetNormalHistogramIsBeckmann) {
 // Not only the variance: the standardised slopes follow the normal distribution (the
 // Kolmogorov–Smirnov distance to Φ, and the kurtosis), and x and y slopes are uncorrelated.
 TEST(GaussianSurface, SlopesAreGaussian) {
+  // 64 × 64 correlation areas: over seeds the kurtosis scatters by ±0.14 and the KS
+  // distance stays below 0.006.
   const double ax = 0.3, ay = 0.5;
-  const Slopes s = facet_slopes(field(ax, ay, 256, 3));
+  const Slopes s = facet_slopes(field(ax, ay, 512, 3));
   for (int axis = 0; axis < 2; ++axis) {
     std::vector<double> u = axis ? s.y : s.x;
     const double sd = (axis ? ay : ax) / std::sqrt(2.0);
@@ -129,11 +131,11 @@ TEST(GaussianSurface, SlopesAreGaussian) {
       m4 += v * v * v * v;
     }
     m4 /= double(u.size());
-    EXPECT_NEAR(m4, 3.0, 0.15) << "kurtosis, axis " << axis;
+    EXPECT_NEAR(m4, 3.0, 0.25) << "kurtosis, axis " << axis;
     std::sort(u.begin(), u.end());
     double ks = 0;
     for (std::size_t k = 0; k < u.size(); k += 7) ks = std::max(ks, std::abs(normal_cdf(u[k]) - (k + 0.5) / double(u.size())));
-    EXPECT_LT(ks, 0.02) << "KS distance, axis " << axis;
+    EXPECT_LT(ks, 0.015) << "KS distance, axis " << axis;
   }
   double sxy = 0;
   for (std::size_t k = 0; k < s.x.size(); ++k) sxy += s.x[k] * s.y[k];
@@ -181,9 +183,11 @@ TEST(GaussianSurface, TilesWithoutSeam) {
     wx += dx * dx;
     wy += dy * dy;
   }
-  const double want = 0.3 / std::sqrt(2.0);
-  EXPECT_NEAR(std::sqrt(wx / n) / want, 1.0, 0.35);
-  EXPECT_NEAR(std::sqrt(wy / n) / want, 1.0, 0.35);
+  // Only ~2 × 32 independent differences along the edges: their RMS scatters by about
+  // ±25% over seeds, a seam multiplies it by ~10.
+  const double ratio = std::sqrt((wx + wy) / (2 * n)) / (0.3 / std::sqrt(2.0));
+  EXPECT_GT(ratio, 0.6);
+  EXPECT_LT(ratio, 1.6);
 }
 
 TEST(GaussianSurface, DeterministicPerSeedDifferentAcrossSeeds) {
