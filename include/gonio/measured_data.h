@@ -24,6 +24,7 @@
 // (Hesterberg 1995, defensive mixtures).
 
 #include <array>
+#include <cstdint>
 #include <cmath>
 #include <memory>
 #include <string>
@@ -65,7 +66,8 @@ class MeasuredData {
     int theta_bin, ix, iphi;
   };
   void build_sampler();
-  Float tabulated_pdf(const Vec3& wo, const Vec3& wi) const;
+  int theta_o_bin(const Vec3& wo) const;
+  Float tabulated_pdf(const Vec3& wo, const Vec3& wi, int theta_o_bin) const;  // the bin has a table
 
   MerlTable table_;
   std::string path_;
@@ -75,6 +77,12 @@ class MeasuredData {
   std::vector<float> node_, cell_prob_, marginal_cdf_, conditional_cdf_;
   std::array<bool, kThetaOBins> has_table_{};  // false: the bin's target was 0 everywhere
   std::array<float, kThetaCells + 1> cos_edge_{};  // cos θ' at the cells' edges
+  std::array<float, kThetaCells> inv_cos_width_{};  // 1 / (cos_edge_[i] − cos_edge_[i + 1])
+  // θo bins by cos θo (theta_o_bin): the bin at the top of each of kBinLutSize steps, and
+  // each bin's lower edge in cos θo.
+  static constexpr int kBinLutSize = 1024;
+  std::array<std::uint8_t, kBinLutSize> bin_lut_{};
+  std::array<float, kThetaOBins> bin_cos_lo_{};
 };
 
 // The table at `path`, read once per process and shared: materials that name the same

@@ -74,19 +74,24 @@ HalfDiff half_diff(const Vec3& wo, const Vec3& wi);
 // both are exactly symmetric in wo and wi (φd up to π): the table lookup is reciprocal even
 // for float inputs a few ulps off unit length, where rotating wi alone (MERL's code) gave
 // θd's differing by 2e-4° near grazing.
+// atan2 does not change when both arguments are scaled by the same positive number, so
+// the half vector is never normalised: θh = atan2(|s_xy|, s_z) for s = wo + wi, and φd's
+// arguments are those of the normalised frame times |s| |s_xy| (no division at all).
 template <typename T, typename Atan2>
 void half_diff_angles(const Vec3& wo, const Vec3& wi, Atan2 atan2, T& theta_h, T& theta_d, T& phi_d) {
   const T sx = T(wo.x) + T(wi.x), sy = T(wo.y) + T(wi.y), sz = T(wo.z) + T(wi.z);
   const T ex = T(wi.x) - T(wo.x), ey = T(wi.y) - T(wo.y), ez = T(wi.z) - T(wo.z);
-  const T sp_len = std::sqrt(sx * sx + sy * sy);
-  const T sum = std::sqrt(sp_len * sp_len + sz * sz), inv_sum = 1 / sum;
-  const T hz = sz * inv_sum, sin_h = sp_len * inv_sum;
-  theta_h = atan2(sin_h, hz);
+  const T sp2 = sx * sx + sy * sy, sp_len = std::sqrt(sp2);
+  const T sum = std::sqrt(sp2 + sz * sz);
+  theta_h = atan2(sp_len, sz);
   theta_d = atan2(std::sqrt(ex * ex + ey * ey + ez * ez), sum);
-  const T inv_sp = sp_len > 0 ? 1 / sp_len : T(0);
-  const T cp = sp_len > 0 ? sx * inv_sp : T(1), sp = sy * inv_sp;
-  const T x1 = cp * ex + sp * ey, y1 = -sp * ex + cp * ey;
-  phi_d = atan2(y1, hz * x1 - sin_h * ez);
+  // e in the half vector's frame: x1 = (s_xy · e_xy)/|s_xy|, y1 = (s_xy × e_xy)/|s_xy|,
+  // φd = atan2(y1, cos θh x1 − sin θh ez). With the half vector along z (s_xy = 0) the
+  // frame's x axis is the x axis.
+  if (sp2 > 0)
+    phi_d = atan2(sum * (sx * ey - sy * ex), sz * (sx * ex + sy * ey) - sp2 * ez);
+  else
+    phi_d = atan2(ey, ex);
 }
 // The pair (wo, wi) of the half/difference angles, with φh = 0: the inverse of half_diff
 // (either direction may lie below the horizon, z < 0, for large θh + θd).

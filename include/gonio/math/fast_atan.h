@@ -15,7 +15,7 @@ namespace gonio {
 inline Float fast_atan2(Float y, Float x) {
   const Float ax = std::abs(x), ay = std::abs(y);
   const Float hi = ax > ay ? ax : ay, lo = ax > ay ? ay : ax;
-  const Float t = hi > 0 ? lo / hi : lo;  // in [0, 1]; NaN propagates
+  const Float t = hi == 0 ? lo : lo / hi;  // in [0, 1]; a NaN argument gives NaN
   const Float t2 = t * t;
   Float p = Float(0.0028662257);
   p = p * t2 - Float(0.0161657367);
