@@ -123,6 +123,10 @@ def main():
     for r in rows:
         diff = max(abs(o - e) for _, _, o, e in r["bins"])
         _, _, tail_o, tail_e = r["bins"][-1]
+        # for the prose: the fullest bin, and χ² as if every facet were independent
+        chi2 = sum(2 * r["n"] ** 2 * (o - e) ** 2 / e for _, _, o, e in r["bins"] if e > 0)
+        print(f"alpha {r['alpha']:g}, n {r['n']}: fullest bin {max(e for *_, e in r['bins']):.3f}, "
+              f"chi2/bins {chi2 / len(r['bins']):.1f}", file=sys.stderr)
         print(f"| {r['alpha']:g} | {r['n']}, 1/{1 / r['correlation']:g} | {r['rms_x']:.4f}, {r['rms_y']:.4f} ({r['alpha'] / 2 ** 0.5:.4f}) | "
               f"{diff:.4f} | {tail_o:.1e}, {tail_e:.1e} |")
 
