@@ -123,7 +123,9 @@ double default_gaussian_correlation(int resolution, double alpha_x, double alpha
 }
 
 CorrelationLengths nominal_correlation_lengths(const GaussianSurfaceParams& params) {
-  const double ell = params.correlation > 0 ? params.correlation : default_gaussian_correlation(params.resolution, params.alpha_x, params.alpha_y);
+  const double ell = params.correlation > 0
+                         ? params.correlation
+                         : default_gaussian_correlation(params.resolution, params.alpha_x, params.alpha_y);
   const double r = std::sqrt(params.alpha_y / params.alpha_x);
   return {ell * r, ell / r};
 }
@@ -134,11 +136,13 @@ HeightField gaussian_height_field(const GaussianSurfaceParams& params) {
   check(n >= P::kMinResolution && n <= P::kMaxResolution, "resolution out of range");
   check(params.alpha_x > 0 && params.alpha_x <= 2 && params.alpha_y > 0 && params.alpha_y <= 2, "alpha out of range");
   check(std::isfinite(params.size) && params.size > 0, "size must be positive");
-  const double ell = params.correlation > 0 ? params.correlation : default_gaussian_correlation(n, params.alpha_x, params.alpha_y);
+  const double ell =
+      params.correlation > 0 ? params.correlation : default_gaussian_correlation(n, params.alpha_x, params.alpha_y);
   check(ell * n >= P::kMinCorrelationCells && ell <= P::kMaxCorrelation, "correlation out of range");
   const CorrelationLengths lengths = nominal_correlation_lengths(params);
   for (const double l : {lengths.x, lengths.y})
-    check(l * n >= P::kMinCorrelationCells && l <= P::kMaxCorrelation, "anisotropy stretches a correlation length out of range");
+    check(l * n >= P::kMinCorrelationCells && l <= P::kMaxCorrelation,
+          "anisotropy stretches a correlation length out of range");
 
   const int half = n / 2 + 1;  // kx = 0 .. ⌊n/2⌋
   const auto signed_index = [n](int k) { return k <= n / 2 ? k : k - n; };
@@ -212,7 +216,8 @@ HeightField gaussian_height_field(const GaussianSurfaceParams& params) {
     // FFTW_ESTIMATE: the same algorithm every run, so the same bits for a seed.
     plan = fftw_plan_dft_c2r_2d(n, n, spec.get(), real.get(), FFTW_ESTIMATE);
   }
-  if (!plan) throw std::runtime_error("gaussian_height_field: FFTW could not plan a " + std::to_string(n) + "² transform");
+  if (!plan)
+    throw std::runtime_error("gaussian_height_field: FFTW could not plan a " + std::to_string(n) + "² transform");
   fftw_execute(plan);  // row-major [y][x]: real[i + n j] is z at (i, j), the HeightField layout
   {
     const std::lock_guard<std::mutex> lock(fftw_planner_mutex());

@@ -66,7 +66,8 @@ void write_surface_preview(const HeightField& field, const std::string& path, co
         const double x = (px + 0.5) * n / side, y = (py + 0.5) * n / side;
         const int i = static_cast<int>(x), j = static_cast<int>(y);
         const double u = x - i, v = y - j;
-        const double z00 = field.at(i, j), z10 = field.at(i + 1, j), z01 = field.at(i, j + 1), z11 = field.at(i + 1, j + 1);
+        const double z00 = field.at(i, j), z10 = field.at(i + 1, j), z01 = field.at(i, j + 1),
+                     z11 = field.at(i + 1, j + 1);
         if (u + v < 1) {  // lower-left triangle; the height at the pixel centre for the tint
           s = shade((z10 - z00) * inv_h, (z01 - z00) * inv_h);
           zsum = z00 + u * (z10 - z00) + v * (z01 - z00);
@@ -80,7 +81,8 @@ void write_surface_preview(const HeightField& field, const std::string& path, co
         for (int dj = 0; dj < c; ++dj)
           for (int di = 0; di < c; ++di) {
             const int i = px * c + di, j = py * c + dj;
-            const double z00 = field.at(i, j), z10 = field.at(i + 1, j), z01 = field.at(i, j + 1), z11 = field.at(i + 1, j + 1);
+            const double z00 = field.at(i, j), z10 = field.at(i + 1, j), z01 = field.at(i, j + 1),
+                         z11 = field.at(i + 1, j + 1);
             s += shade((z10 - z00) * inv_h, (z01 - z00) * inv_h) + shade((z11 - z01) * inv_h, (z11 - z10) * inv_h);
             zsum += z00;
           }

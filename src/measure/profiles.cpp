@@ -30,7 +30,8 @@ HeightField vgroove_height_field(double angle_deg, int grooves, double size) {
   const auto ridge = static_cast<float>(std::tan(angle_deg * (3.14159265358979323846 / 180)) * f.spacing());
   f.z.resize(static_cast<std::size_t>(f.n) * f.n);
   for (int j = 0; j < f.n; ++j)
-    for (int i = 0; i < f.n; ++i) f.z[static_cast<std::size_t>(i) + static_cast<std::size_t>(f.n) * j] = (i % 2) ? ridge : 0.0f;
+    for (int i = 0; i < f.n; ++i)
+      f.z[static_cast<std::size_t>(i) + static_cast<std::size_t>(f.n) * j] = (i % 2) ? ridge : 0.0f;
   return f;
 }
 
@@ -43,8 +44,8 @@ HeightField image_height_field(const std::string& path, double height, double si
   if (w != h)
     throw InputError(path + ": a height image must be square, got " + std::to_string(w) + "x" + std::to_string(h));
   if (w < 1 || w > kMaxImageSide)
-    throw InputError(path + ": a height image must be at most " + std::to_string(kMaxImageSide) + " texels on a side, got " +
-                     std::to_string(w) + "x" + std::to_string(h));
+    throw InputError(path + ": a height image must be at most " + std::to_string(kMaxImageSide) +
+                     " texels on a side, got " + std::to_string(w) + "x" + std::to_string(h));
   HeightField f;
   f.n = w;
   f.size = size;

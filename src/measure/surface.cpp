@@ -118,8 +118,9 @@ HeightField parse_gaussian(const Fields& f) {
     if (!c.is_number()) f.fail("correlation must be a number, got " + show(c));
     const double d = c.get<double>();
     if (!(std::isfinite(d) && d >= lo && d <= GaussianSurfaceParams::kMaxCorrelation))
-      f.fail("correlation must be in [" + format_number(lo) + ", " + format_number(GaussianSurfaceParams::kMaxCorrelation) +
-             "] (at least " + format_number(GaussianSurfaceParams::kMinCorrelationCells) + " grid cells at resolution " +
+      f.fail("correlation must be in [" + format_number(lo) + ", " +
+             format_number(GaussianSurfaceParams::kMaxCorrelation) + "] (at least " +
+             format_number(GaussianSurfaceParams::kMinCorrelationCells) + " grid cells at resolution " +
              std::to_string(p.resolution) + "), got " + format_number(d));
     p.correlation = d;
   } else {
@@ -129,11 +130,14 @@ HeightField parse_gaussian(const Fields& f) {
   // other: both must stay resolved and within the patch.
   const CorrelationLengths cl = nominal_correlation_lengths(p);
   for (const auto& [axis, l] : {std::pair{"x", cl.x}, std::pair{"y", cl.y}})
-    if (!(l * p.resolution >= GaussianSurfaceParams::kMinCorrelationCells && l <= GaussianSurfaceParams::kMaxCorrelation))
-      f.fail("alpha [" + format_number(p.alpha_x) + ", " + format_number(p.alpha_y) + "] makes the correlation length along " +
-             axis + " " + format_number(l) + " (" + format_number(l * p.resolution) + " grid cells); it must be in [" +
+    if (!(l * p.resolution >= GaussianSurfaceParams::kMinCorrelationCells &&
+          l <= GaussianSurfaceParams::kMaxCorrelation))
+      f.fail("alpha [" + format_number(p.alpha_x) + ", " + format_number(p.alpha_y) +
+             "] makes the correlation length along " + axis + " " + format_number(l) + " (" +
+             format_number(l * p.resolution) + " grid cells); it must be in [" +
              format_number(GaussianSurfaceParams::kMinCorrelationCells / p.resolution) + ", " +
-             format_number(GaussianSurfaceParams::kMaxCorrelation) + "]: change correlation or resolution, or lower the anisotropy");
+             format_number(GaussianSurfaceParams::kMaxCorrelation) +
+             "]: change correlation or resolution, or lower the anisotropy");
   p.size = read_size(f);
   p.seed = static_cast<std::uint64_t>(f.integer("seed", 1, 0, (1LL << 53)));
   return gaussian_height_field(p);

@@ -150,7 +150,8 @@ TEST(GaussianSurface, AnisotropicNormalHistogramIsBeckmann) {
   double total = 0;
   for (std::size_t b = 0; b < observed.size(); ++b) {
     total += expected[b];
-    EXPECT_NEAR(observed[b], expected[b], 0.006 + 0.06 * expected[b]) << "ring " << b / sectors << " sector " << b % sectors;
+    EXPECT_NEAR(observed[b], expected[b], 0.006 + 0.06 * expected[b])
+        << "ring " << b / sectors << " sector " << b % sectors;
   }
   EXPECT_NEAR(total, 1.0, 2e-3);
 }
@@ -174,7 +175,8 @@ TEST(GaussianSurface, SlopesAreGaussian) {
     EXPECT_NEAR(m4, 3.0, 0.25) << "kurtosis, axis " << axis;
     std::sort(u.begin(), u.end());
     double ks = 0;
-    for (std::size_t k = 0; k < u.size(); k += 7) ks = std::max(ks, std::abs(normal_cdf(u[k]) - (k + 0.5) / double(u.size())));
+    for (std::size_t k = 0; k < u.size(); k += 7)
+      ks = std::max(ks, std::abs(normal_cdf(u[k]) - (k + 0.5) / double(u.size())));
     EXPECT_LT(ks, 0.015) << "KS distance, axis " << axis;
   }
   double sxy = 0;

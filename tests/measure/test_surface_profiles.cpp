@@ -24,8 +24,9 @@ constexpr double kPi = 3.14159265358979323846;
 struct TempDir {
   fs::path path;
   explicit TempDir(const std::string& name) {
-    path = fs::temp_directory_path() / ("gonio_surface_" + name + "_" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()) + "_" +
-                                        std::to_string(reinterpret_cast<std::uintptr_t>(this)));
+    path = fs::temp_directory_path() /
+           ("gonio_surface_" + name + "_" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()) + "_" +
+            std::to_string(reinterpret_cast<std::uintptr_t>(this)));
     fs::create_directories(path);
   }
   ~TempDir() {
