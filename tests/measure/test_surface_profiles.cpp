@@ -146,4 +146,12 @@ TEST(SurfacePreview, SizeAndShading) {
   ASSERT_EQ(b.width(), 64);  // n = 4, 16 pixels per cell
   // cell 0 rises along +x (normal towards −x, the light's side), cell 1 falls
   EXPECT_GT(b.at(8, 32)[1], b.at(24, 32)[1] + 0.1f);
+
+  // an unwritable path is bad input, and the message names it
+  try {
+    gm::write_surface_preview(gm::flat_height_field(), "/nonexistent-dir/preview.png", {false, 16});
+    ADD_FAILURE() << "no error";
+  } catch (const gonio::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("/nonexistent-dir/preview.png"), std::string::npos) << e.what();
+  }
 }
