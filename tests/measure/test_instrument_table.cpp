@@ -38,7 +38,7 @@ TEST(MerlBins, MeasuresMatchUniformPairsOfDirections) {
   for (int i = 0; i < 90; ++i)
     for (int j = 0; j < 90; ++j)
       for (int k = 0; k < 180; ++k) expect[group(i, j, k)] += m[MerlTable::index(i, j, k)] / (4 * kPiD * kPiD);
-  const std::uint64_t n = gonio::test::scaled(3000000, 300000);
+  const std::uint64_t n = gonio::test::scaled(2000000, 300000);
   Pcg32 rng(1);
   auto uniform = [&] {
     const double c = 1 - rng.next_double(), phi = 2 * kPiD * rng.next_double(), s = std::sqrt(1 - c * c);
@@ -74,7 +74,7 @@ TEST(MerlBins, MeasuresMatchUniformPairsOfDirections) {
 TEST(MeasureTable, FlatLambertianFillsRhoOverPi) {
   const Microsurface s(testsurf::flat_field(), parse_material(R"({"type":"diffuse","reflectance":0.6})"));
   RunOptions o;
-  o.samples = gonio::test::scaled(3000000, 600000);
+  o.samples = gonio::test::scaled(1500000, 600000);
   o.seed = 2;
   const TableReading r = measure_table(s, o);
   const std::vector<double>& m = merl_bin_measures();
