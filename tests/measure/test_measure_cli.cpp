@@ -64,7 +64,7 @@ TEST(MeasureCli, TableWritesAMerlFile) {
   const std::string out = (std::filesystem::temp_directory_path() / "gonio_measure_cli_ok.binary").string();
   const json j = run_object({"measure", "--surface", kFlat, "-o", out, "--samples", "20000", "--threads", "1"});
   EXPECT_EQ(j["mode"], "table");
-  EXPECT_EQ(j["rays"]["launched"], 50000);
+  EXPECT_EQ(j["rays"]["launched"], 20000);
   EXPECT_EQ(j["filled"].get<double>() + j["missing"].get<double>(), 1458000);
   const gonio::MerlTable t = gonio::read_merl(out);
   std::size_t measured = 0;
