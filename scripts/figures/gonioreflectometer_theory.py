@@ -131,7 +131,6 @@ def load(data, a):
 def plot(data, docs):
     # (a) albedo vs theta_i
     fig, axes = plt.subplots(1, 4, figsize=(12, 3.2), sharey=True)
-    rows = []
     for ax, a in zip(axes, ALPHAS):
         g, _, _, m = load(data, a)
         ti = [inc["theta_i"] for inc in g["incidences"]]
@@ -146,10 +145,6 @@ def plot(data, docs):
         ax.set_xlabel("θi (degrees)")
         ax.set_xlim(0, 90)
         ax.grid(alpha=0.3)
-        for t, v, e in zip(ti, al, se):
-            si = np.interp(t, s[:, 0], s[:, 1])
-            mi = np.interp(t, mu[:, 0], mu[:, 1])
-            rows.append((a, t, v, e, si, mi))
     axes[0].set_ylabel("albedo")
     axes[0].set_ylim(0.45, 1.04)
     axes[0].legend(loc="lower left", fontsize=8)
@@ -210,12 +205,31 @@ def plot(data, docs):
     plt.close(fig)
 
     # Tables (Markdown, on stdout)
-    print("| α | θi | measured albedo ± σ | single scattering | (meas − model)/σ | multiscatter | (meas − model)/σ |")
-    print("|---|---|---|---|---|---|---|")
-    for a, t, v, e, si, mi in rows:
-        zs = (v - si) / e if e > 0 else float("inf")
-        zm = (v - mi) / e if e > 0 else float("inf")
-        print(f"| {a} | {t:g}° | {v:.4f} ± {e:.4f} | {si:.4f} | {zs:+.0f} | {mi:.4f} | {zm:+.0f} |")
+    print("| α | θi | measured albedo | single scattering | multiscatter |")
+    print("|---|---|---|---|---|")
+    for a in ALPHAS:
+        g, _, _, m = load(data, a)
+        s, mu = np.array(m["single_albedo"]), np.array(m["multi_albedo"])
+        for inc in g["incidences"]:
+            t = inc["theta_i"]
+            k = int(np.argmin(np.abs(s[:, 0] - t)))
+            print(f"| {a} | {t:g}° | {inc['albedo'][0]:.5f} ± {inc['stderr_albedo'][0]:.1g} | "
+                  f"{s[k, 1]:.4f} ± {s[k, 2]:.1g} | {mu[k, 1]:.4f} ± {mu[k, 2]:.1g} |")
+    print()
+    print("| α | θi | θo (specular side) | measured f ± σ | single scattering | multiscatter |")
+    print("|---|---|---|---|---|---|")
+    for a in ALPHAS:
+        g, _, _, m = load(data, a)
+        for ti in LOBE_THETA_I:
+            inc = next(i for i in g["incidences"] if i["theta_i"] == ti)
+            side = [d for d in inc["detectors"] if d["phi_o"] == 180]
+            d = min(side, key=lambda d: abs(d["theta_o"] - ti))
+            vals = []
+            for key in ["single", "multi"]:
+                l = np.array(m[key + "_lobes"][str(ti)])
+                vals.append(np.interp(-d["theta_o"], l[:, 0], l[:, 1]))
+            print(f"| {a} | {ti}° | {d['theta_o']:g}° | {d['f'][0]:.3f} ± {d['stderr'][0]:.3f} | "
+                  f"{vals[0]:.3f} | {vals[1]:.3f} |")
     print()
     print("| α | fit | fitted α | fitted f0 | error |")
     print("|---|---|---|---|---|")
