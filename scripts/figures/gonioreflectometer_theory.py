@@ -95,25 +95,53 @@ def measure(gonio, data, remeasure):
                          "--metric", metric], log))
             json.dump(fits, open(f, "w"))
         m = os.path.join(data, f"models-{a}.json")
-        if remeasure or not os.path.exists(m):
+        if remeasure or not os.path.exists(m) or "cone" not in json.load(open(m)):
             print(f"alpha {a}: models", file=sys.stderr)
-            res = {}
+            res = json.load(open(m)) if os.path.exists(m) and not remeasure else {}
+            res["cone"] = APERTURE
             for ms in [False, True]:
                 key = "multi" if ms else "single"
                 bsdf = json.dumps(model(a, ms))
-                alb = [json.loads(l) for l in run([gonio, "albedo", "--bsdf", bsdf, "--theta-range", "0", "89",
-                                                     "90", "--samples", "1000000"], log).splitlines()]
-                res[key + "_albedo"] = [[r["theta"], r["albedo"][0], r["stderr"][0]] for r in alb]
+                if key + "_albedo" not in res:
+                    alb = [json.loads(l) for l in run([gonio, "albedo", "--bsdf", bsdf, "--theta-range", "0", "89",
+                                                         "90", "--samples", "1000000"], log).splitlines()]
+                    res[key + "_albedo"] = [[r["theta"], r["albedo"][0], r["stderr"][0]] for r in alb]
                 lobes = {}
                 for ti in LOBE_THETA_I:
-                    pts = [(float(to), po) for to in np.arange(0.5, 90, 1.0) for po in [0, 180]]
-                    wi = direction(ti, 0)
-                    lines = "".join(" ".join(map(repr, direction(to, po) + wi)) + "\n" for to, po in pts)
-                    out = run_stdin([gonio, "eval", "--bsdf", bsdf], lines, log).splitlines()
-                    vals = [[to if po == 0 else -to, json.loads(l)["f"][0]] for (to, po), l in zip(pts, out)]
-                    lobes[str(ti)] = sorted(vals)
+                    lobes[str(ti)] = cone_lobe(gonio, bsdf, ti, log)
                 res[key + "_lobes"] = lobes
             json.dump(res, open(m, "w"))
+
+
+def cone_lobe(gonio, bsdf, ti, log):
+    """The model as each gantry detector reads it: f averaged over the detector's cone with
+    the weight cos θ (gantry.h: f = ∫_cone f cos θ dω / ∫_cone cos θ dω), by the midpoint
+    rule on 8 × 16 points of the cone's own polar angles. Returns [[signed θo, f], ...]."""
+    b = math.radians(APERTURE)
+    rings = [((k + 0.5) * b / 8) for k in range(8)]
+    turns = [((k + 0.5) * 2 * math.pi / 16) for k in range(16)]
+    wi = direction(ti, 0)
+    lines, weights, dets = [], [], []
+    for to in np.linspace(THETA_O["from"], THETA_O["to"], THETA_O["count"]):
+        for po in [0, 180]:
+            t, p = math.radians(to), math.radians(po)
+            c = direction(to, po)
+            u = [math.cos(t) * math.cos(p), math.cos(t) * math.sin(p), -math.sin(t)]
+            w = [-math.sin(p), math.cos(p), 0]
+            ws = []
+            for r in rings:
+                for q in turns:
+                    o = [math.cos(r) * c[k] + math.sin(r) * (math.cos(q) * u[k] + math.sin(q) * w[k]) for k in range(3)]
+                    lines.append(" ".join(map(repr, o + wi)) + "\n")
+                    ws.append(math.sin(r) * max(o[2], 0))
+            weights.append(ws)
+            dets.append(float(to) if po == 0 else -float(to))
+    out = run_stdin([gonio, "eval", "--bsdf", bsdf], "".join(lines), log).splitlines()
+    vals, n = [], len(rings) * len(turns)
+    for k, (x, ws) in enumerate(zip(dets, weights)):
+        fs = [json.loads(l)["f"][0] for l in out[k * n:(k + 1) * n]]
+        vals.append([x, sum(f * wgt for f, wgt in zip(fs, ws)) / sum(ws)])
+    return sorted(vals)
 
 
 def direction(theta, phi):

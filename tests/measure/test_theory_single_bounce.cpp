@@ -116,9 +116,9 @@ double model_detector(double theta_i, double theta_c, double phi_c, double beta,
 // `theta_i` with detectors (half-angle 10°) in the plane of incidence on the specular side.
 // A finite patch holds a finite number of facets in a detector's cone of half vectors, so
 // its readings scatter from realisation to realisation: on a 256² patch with the default
-// correlation (8 cells, 32 × 32 correlation lengths) the lobe's peak moved by ±3% between
-// seeds, far beyond the rays' noise. Here n = 512 and a correlation of 4 cells (128 × 128
-// lengths): the peak moved by < 1% between seeds, and the first-bounce albedo by < 0.1%
+// correlation (8 cells, 32 × 32 correlation lengths) the lobe's peak moved by up to 4%
+// between seeds, far beyond the rays' noise. Here n = 512 and a correlation of 4 cells
+// (128 × 128 lengths): the peak moved by < 1% between two seeds, and the first-bounce albedo by < 0.1%
 // between correlations of 4, 8 and 16 cells (the triangulation is fine enough). The
 // gantry is also turned to `azimuths` azimuths φ (detectors with it) and the readings
 // averaged: each azimuth sees other facets of the same patch.
