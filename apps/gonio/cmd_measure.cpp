@@ -33,6 +33,7 @@ struct MeasureArgs {
   std::int64_t samples = 10'000'000;
   int threads = 0;
   std::int64_t seed = 0;
+  std::int64_t max_bounces = measure::Microsurface::kDefaultMaxBounces;
 };
 
 struct ArgText {
@@ -184,7 +185,7 @@ void run_measure(const MeasureArgs& a) {
   }
   if (a.output.empty() && a.gantry.empty()) return;
 
-  const measure::Microsurface micro(surface.field, surface.material);
+  const measure::Microsurface micro(surface.field, surface.material, static_cast<std::uint32_t>(a.max_bounces));
   measure::RunOptions options;
   options.samples = static_cast<std::uint64_t>(a.samples);
   options.threads = a.threads;
@@ -226,6 +227,10 @@ void register_measure(CLI::App& app) {
       ->transform(decimal_in_range(0, kMaxThreads));
   cmd->add_option("--seed", args->seed, "random seed, 0 to 2147483647 (default 0)")
       ->transform(decimal_in_range(0, kMaxSeed));
+  cmd->add_option("--max-bounces", args->max_bounces,
+                  "facet interactions allowed to a ray, 1 to 1000000 (default 1000; a ray that meets one more "
+                  "facet is dropped and counted as capped; 1: single scattering alone)")
+      ->transform(decimal_in_range(1, 1'000'000));
   cmd->callback([args] { run_measure(*args); });
 }
 

@@ -181,7 +181,8 @@ GantryReading run_gantry(const Microsurface& surface, const GantrySpec& spec, co
         const std::uint64_t first = b * kBlockRays, last = std::min(per, first + kBlockRays);
         const Vec3 dir = light[inc];
         for (std::uint64_t k = first; k < last; ++k) {
-          const double u = rng.next_double(), v = rng.next_double();
+          double u, v;
+          entry_point(k - first, last - first == kBlockRays, rng, u, v);
           const TraceResult t = surface.trace(u, v, dir, rng);
           r.counts.add(t);
           if (t.fate != Fate::Up && t.fate != Fate::Down) continue;

@@ -38,6 +38,7 @@ struct Microsurface::Impl {
 Microsurface::Microsurface(const HeightField& field, const BxDF& material, std::uint32_t max_bounces)
     : impl_(std::make_unique<Impl>()), material_(material), max_bounces_(max_bounces) {
   const int n = field.n;
+  if (max_bounces < 1) throw InputError("surface: the bounce cap must be at least 1");
   if (n < 1 || n > 32766 || field.z.size() != std::size_t(n) * std::size_t(n))
     throw InputError("surface: the height field must be n x n with 1 <= n <= 32766, got n = " + std::to_string(n));
   if (!(field.size > 0) || !std::isfinite(field.size))
@@ -174,6 +175,10 @@ TraceResult Microsurface::trace(double u, double v, const Vec3& direction, Pcg32
         r.fate = Fate::Lost;
         break;
       }
+      if (r.bounces >= max_bounces_) {  // one facet more than the cap allows
+        r.fate = Fate::Capped;
+        break;
+      }
       const Frame frame = Frame::from_normal_tangent(n, Vec3{1, 0, 0});
       const Vec3 wo = frame.to_local(-d);
       const Float u0 = rng.next_float(), u1 = rng.next_float(), u2 = rng.next_float();
@@ -184,10 +189,6 @@ TraceResult Microsurface::trace(double u, double v, const Vec3& direction, Pcg32
         break;
       }
       w *= s->weight;
-      if (r.bounces >= max_bounces_) {
-        r.fate = Fate::Capped;
-        break;
-      }
       d = normalize(frame.to_world(s->wi));
       // Lift the origin off the facet's plane, on the side the new direction leaves to.
       const double side = dot(d, n) > 0 ? eps_ : -eps_;

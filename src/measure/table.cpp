@@ -53,7 +53,8 @@ TableReading measure_table(const Microsurface& surface, const RunOptions& option
           const double cos_i = 1 - rng.next_double(), phi_i = 2 * kPiD * rng.next_double();
           const double sin_i = std::sqrt(std::max(0.0, 1 - cos_i * cos_i));
           const Vec3 wi{Float(sin_i * std::cos(phi_i)), Float(sin_i * std::sin(phi_i)), Float(cos_i)};
-          const double u = rng.next_double(), v = rng.next_double();
+          double u, v;
+          entry_point(k - first, last - first == kBlockRays, rng, u, v);
           const TraceResult t = surface.trace(u, v, -wi, rng);
           r.counts.add(t);
           const int b = std::min(kBands - 1, int(std::acos(cos_i) / kPiD * 180));

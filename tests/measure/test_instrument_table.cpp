@@ -113,5 +113,18 @@ TEST(MeasureTable, FlatLambertianFillsRhoOverPi) {
   for (const AlbedoBand& b : r.bands) EXPECT_NEAR(b.albedo[1], 0.6, 1e-3) << b.theta_lo;
 }
 
+TEST(MeasureTable, SameBitsWhateverTheThreadCount) {
+  const Microsurface s(testsurf::eggcrate_field(16, 2), parse_material(R"({"type":"diffuse","reflectance":0.7})"));
+  RunOptions o;
+  o.samples = 40000;
+  o.threads = 1;
+  const TableReading a = measure_table(s, o);
+  o.threads = 2;
+  const TableReading b = measure_table(s, o);
+  EXPECT_TRUE(a.table.rgb == b.table.rgb);
+  EXPECT_TRUE(a.stderr_f == b.stderr_f);
+  EXPECT_EQ(a.counts.segments, b.counts.segments);
+}
+
 }  // namespace
 }  // namespace gonio::measure

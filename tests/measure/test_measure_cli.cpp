@@ -23,19 +23,17 @@ json run_object(const std::vector<std::string>& args) {
 
 const std::string kFlat = R"({"type":"flat","material":{"type":"diffuse","reflectance":0.5}})";
 
+// A few representative cases (each starts a process; the parsers' own tests cover the
+// rest in-process, and CLI11's ranges are shared with every command).
 TEST(MeasureCli, BadInputExitsTwoWithOneLine) {
   const std::string tmp = (std::filesystem::temp_directory_path() / "gonio_measure_cli.binary").string();
   expect_bad_input(run_gonio({"measure", "--surface", R"({"type":"flat"})", "-o", tmp}), {"material"});
   expect_bad_input(run_gonio({"measure", "--surface", R"({"type":"cube","material":{"type":"diffuse"}})", "-o", tmp}),
                    {"cube"});
-  expect_bad_input(run_gonio({"measure", "--surface", "{", "-o", tmp}), {"--surface"});
   expect_bad_input(run_gonio({"measure", "--surface", "@/nonexistent/s.json", "-o", tmp}), {"--surface"});
   expect_bad_input(run_gonio({"measure", "--surface", kFlat}), {"-o"});
   expect_bad_input(run_gonio({"measure", "--surface", kFlat, "-o", "/nonexistent/dir/t.binary"}), {"-o"});
   expect_bad_input(run_gonio({"measure", "--surface", kFlat, "--samples", "0", "-o", tmp}), {"--samples"});
-  expect_bad_input(run_gonio({"measure", "--surface", kFlat, "--samples", "1e3", "-o", tmp}), {"--samples"});
-  expect_bad_input(run_gonio({"measure", "--surface", kFlat, "--threads", "-1", "-o", tmp}), {"--threads"});
-  expect_bad_input(run_gonio({"measure", "--surface", kFlat, "--seed", "x", "-o", tmp}), {"--seed"});
   expect_bad_input(run_gonio({"measure", "--surface", kFlat, "--gantry", R"({"theta_o":90})"}), {"--gantry"});
   expect_bad_input(run_gonio({"measure", "--surface", kFlat, "--gantry", R"({"theta_o":[10]})", "-o", tmp}), {"-o"});
   expect_bad_input(run_gonio({"measure", "--surface", kFlat, "--preview", "/tmp/x.txt"}), {"--preview"});

@@ -75,6 +75,25 @@ void expect_no_loss(const HeightField& field, const char* name) {
 TEST(Microsurface, WhiteConductorEggCrateLosesNoRay) { expect_no_loss(testsurf::eggcrate_field(32, 4), "egg-crate"); }
 TEST(Microsurface, WhiteConductorVGrooveLosesNoRay) { expect_no_loss(testsurf::vgroove_field(16, 2.0), "v-groove"); }
 
+// The bounce cap: in a 90° V-groove a vertical ray needs exactly two bounces (it is sent
+// across the groove horizontally, then back up), so a cap of 1 drops every ray and a
+// cap of 2 keeps them all.
+TEST(Microsurface, BounceCapDropsTheRaysThatNeedMore) {
+  const HeightField f = testsurf::vgroove_field(8, 1.0);
+  const BxDF white = parse_material(R"({"type":"mirror","reflectance":1})");
+  const Microsurface one(f, white, 1), two(f, white, 2);
+  Pcg32 rng(5);
+  for (int k = 0; k < 200; ++k) {
+    const double u = rng.next_double() * 0.98 + 0.01, v = rng.next_double();
+    if (std::abs(u - 0.5) < 0.01) continue;  // the ridge itself
+    const TraceResult a = one.trace(u, v, Vec3{0, 0, -1}, rng), b = two.trace(u, v, Vec3{0, 0, -1}, rng);
+    EXPECT_EQ(int(a.fate), int(Fate::Capped)) << u;
+    EXPECT_EQ(int(b.fate), int(Fate::Up)) << u;
+    EXPECT_EQ(b.bounces, 2u);
+    EXPECT_NEAR(b.direction.z, 1, 1e-5);
+  }
+}
+
 // A ray that runs nearly parallel to the patch wraps around it many times and is then
 // stopped, not traced forever.
 TEST(Microsurface, HorizontalRaysEnd) {

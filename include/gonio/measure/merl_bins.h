@@ -17,7 +17,10 @@
 // (the z of ωi and ωo, merl_directions), which V (0 or 1) tests. Bins wholly inside take
 // the closed form 16π (cos θh0 − cos θh1) (sin² θd1 − sin² θd0)/2 · Δφd; bins the horizon
 // cuts take the φd part in closed form and (θh, θd) by a 16 × 16 midpoint rule.
-// The measures of all bins sum to (2π)², the measure of two hemispheres.
+// The measures of all bins sum to (2π)², the measure of two hemispheres. (gonio fit's
+// merl_entry_weight, include/gonio/fit/metric.h, is the same Jacobian taken at the bin's
+// centre, up to a constant, for weighting a fit; an estimator needs the exact measure of
+// the part above the horizon, hence this integral.)
 
 #include <vector>
 

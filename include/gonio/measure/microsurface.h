@@ -37,7 +37,7 @@ enum class Fate : std::uint8_t {
   Up,        // left above the microsurface (reflection)
   Down,      // left below it (transmission)
   Absorbed,  // the facet's sample produced no direction or a zero weight
-  Capped,    // reached the bounce cap (its power is lost; counted)
+  Capped,    // hit a facet after the cap's last bounce (its power is dropped; counted)
   Lost,      // wrapped endlessly, or left numerically invalid (counted)
 };
 
@@ -53,6 +53,9 @@ class Microsurface {
  public:
   // Default bounce cap: far beyond what a rough conductor or glass needs (a white
   // conductor's multiple scattering decays geometrically); rays that reach it are counted.
+  // A ray that meets a facet after max_bounces bounces is dropped as Capped, so a cap of 1
+  // measures the single-scattering component alone (what microfacet theory without
+  // multiple scattering describes).
   static constexpr std::uint32_t kDefaultMaxBounces = 1000;
   // Wraps allowed to one ray (every wrap is one segment).
   static constexpr std::uint32_t kMaxWraps = 100000;
