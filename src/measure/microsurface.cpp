@@ -36,7 +36,10 @@ struct Microsurface::Impl {
 };
 
 Microsurface::Microsurface(const HeightField& field, const BxDF& material, std::uint32_t max_bounces)
-    : impl_(std::make_unique<Impl>()), material_(material), max_bounces_(max_bounces) {
+    : impl_(std::make_unique<Impl>()),
+      material_(material),
+      max_bounces_(max_bounces),
+      transmissive_(is_transmissive(material.flags())) {
   const int n = field.n;
   if (max_bounces < 1) throw InputError("surface: the bounce cap must be at least 1");
   if (n < 1 || n > 32766 || field.z.size() != std::size_t(n) * std::size_t(n))
@@ -214,6 +217,10 @@ TraceResult Microsurface::trace(double u, double v, const Vec3& direction, Pcg32
     p[0] = wrap(p[0], size_);
     p[1] = wrap(p[1], size_);
   }
+  // Below an opaque material nothing can arrive: a ray that got there slipped between
+  // facets (a float-precision crack at a sharp crease, about 1 ray in 10^5 on a 60°
+  // V-groove) and is counted lost, not transmitted.
+  if (r.fate == Fate::Down && !transmissive_) r.fate = Fate::Lost;
   if (r.fate == Fate::Up || r.fate == Fate::Down) {
     bool finite = is_finite(d);
     for (int c = 0; c < 3; ++c) finite = finite && std::isfinite(w[c]);

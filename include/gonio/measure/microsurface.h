@@ -38,7 +38,8 @@ enum class Fate : std::uint8_t {
   Down,      // left below it (transmission)
   Absorbed,  // the facet's sample produced no direction or a zero weight
   Capped,    // hit a facet after the cap's last bounce (its power is dropped; counted)
-  Lost,      // wrapped endlessly, or left numerically invalid (counted)
+  Lost,      // wrapped endlessly, left numerically invalid, or slipped below an opaque
+             // material through a float-precision crack (counted)
 };
 
 struct TraceResult {
@@ -85,6 +86,7 @@ class Microsurface {
   std::unique_ptr<Impl> impl_;
   BxDF material_;
   std::uint32_t max_bounces_;
+  bool transmissive_;
   double size_ = 1, z_min_ = 0, z_max_ = 0, eps_ = 0;
 };
 
