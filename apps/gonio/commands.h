@@ -14,6 +14,7 @@ void register_table(CLI::App& app);
 void register_check(CLI::App& app);
 void register_render(CLI::App& app);
 void register_slice(CLI::App& app);
+void register_measure(CLI::App& app);  // with the renderer (Embree, oneTBB)
 void register_spectrum(CLI::App& app);
 void register_materials(CLI::App& app);
 void register_tabulate(CLI::App& app);

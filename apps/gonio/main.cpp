@@ -38,6 +38,7 @@ int main(int argc, char** argv) {
 #ifdef GONIO_HAVE_RENDERER
   gonio::cli::register_render(app);
   gonio::cli::register_slice(app);
+  gonio::cli::register_measure(app);
 #endif
   gonio::cli::register_spectrum(app);
   gonio::cli::register_materials(app);
@@ -58,7 +59,7 @@ int main(int argc, char** argv) {
     if (word == "fit") return fail(2, "fit: this gonio was built without Ceres (GONIO_BUILD_FIT=OFF)");
 #endif
 #ifndef GONIO_HAVE_RENDERER
-    if (word == "render" || word == "slice")
+    if (word == "render" || word == "slice" || word == "measure")
       return fail(2, word + ": this gonio was built without the renderer (GONIO_BUILD_RENDERER=OFF)");
 #endif
     if (!known) return fail(2, "unknown subcommand '" + word + "' (known: " + names + ")");

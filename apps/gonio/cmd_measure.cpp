@@ -1,0 +1,237 @@
+// gonio measure: the virtual gonioreflectometer (SPEC §3, issue 13). A surface (JSON,
+// include/gonio/measure/surface.h) is traced as a periodic microsurface; -o fills a MERL
+// table, --gantry reads detectors at given directions, --preview draws the height field.
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <memory>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "cli_io.h"
+#include "commands.h"
+#include "gonio/error.h"
+#include "gonio/json_text.h"
+#include "gonio/measure/gantry.h"
+#include "gonio/measure/microsurface.h"
+#include "gonio/measure/preview.h"
+#include "gonio/measure/surface.h"
+#include "gonio/measure/table.h"
+
+namespace gonio::cli {
+
+namespace {
+struct MeasureArgs {
+  std::string surface, output, gantry, json, preview;
+  std::int64_t samples = 10'000'000;
+  int threads = 0;
+  std::int64_t seed = 0;
+  std::int64_t max_bounces = measure::Microsurface::kDefaultMaxBounces;
+};
+
+struct ArgText {
+  std::string text, source, base_dir;
+};
+
+// OPTION's value: JSON text, or @path to a file holding it (a relative path inside the
+// file is then relative to the file's directory).
+ArgText read_json_arg(const std::string& arg, const std::string& option) {
+  if (arg.empty() || arg[0] != '@') return {arg, option, ""};
+  const std::string path = arg.substr(1);
+  std::string text;
+  try {
+    text = read_text_file(path, kMaxJsonFileBytes, "a JSON file");
+  } catch (const InputError& e) {
+    throw InputError(option + ": " + e.what());
+  }
+  return {std::move(text), path, std::filesystem::path(path).parent_path().string()};
+}
+
+// An output file's directory must exist and be writable before hours of tracing.
+void check_writable(const std::string& path, const std::string& option) {
+  if (path.empty()) throw InputError(option + ": empty file name");
+  std::filesystem::path p(path);
+  const std::filesystem::path dir = p.has_parent_path() ? p.parent_path() : std::filesystem::path(".");
+  std::error_code ec;
+  if (!std::filesystem::is_directory(dir, ec)) throw InputError(option + " " + path + ": no such directory");
+  if (std::filesystem::is_directory(p, ec)) throw InputError(option + " " + path + ": is a directory");
+  if (::access(dir.c_str(), W_OK) != 0) throw InputError(option + " " + path + ": directory not writable");
+}
+
+std::string duration(double s) {
+  char buf[32];
+  if (!(s >= 0) || !std::isfinite(s)) return "?";
+  if (s < 60) std::snprintf(buf, sizeof buf, "%.0f s", s);
+  else if (s < 3600) std::snprintf(buf, sizeof buf, "%dm%02ds", int(s / 60), int(s) % 60);
+  else std::snprintf(buf, sizeof buf, "%dh%02dm", int(s / 3600), int(s / 60) % 60);
+  return buf;
+}
+
+// Progress on stderr with an estimate of the time left: a redrawn bar on a terminal,
+// else a line every 10%.
+std::function<void(double)> progress_reporter(const char* what) {
+  const bool tty = isatty(STDERR_FILENO) == 1;
+  const auto start = std::chrono::steady_clock::now();
+  auto last = std::make_shared<int>(-1);
+  return [=](double done) {
+    const int step = static_cast<int>(done * (tty ? 100 : 10));
+    if (step == *last) return;
+    *last = step;
+    const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const double left = done > 0 ? elapsed * (1 - done) / done : -1;
+    if (tty)
+      std::fprintf(stderr, "\r%s [%-40s] %3d%%  ETA %-8s", what, std::string(std::size_t(done * 40), '#').c_str(),
+                   int(done * 100), duration(left).c_str());
+    else
+      std::fprintf(stderr, "%s: %d%% (ETA %s)\n", what, step * 10, duration(left).c_str());
+    if (tty && done >= 1) std::fprintf(stderr, "\n");
+    std::fflush(stderr);
+  };
+}
+
+std::string quoted(const std::string& s) {
+  return nlohmann::json(s).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+}
+
+std::string counts_json(const measure::RayCounts& c) {
+  return "{\"launched\":" + std::to_string(c.launched) + ",\"up\":" + std::to_string(c.up) +
+         ",\"down\":" + std::to_string(c.down) + ",\"absorbed\":" + std::to_string(c.absorbed) +
+         ",\"capped\":" + std::to_string(c.capped) + ",\"lost\":" + std::to_string(c.lost) +
+         ",\"segments\":" + std::to_string(c.segments) + ",\"bounces\":" + std::to_string(c.bounces) + "}";
+}
+
+std::string gantry_json(const measure::GantryReading& g, const measure::Surface& s, std::uint64_t seed) {
+  std::string o = "{\"mode\":\"gantry\",\"surface\":" + quoted(s.type) + ",\"material\":" + quoted(s.material.name()) +
+                  ",\"seed\":" + std::to_string(seed) + ",\"aperture\":" + json_number(g.aperture) +
+                  ",\"rays_per_incidence\":" + std::to_string(g.rays_per_incidence) + ",\"incidences\":[";
+  for (std::size_t i = 0; i < g.incidences.size(); ++i) {
+    const measure::IncidenceReading& r = g.incidences[i];
+    o += (i ? "," : "");
+    o += "{\"theta_i\":" + json_number(r.theta_i) + ",\"phi_i\":" + json_number(r.phi_i) +
+         ",\"albedo\":" + json_color(r.albedo) + ",\"stderr_albedo\":" + json_color(r.stderr_albedo) +
+         ",\"transmittance\":" + json_color(r.transmittance) +
+         ",\"stderr_transmittance\":" + json_color(r.stderr_transmittance) + ",\"rays\":" + counts_json(r.counts) +
+         ",\"detectors\":[";
+    for (std::size_t d = 0; d < r.detectors.size(); ++d) {
+      const measure::DetectorReading& x = r.detectors[d];
+      o += (d ? "," : "");
+      o += "{\"theta_o\":" + json_number(x.theta_o) + ",\"phi_o\":" + json_number(x.phi_o) + ",\"f\":" + json_color(x.f) +
+           ",\"stderr\":" + json_color(x.stderr_f) + ",\"hits\":" + std::to_string(x.hits) +
+           ",\"solid_angle\":" + json_number(x.solid_angle) + "}";
+    }
+    o += "]}";
+  }
+  return o + "]}";
+}
+
+std::string table_json(const measure::TableReading& t, const measure::Surface& s, const std::string& file,
+                       std::uint64_t seed, double seconds) {
+  std::string o = "{\"mode\":\"table\",\"file\":" + quoted(file) + ",\"surface\":" + quoted(s.type) +
+                  ",\"material\":" + quoted(s.material.name()) + ",\"seed\":" + std::to_string(seed) +
+                  ",\"entries\":" + std::to_string(MerlTable::kEntries) + ",\"filled\":" + std::to_string(t.filled) +
+                  ",\"missing\":" + std::to_string(t.missing) + ",\"rays\":" + counts_json(t.counts) +
+                  ",\"seconds\":" + json_number(seconds) + ",\"albedo\":[";
+  for (std::size_t b = 0; b < t.bands.size(); ++b) {
+    const measure::AlbedoBand& a = t.bands[b];
+    o += (b ? "," : "");
+    o += "{\"theta_i\":[" + json_number(a.theta_lo) + "," + json_number(a.theta_hi) + "],\"rays\":" +
+         std::to_string(a.rays) + ",\"albedo\":" + json_color(a.albedo) + ",\"stderr\":" + json_color(a.stderr_albedo) +
+         "}";
+  }
+  return o + "]}";
+}
+
+void emit(const std::string& object, const std::string& json_file) {
+  if (json_file.empty()) {
+    std::cout << object << "\n";
+    return;
+  }
+  std::ofstream f(json_file, std::ios::binary | std::ios::trunc);
+  f << object << "\n";
+  f.close();
+  if (!f) throw InputError("--json " + json_file + ": cannot write the file");
+  std::cout << "{\"json\":" << quoted(json_file) << "}\n";
+}
+
+void run_measure(const MeasureArgs& a) {
+  if (a.output.empty() && a.gantry.empty() && a.preview.empty())
+    throw InputError("measure: give -o OUT.binary (a MERL table), --gantry SPEC (detector readings) or --preview FILE");
+  if (!a.output.empty() && !a.gantry.empty())
+    throw InputError("measure: -o (a MERL table) and --gantry (detector readings) are separate runs; give one");
+  if (!a.json.empty() && a.output.empty() && a.gantry.empty())
+    throw InputError("--json: there is no measurement to write (give -o or --gantry)");
+  // Every input is checked before the first ray.
+  const ArgText st = read_json_arg(a.surface, "--surface");
+  const measure::Surface surface = measure::parse_surface(st.text, st.source, st.base_dir);
+  measure::GantrySpec spec;
+  if (!a.gantry.empty()) {
+    const ArgText gt = read_json_arg(a.gantry, "--gantry");
+    spec = measure::parse_gantry(gt.text, gt.source);
+  }
+  if (!a.output.empty()) check_writable(a.output, "-o");
+  if (!a.json.empty()) check_writable(a.json, "--json");
+  if (!a.preview.empty()) {
+    const std::string ext = lower_extension(a.preview);
+    if (ext != ".png" && ext != ".exr") throw InputError("--preview " + a.preview + ": must end in .png or .exr");
+    check_writable(a.preview, "--preview");
+    measure::write_surface_preview(surface.field, a.preview);
+  }
+  if (a.output.empty() && a.gantry.empty()) return;
+
+  const measure::Microsurface micro(surface.field, surface.material, static_cast<std::uint32_t>(a.max_bounces));
+  measure::RunOptions options;
+  options.samples = static_cast<std::uint64_t>(a.samples);
+  options.threads = a.threads;
+  options.seed = static_cast<std::uint64_t>(a.seed);
+  const auto start = std::chrono::steady_clock::now();
+  if (!a.gantry.empty()) {
+    options.progress = progress_reporter("measuring");
+    const measure::GantryReading g = measure::run_gantry(micro, spec, options);
+    emit(gantry_json(g, surface, options.seed), a.json);
+    return;
+  }
+  options.progress = progress_reporter("measuring");
+  const measure::TableReading t = measure::measure_table(micro, options);
+  write_merl(a.output, t.table);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  emit(table_json(t, surface, a.output, options.seed, seconds), a.json);
+}
+}  // namespace
+
+void register_measure(CLI::App& app) {
+  auto args = std::make_shared<MeasureArgs>();
+  auto* cmd = app.add_subcommand(
+      "measure",
+      "The virtual gonioreflectometer: traces a microsurface (docs/gonioreflectometer.md) and writes its "
+      "isotropic BRDF as a MERL table (-o), or reads detectors at given directions (--gantry)");
+  cmd->add_option("--surface", args->surface, "surface JSON (type flat|gaussian|vgroove|image, material), or @file")
+      ->required();
+  cmd->add_option("-o,--output", args->output, "the MERL table to write (.binary); prints a JSON summary");
+  cmd->add_option("--gantry", args->gantry,
+                  "detector readings instead of a table: JSON {theta_i, phi_i, theta_o, phi_o, aperture} or @file; "
+                  "prints one JSON object");
+  cmd->add_option("--json", args->json, "write the JSON result to FILE instead of stdout");
+  cmd->add_option("--preview", args->preview, "write a shaded image of the height field (.png or .exr)");
+  cmd->add_option("--samples", args->samples,
+                  "total rays launched from the light, 1 to 10^12 (default 10000000; split evenly over the "
+                  "gantry's incidences)")
+      ->transform(decimal_in_range(1, kMaxSamples));
+  cmd->add_option("--threads", args->threads, "worker threads, 0 to 1024 (default 0: all cores)")
+      ->transform(decimal_in_range(0, kMaxThreads));
+  cmd->add_option("--seed", args->seed, "random seed, 0 to 2147483647 (default 0)")
+      ->transform(decimal_in_range(0, kMaxSeed));
+  cmd->add_option("--max-bounces", args->max_bounces,
+                  "facet interactions allowed to a ray, 1 to 1000000 (default 1000; a ray that meets one more "
+                  "facet is dropped and counted as capped; 1: single scattering alone)")
+      ->transform(decimal_in_range(1, 1'000'000));
+  cmd->callback([args] { run_measure(*args); });
+}
+
+}  // namespace gonio::cli

@@ -1,0 +1,75 @@
+// Speed of the virtual gonioreflectometer (docs/benchmarks.md): traced segments per
+// second (every Embree query counts: the first hit, each bounce, each wrap and the exit)
+// on Gaussian microsurfaces with white conductor facets, and the MERL table mode.
+#include <benchmark/benchmark.h>
+
+#include <map>
+#include <memory>
+
+#include "gonio/material.h"
+#include "gonio/measure/gantry.h"
+#include "gonio/measure/gaussian_surface.h"
+#include "gonio/measure/microsurface.h"
+#include "gonio/measure/table.h"
+
+namespace {
+
+using namespace gonio;
+using namespace gonio::measure;
+
+// One surface per resolution, built once (α = 0.3, the generator's default correlation).
+const Microsurface& surface(int n) {
+  static std::map<int, std::unique_ptr<Microsurface>> cache;
+  auto& s = cache[n];
+  if (!s) {
+    GaussianSurfaceParams p;
+    p.resolution = n;
+    p.alpha_x = p.alpha_y = 0.3;
+    s = std::make_unique<Microsurface>(gaussian_height_field(p), parse_material(R"({"type":"mirror"})"));
+  }
+  return *s;
+}
+
+// Gantry: 4 incidences (0°, 30°, 60°, 80°), 18 detectors; args: resolution, threads.
+void BM_GantrySegments(benchmark::State& state) {
+  const Microsurface& s = surface(int(state.range(0)));
+  GantrySpec g;
+  g.theta_i = {0, 30, 60, 80};
+  g.theta_o = {5, 15, 25, 35, 45, 55, 65, 75, 85};
+  g.phi_o = {0, 180};
+  RunOptions o;
+  o.samples = 400000;
+  o.threads = int(state.range(1));
+  double segments = 0, rays = 0;
+  for (auto _ : state) {
+    const GantryReading r = run_gantry(s, g, o);
+    for (const auto& inc : r.incidences) segments += double(inc.counts.segments), rays += double(inc.counts.launched);
+    benchmark::DoNotOptimize(r.incidences.data());
+  }
+  state.counters["segments/s"] = benchmark::Counter(segments, benchmark::Counter::kIsRate);
+  state.counters["rays/s"] = benchmark::Counter(rays, benchmark::Counter::kIsRate);
+  state.counters["segments/ray"] = segments / rays;
+}
+BENCHMARK(BM_GantrySegments)->Args({512, 1})->Args({512, 2})->Args({2048, 1})->Args({2048, 2})
+    ->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
+
+// The MERL table mode (uniform incidences, every exit binned), 2 M rays; args: threads.
+void BM_TableRays(benchmark::State& state) {
+  const Microsurface& s = surface(512);
+  RunOptions o;
+  o.samples = 2000000;
+  o.threads = int(state.range(0));
+  double segments = 0, rays = 0;
+  for (auto _ : state) {
+    const TableReading r = measure_table(s, o);
+    segments += double(r.counts.segments), rays += double(r.counts.launched);
+    benchmark::DoNotOptimize(r.table.rgb.data());
+  }
+  state.counters["segments/s"] = benchmark::Counter(segments, benchmark::Counter::kIsRate);
+  state.counters["rays/s"] = benchmark::Counter(rays, benchmark::Counter::kIsRate);
+}
+BENCHMARK(BM_TableRays)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
+
+}  // namespace
+
+BENCHMARK_MAIN();

@@ -1,0 +1,93 @@
+#pragma once
+// A height field traced as a periodic microsurface (issue 13): one Embree scene per
+// surface, rays scattered by the facets' material until they leave above the highest
+// point (reflected) or below the lowest (transmitted).
+//
+// Geometry: the field's n × n samples become one Embree grid of (n+1) × (n+1) vertices
+// (the last row and column repeat the first, so the tile closes periodically). Embree
+// splits each grid quad (v0 = (i, j), v1 = (i+1, j), v2 = (i+1, j+1), v3 = (i, j+1)) into
+// the triangles (v0, v1, v3) and (v2, v3, v1): exactly heightfield.h's triangulation,
+// so every facet normal is the forward-difference slope of the field. A grid costs
+// 12 bytes per vertex plus a compact BVH (a 2048² field stays far under 1 GB).
+//
+// Periodic wrapping: a ray is traced only across the tile [0, size)²; when it leaves the
+// tile's square without a hit it re-enters at the opposite side with the same height and
+// direction. It is done when it is above the highest point going up, or below the lowest
+// going down; a nearly horizontal ray that wraps endlessly is stopped and counted lost.
+//
+// Transport: rays come from the light and carry power, so each facet's BSDF is sampled
+// in TransportMode::Importance (SPEC §1; Veach 1997 §5.2): a smooth glass facet then
+// transmits the power fraction 1 − F. The facet frame: z = the facet's geometric normal
+// turned to +z, x = the patch's +x projected onto the facet (Frame::from_normal_tangent).
+// No Russian roulette: a white conductor must conserve every ray's power exactly.
+
+#include <cstdint>
+#include <memory>
+
+#include "gonio/bxdf.h"
+#include "gonio/color.h"
+#include "gonio/math/vec3.h"
+#include "gonio/measure/heightfield.h"
+#include "gonio/rng.h"
+
+namespace gonio::measure {
+
+// How a traced ray ended.
+enum class Fate : std::uint8_t {
+  Up,        // left above the microsurface (reflection)
+  Down,      // left below it (transmission)
+  Absorbed,  // the facet's sample produced no direction or a zero weight
+  Capped,    // hit a facet after the cap's last bounce (its power is dropped; counted)
+  Lost,      // wrapped endlessly, left numerically invalid, or slipped below an opaque
+             // material through a float-precision crack (counted)
+};
+
+struct TraceResult {
+  Fate fate = Fate::Lost;
+  Vec3 direction;            // unit, the direction it left in (Up / Down)
+  Color weight{0};           // the power it carries out, per unit power in
+  std::uint32_t bounces = 0;   // facet interactions
+  std::uint32_t segments = 0;  // traced segments (Embree queries, wraps included)
+};
+
+class Microsurface {
+ public:
+  // Default bounce cap: far beyond what a rough conductor or glass needs (a white
+  // conductor's multiple scattering decays geometrically); rays that reach it are counted.
+  // A ray that meets a facet after max_bounces bounces is dropped as Capped, so a cap of 1
+  // measures the single-scattering component alone (what microfacet theory without
+  // multiple scattering describes).
+  static constexpr std::uint32_t kDefaultMaxBounces = 1000;
+  // Wraps allowed to one ray (every wrap is one segment).
+  static constexpr std::uint32_t kMaxWraps = 100000;
+
+  // Throws InputError for an empty or non-finite field.
+  Microsurface(const HeightField& field, const BxDF& material, std::uint32_t max_bounces = kDefaultMaxBounces);
+  ~Microsurface();
+  Microsurface(const Microsurface&) = delete;
+  Microsurface& operator=(const Microsurface&) = delete;
+
+  // A ray from the distant light: it enters the patch at (u, v) · size (u, v in [0, 1))
+  // above the highest point and moves along `direction` (unit, z < 0). The rng draws the
+  // facets' lobe and direction samples.
+  TraceResult trace(double u, double v, const Vec3& direction, Pcg32& rng) const;
+
+  // The facet normal (z > 0) of the first facet a vertical ray at (x, y) hits, for tests
+  // of the triangulation; (0, 0, 0) if it hits nothing.
+  Vec3 normal_below(double x, double y) const;
+
+  double size() const { return size_; }
+  double z_min() const { return z_min_; }
+  double z_max() const { return z_max_; }
+  const BxDF& material() const { return material_; }
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+  BxDF material_;
+  std::uint32_t max_bounces_;
+  bool transmissive_;
+  double size_ = 1, z_min_ = 0, z_max_ = 0, eps_ = 0;
+};
+
+}  // namespace gonio::measure

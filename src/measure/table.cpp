@@ -1,0 +1,122 @@
+// The MERL table mode of include/gonio/measure/table.h.
+#include "gonio/measure/table.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "gonio/math/constants.h"
+#include "gonio/measure/merl_bins.h"
+#include "waves.h"
+
+namespace gonio::measure {
+namespace {
+
+constexpr int kBands = 90;
+
+struct Score {
+  std::uint32_t entry;
+  float value[3];
+};
+
+struct BlockResult {
+  RayCounts counts;
+  std::vector<Score> scores;
+  std::vector<double> band;  // per band: rays, Σw (3), Σw² (3)
+};
+
+}  // namespace
+
+TableReading measure_table(const Microsurface& surface, const RunOptions& options) {
+  TableReading out;
+  const std::uint64_t n = std::max<std::uint64_t>(1, options.samples);
+  const std::uint64_t blocks = (n + kBlockRays - 1) / kBlockRays;
+  const double inv_p = 2 * kPiD;  // 1 / p(ωi), uniform on the hemisphere
+  const std::vector<double>& measure = merl_bin_measures();
+
+  std::vector<double> sum(3 * MerlTable::kEntries, 0.0), sum2(3 * MerlTable::kEntries, 0.0);
+  std::vector<std::uint32_t> count(MerlTable::kEntries, 0);
+  std::vector<double> band(7 * kBands, 0.0);
+
+  detail::run_blocks<BlockResult>(
+      blocks, options.threads, options.progress,
+      [](BlockResult& r) {
+        r.counts = {};
+        r.scores.clear();
+        r.band.assign(7 * kBands, 0.0);
+      },
+      [&](std::uint64_t block, BlockResult& r) {
+        Pcg32 rng(options.seed, block_stream(0x7ab1e, block));
+        const std::uint64_t first = block * kBlockRays, last = std::min(n, first + kBlockRays);
+        r.scores.reserve(kBlockRays);
+        for (std::uint64_t k = first; k < last; ++k) {
+          // ωi uniform on the hemisphere: cos θi uniform in (0, 1] (never exactly grazing).
+          const double cos_i = 1 - rng.next_double(), phi_i = 2 * kPiD * rng.next_double();
+          const double sin_i = std::sqrt(std::max(0.0, 1 - cos_i * cos_i));
+          const Vec3 wi{Float(sin_i * std::cos(phi_i)), Float(sin_i * std::sin(phi_i)), Float(cos_i)};
+          double u, v;
+          entry_point(k - first, last - first == kBlockRays, rng, u, v);
+          const TraceResult t = surface.trace(u, v, -wi, rng);
+          r.counts.add(t);
+          const int b = std::min(kBands - 1, int(std::acos(cos_i) / kPiD * 180));
+          double* bd = &r.band[7 * std::size_t(b)];
+          bd[0] += 1;
+          if (t.fate != Fate::Up) continue;
+          for (int c = 0; c < 3; ++c) bd[1 + c] += t.weight[c], bd[4 + c] += double(t.weight[c]) * t.weight[c];
+          const Vec3& wo = t.direction;
+          if (!(wo.z > 0)) continue;
+          const HalfDiff hd = half_diff(wo, wi);
+          const MerlBin bin = merl_bin(hd.theta_h, hd.theta_d, hd.phi_d);
+          const double scale = inv_p / wo.z;
+          Score s;
+          s.entry = std::uint32_t(MerlTable::index(bin.i, bin.j, bin.k));
+          for (int c = 0; c < 3; ++c) s.value[c] = float(t.weight[c] * scale);
+          r.scores.push_back(s);
+        }
+      },
+      [&](std::uint64_t, const BlockResult& r) {
+        out.counts += r.counts;
+        for (const Score& s : r.scores) {
+          for (int c = 0; c < 3; ++c) {
+            sum[3 * std::size_t(s.entry) + c] += s.value[c];
+            sum2[3 * std::size_t(s.entry) + c] += double(s.value[c]) * s.value[c];
+          }
+          ++count[s.entry];
+        }
+        for (std::size_t k = 0; k < band.size(); ++k) band[k] += r.band[k];
+      });
+
+  out.stderr_f.assign(3 * MerlTable::kEntries, 0.0f);
+  for (std::size_t e = 0; e < MerlTable::kEntries; ++e) {
+    float* f = &out.table.rgb[3 * e];
+    if (count[e] == 0 || !(measure[e] > 0)) {
+      f[0] = f[1] = f[2] = MerlTable::kMissing;
+      ++out.missing;
+      continue;
+    }
+    ++out.filled;
+    // The mean score over all N rays (zero for those elsewhere) and its standard error.
+    const double scale = 1 / measure[e];
+    for (int c = 0; c < 3; ++c) {
+      const double mean = sum[3 * e + c] / double(n);
+      const double var = n > 1 ? std::max(0.0, sum2[3 * e + c] / double(n) - mean * mean) / double(n - 1) : 0.0;
+      f[c] = float(mean * scale);
+      out.stderr_f[3 * e + c] = float(std::sqrt(var) * scale);
+    }
+  }
+  out.bands.resize(kBands);
+  for (int b = 0; b < kBands; ++b) {
+    AlbedoBand& a = out.bands[std::size_t(b)];
+    a.theta_lo = b, a.theta_hi = b + 1;
+    const double* bd = &band[7 * std::size_t(b)];
+    a.rays = std::uint64_t(bd[0]);
+    for (int c = 0; c < 3; ++c) {
+      const double m = bd[0] > 0 ? bd[1 + c] / bd[0] : 0.0;
+      const double var = bd[0] > 1 ? std::max(0.0, bd[4 + c] / bd[0] - m * m) / (bd[0] - 1) : 0.0;
+      a.albedo[c] = Float(m);
+      a.stderr_albedo[c] = Float(std::sqrt(var));
+    }
+  }
+  return out;
+}
+
+}  // namespace gonio::measure

@@ -1,0 +1,76 @@
+// gonio measure on the command line: bad input exits 2 with one line; a small gantry run
+// prints one JSON object whose fields the documentation describes; a table run writes a
+// MERL file that read_merl accepts.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+#include "../cli/run_gonio.h"
+#include "gonio/merl.h"
+
+namespace {
+
+using namespace gonio_cli_test;
+
+// The one JSON object on stdout (stderr carries the progress lines).
+json run_object(const std::vector<std::string>& args) {
+  const RunResult r = run_gonio(args);
+  EXPECT_EQ(r.status, 0) << describe(r);
+  const auto lines = split_lines(r.out);
+  EXPECT_EQ(lines.size(), 1u) << describe(r);
+  return lines.empty() ? json::object() : json::parse(lines.front());
+}
+
+const std::string kFlat = R"({"type":"flat","material":{"type":"diffuse","reflectance":0.5}})";
+
+// A few representative cases (each starts a process; the parsers' own tests cover the
+// rest in-process, and CLI11's ranges are shared with every command).
+TEST(MeasureCli, BadInputExitsTwoWithOneLine) {
+  const std::string tmp = (std::filesystem::temp_directory_path() / "gonio_measure_cli.binary").string();
+  expect_bad_input(run_gonio({"measure", "--surface", R"({"type":"flat"})", "-o", tmp}), {"material"});
+  expect_bad_input(run_gonio({"measure", "--surface", R"({"type":"cube","material":{"type":"diffuse"}})", "-o", tmp}),
+                   {"cube"});
+  expect_bad_input(run_gonio({"measure", "--surface", "@/nonexistent/s.json", "-o", tmp}), {"--surface"});
+  expect_bad_input(run_gonio({"measure", "--surface", kFlat}), {"-o"});
+  expect_bad_input(run_gonio({"measure", "--surface", kFlat, "-o", "/nonexistent/dir/t.binary"}), {"-o"});
+  expect_bad_input(run_gonio({"measure", "--surface", kFlat, "--samples", "0", "-o", tmp}), {"--samples"});
+  expect_bad_input(run_gonio({"measure", "--surface", kFlat, "--gantry", R"({"theta_o":90})"}), {"--gantry"});
+  expect_bad_input(run_gonio({"measure", "--surface", kFlat, "--gantry", R"({"theta_o":[10]})", "-o", tmp}), {"-o"});
+  expect_bad_input(run_gonio({"measure", "--surface", kFlat, "--preview", "/tmp/x.txt"}), {"--preview"});
+  EXPECT_FALSE(std::filesystem::exists(tmp));
+}
+
+TEST(MeasureCli, GantryPrintsOneObject) {
+  const json j = run_object({"measure", "--surface", kFlat, "--samples", "20000", "--seed", "3", "--gantry",
+                          R"({"theta_i":[0,40],"theta_o":{"from":10,"to":70,"count":3},"phi_o":[0,180],"aperture":8})"});
+  ASSERT_EQ(j["mode"], "gantry");
+  ASSERT_EQ(j["incidences"].size(), 2u);
+  EXPECT_EQ(j["rays_per_incidence"], 10000);
+  for (const json& inc : j["incidences"]) {
+    EXPECT_NEAR(color3(inc["albedo"])[0], 0.5, 1e-6);
+    EXPECT_EQ(inc["rays"]["launched"], 10000);
+    ASSERT_EQ(inc["detectors"].size(), 6u);
+    for (const json& d : inc["detectors"]) {
+      const double f = color3(d["f"])[1], se = color3(d["stderr"])[1];
+      EXPECT_NEAR(f, 0.5 / kPi, 5 * se) << d.dump();
+      EXPECT_GT(d["hits"].get<double>(), 0);
+    }
+  }
+}
+
+TEST(MeasureCli, TableWritesAMerlFile) {
+  const std::string out = (std::filesystem::temp_directory_path() / "gonio_measure_cli_ok.binary").string();
+  const json j = run_object({"measure", "--surface", kFlat, "-o", out, "--samples", "20000", "--threads", "1"});
+  EXPECT_EQ(j["mode"], "table");
+  EXPECT_EQ(j["rays"]["launched"], 20000);
+  EXPECT_EQ(j["filled"].get<double>() + j["missing"].get<double>(), 1458000);
+  const gonio::MerlTable t = gonio::read_merl(out);
+  std::size_t measured = 0;
+  for (int i = 0; i < 90; ++i)
+    for (int jj = 0; jj < 90; ++jj)
+      for (int k = 0; k < 180; ++k) measured += t.measured(i, jj, k);
+  EXPECT_EQ(double(measured), j["filled"].get<double>());
+  std::filesystem::remove(out);
+}
+
+}  // namespace
