@@ -2,8 +2,9 @@
 # Sets up, builds and runs the whole test suite twice: a Release build, then a build
 # under AddressSanitizer + UndefinedBehaviorSanitizer (reduced sample counts) that fails
 # on any sanitizer report; then runs each libFuzzer target of fuzz/ for a fixed time
-# (GONIO_FUZZ_SECONDS, default 10) from the seed corpus in fuzz/corpus/. A crash fails
-# the command and leaves its reproducer in build-fuzz/artifacts/<target>/.
+# (GONIO_FUZZ_SECONDS, default 10; one target per core at a time) from the seed corpus in
+# fuzz/corpus/. A crash fails the command and leaves its reproducer in
+# build-fuzz/artifacts/<target>/.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 jobs="$(nproc)"
@@ -24,7 +25,8 @@ echo "== ASan + UBSan build and tests ==" >&2
 tables="$PWD/build/generated/microfacet_albedo_tables.cpp"
 cmake -S . -B build-sanitize -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_FLAGS_RELEASE="-O1" \
   -DGONIO_SANITIZE=ON -DGONIO_BUILD_BENCHMARKS=OFF -DGONIO_REUSE_ALBEDO_TABLES="$tables" >/dev/null
-cmake --build build-sanitize -j"$jobs"
+# Only what ctest runs (target gonio_tests): the tools' programs are built by the Release pass.
+cmake --build build-sanitize -j"$jobs" --target gonio_tests
 # Left out here, run in the Release pass: the value sweeps that start one gonio process
 # per case (CliFresnel, CliFinite per material, `gonio check` per material; 3.5 of the
 # pass's 8 CPU-minutes, mostly ASan's process start-up), and the suites of bad arguments
@@ -43,19 +45,35 @@ CC=clang CXX=clang++ cmake -S . -B build-fuzz -DCMAKE_BUILD_TYPE=Release -DCMAKE
   -DGONIO_FUZZ=ON -DGONIO_BUILD_TESTS=OFF -DGONIO_BUILD_BENCHMARKS=OFF -DGONIO_REUSE_ALBEDO_TABLES="$tables" >/dev/null
 cmake --build build-fuzz -j"$jobs" --target gonio_fuzz
 fuzz_seconds="${GONIO_FUZZ_SECONDS:-10}"
-for t in material scene obj png exr; do
-  dict=()
+# One fuzzer per core at a time: each is a single process, and each still gets its full
+# fuzz_seconds (libFuzzer's -max_total_time is wall time).
+fuzz_one() {
+  local t="$1" dict=()
   case "$t" in material | scene) dict=(-dict=fuzz/json.dict) ;; esac
   # The grown corpus stays in build-fuzz; the repository's seeds are only read.
   mkdir -p "build-fuzz/corpus/$t" "build-fuzz/artifacts/$t"
-  echo "fuzz_$t: ${fuzz_seconds} s" >&2
-  if ! build-fuzz/bin/fuzz_"$t" "${dict[@]}" -max_total_time="$fuzz_seconds" -print_final_stats=1 \
-      -artifact_prefix="build-fuzz/artifacts/$t/" "build-fuzz/corpus/$t" "fuzz/corpus/$t" \
-      >"build-fuzz/fuzz_$t.log" 2>&1; then
-    tail -n 60 "build-fuzz/fuzz_$t.log" >&2
-    echo "fuzz_$t failed: reproducer in build-fuzz/artifacts/$t/, log build-fuzz/fuzz_$t.log" >&2
-    exit 1
-  fi
-  grep -E "stat::number_of_executed_units" "build-fuzz/fuzz_$t.log" >&2 || true
+  build-fuzz/bin/fuzz_"$t" "${dict[@]}" -max_total_time="$fuzz_seconds" -print_final_stats=1 \
+    -artifact_prefix="build-fuzz/artifacts/$t/" "build-fuzz/corpus/$t" "fuzz/corpus/$t" \
+    >"build-fuzz/fuzz_$t.log" 2>&1
+}
+targets=(material scene obj png exr)
+for ((i = 0; i < ${#targets[@]}; i += jobs)); do
+  batch=("${targets[@]:i:jobs}")
+  pids=()
+  for t in "${batch[@]}"; do
+    echo "fuzz_$t: ${fuzz_seconds} s" >&2
+    fuzz_one "$t" &
+    pids+=($!)
+  done
+  for k in "${!batch[@]}"; do
+    t="${batch[k]}"
+    if ! wait "${pids[k]}"; then
+      wait || true  # the other fuzzers of the batch finish first
+      tail -n 60 "build-fuzz/fuzz_$t.log" >&2
+      echo "fuzz_$t failed: reproducer in build-fuzz/artifacts/$t/, log build-fuzz/fuzz_$t.log" >&2
+      exit 1
+    fi
+    grep -E "stat::number_of_executed_units" "build-fuzz/fuzz_$t.log" >&2 || true
+  done
 done
 echo "all tests passed" >&2

@@ -12,8 +12,8 @@
 namespace gonio_cli_test {
 namespace {
 
-const std::string kDiffuse = R"({"type":"diffuse","reflectance":[0.2,0.4,0.6]})";
-const std::string kDielectric = R"({"type":"dielectric","eta":1.5})";
+const std::string kFormatDiffuse = R"({"type":"diffuse","reflectance":[0.2,0.4,0.6]})";
+const std::string kFormatDielectric = R"({"type":"dielectric","eta":1.5})";
 
 void expect_keys(const json& j, std::initializer_list<const char*> keys) {
   for (const char* k : keys) EXPECT_TRUE(j.contains(k)) << "missing '" << k << "' in " << j.dump();
@@ -21,7 +21,7 @@ void expect_keys(const json& j, std::initializer_list<const char*> keys) {
 
 TEST(CliFormat, EvalOneObjectPerLine) {
   const std::string in = "0 0 1 0 0.6 0.8\n0.3 0.4 0.5 -0.1 0.2 0.9\n0 0 1 0 0 -1\n";
-  const auto objs = run_lines({"eval", "--bsdf", kDiffuse}, in, 3);
+  const auto objs = run_lines({"eval", "--bsdf", kFormatDiffuse}, in, 3);
   for (const auto& j : objs) {
     expect_keys(j, {"f", "pdf"});
     color3(j["f"]);
@@ -30,27 +30,27 @@ TEST(CliFormat, EvalOneObjectPerLine) {
 }
 
 TEST(CliFormat, EvalAcceptsTabsSignsAndExponents) {
-  const auto objs = run_lines({"eval", "--bsdf", kDiffuse},
+  const auto objs = run_lines({"eval", "--bsdf", kFormatDiffuse},
                               "0\t0\t1\t0\t0.6\t0.8\n+0 -0 1e0 0.0e+0 6e-1 +8E-1\n", 2);
   ASSERT_EQ(objs.size(), 2u);
   EXPECT_EQ(objs[0], objs[1]);
 }
 
 TEST(CliFormat, EvalEmptyInputGivesEmptyOutput) {
-  const RunResult r = run_gonio({"eval", "--bsdf", kDiffuse}, "");
+  const RunResult r = run_gonio({"eval", "--bsdf", kFormatDiffuse}, "");
   EXPECT_EQ(r.status, 0) << describe(r);
   EXPECT_EQ(r.out, "") << describe(r);
   EXPECT_EQ(r.err, "") << describe(r);
 }
 
 TEST(CliFormat, EvalLastLineWithoutNewline) {
-  run_lines({"eval", "--bsdf", kDiffuse}, "0 0 1 0 0.6 0.8\n0 0 1 0 0.6 0.8", 2);
+  run_lines({"eval", "--bsdf", kFormatDiffuse}, "0 0 1 0 0.6 0.8\n0 0 1 0 0.6 0.8", 2);
 }
 
 TEST(CliFormat, EvalBsdfFromFile) {
-  TempFile f(kDiffuse, "gonio_cli_bsdf");
+  TempFile f(kFormatDiffuse, "gonio_cli_bsdf");
   const auto a = run_lines({"eval", "--bsdf", "@" + f.path()}, "0 0 1 0 0.6 0.8\n", 1);
-  const auto b = run_lines({"eval", "--bsdf", kDiffuse}, "0 0 1 0 0.6 0.8\n", 1);
+  const auto b = run_lines({"eval", "--bsdf", kFormatDiffuse}, "0 0 1 0 0.6 0.8\n", 1);
   ASSERT_EQ(a.size(), 1u);
   ASSERT_EQ(b.size(), 1u);
   EXPECT_EQ(a[0], b[0]);
@@ -62,7 +62,7 @@ TEST(CliFormat, BsdfFileMayHoldWhitespaceAndNewlines) {
 }
 
 TEST(CliFormat, SampleNonDeltaFields) {
-  const auto objs = run_lines({"sample", "--bsdf", kDiffuse}, "0 0 1 0.5 0.3 0.7\n", 1);
+  const auto objs = run_lines({"sample", "--bsdf", kFormatDiffuse}, "0 0 1 0.5 0.3 0.7\n", 1);
   ASSERT_EQ(objs.size(), 1u);
   const json& j = objs[0];
   expect_keys(j, {"wi", "weight", "pdf", "delta", "lobe"});
@@ -74,7 +74,7 @@ TEST(CliFormat, SampleNonDeltaFields) {
 }
 
 TEST(CliFormat, SampleDeltaFields) {
-  const auto objs = run_lines({"sample", "--bsdf", kDielectric},
+  const auto objs = run_lines({"sample", "--bsdf", kFormatDielectric},
                               "0.6 0 0.8 0.01 0.3 0.7\n0.6 0 0.8 0.99 0.3 0.7\n", 2);
   ASSERT_EQ(objs.size(), 2u);
   for (const auto& j : objs) {
@@ -105,7 +105,7 @@ TEST(CliFormat, AlbedoFields) {
   for (const auto& extra : std::initializer_list<std::vector<std::string>>
        {std::vector<std::string>{"--theta", "30"}, std::vector<std::string>{"--hemispherical"},
         std::vector<std::string>{"--theta", "30", "--phi", "45", "--inside"}}) {
-    std::vector<std::string> args = {"albedo", "--bsdf", kDielectric, "--samples", "20000"};
+    std::vector<std::string> args = {"albedo", "--bsdf", kFormatDielectric, "--samples", "20000"};
     args.insert(args.end(), extra.begin(), extra.end());
     const json j = run_one(args);
     expect_keys(j, {"theta", "reflectance", "transmittance", "albedo", "stderr",
@@ -116,7 +116,7 @@ TEST(CliFormat, AlbedoFields) {
       color3(j[k]);
     }
   }
-  const json j = run_one({"albedo", "--bsdf", kDiffuse, "--theta", "37.5", "--samples", "20000"});
+  const json j = run_one({"albedo", "--bsdf", kFormatDiffuse, "--theta", "37.5", "--samples", "20000"});
   EXPECT_DOUBLE_EQ(num(j, "theta"), 37.5);
 }
 
@@ -150,7 +150,7 @@ TEST(CliFormat, FresnelPrintsDoublesWithFullPrecision) {
 
 // Float results carry %.9g: diffuse f = rho/pi agrees with float arithmetic to ~1 ulp.
 TEST(CliFormat, EvalPrintsFloatsWithFullPrecision) {
-  const auto objs = run_lines({"eval", "--bsdf", kDiffuse}, "0 0 1 0 0.6 0.8\n", 1);
+  const auto objs = run_lines({"eval", "--bsdf", kFormatDiffuse}, "0 0 1 0 0.6 0.8\n", 1);
   ASSERT_EQ(objs.size(), 1u);
   const auto f = color3(objs[0]["f"]);
   const double rho[3] = {0.2, 0.4, 0.6};

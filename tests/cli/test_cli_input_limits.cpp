@@ -12,8 +12,8 @@
 namespace gonio_cli_test {
 namespace {
 
-const std::string kGoodEvalLine = "0 0 1 0 0.6 0.8\n";
-const std::string kDiffuse = R"({"type":"diffuse","reflectance":0.5})";
+const std::string kLimitsGoodEvalLine = "0 0 1 0 0.6 0.8\n";
+const std::string kLimitsDiffuse = R"({"type":"diffuse","reflectance":0.5})";
 
 // n arrays nested inside one another: "[[[...]]]" (JSON depth n).
 std::string nested_arrays(size_t n) { return std::string(n, '[') + std::string(n, ']'); }
@@ -45,7 +45,7 @@ TEST(CliInputLimits, DeeplyNestedJsonIsRejectedQuickly) {
   // 100,000 deep (a 200 KB file) crashed the error formatting with a stack overflow (exit 139).
   const TempFile deep(nested_arrays(100000));
   const auto t0 = std::chrono::steady_clock::now();
-  const RunResult r = run_gonio({"eval", "--bsdf", "@" + deep.path()}, kGoodEvalLine);
+  const RunResult r = run_gonio({"eval", "--bsdf", "@" + deep.path()}, kLimitsGoodEvalLine);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   expect_bad_input(r, {deep.path(), "nested", "64"});
   EXPECT_LT(seconds, 2.0);
@@ -55,23 +55,23 @@ TEST(CliInputLimits, NestingLimitIsExactly64) {
   // Depth 64 (an object holding 63 arrays) reaches the material parser, which names the
   // unknown field; depth 65 is refused as too deep, at the line and column of the 65th bracket.
   const std::string ok = R"({"type":"diffuse","x":)" + nested_arrays(63) + "}";
-  expect_bad_input(run_gonio({"eval", "--bsdf", ok}, kGoodEvalLine), {"unknown parameter 'x'"});
+  expect_bad_input(run_gonio({"eval", "--bsdf", ok}, kLimitsGoodEvalLine), {"unknown parameter 'x'"});
   const std::string deep = R"({"type":"diffuse","x":)" + nested_arrays(64) + "}";
-  const RunResult r = run_gonio({"eval", "--bsdf", deep}, kGoodEvalLine);
+  const RunResult r = run_gonio({"eval", "--bsdf", deep}, kLimitsGoodEvalLine);
   expect_bad_input(r, {"--bsdf", "nested deeper than 64", "column 86"});
 }
 
 TEST(CliInputLimits, DuplicateKeysAreRefused) {
   // nlohmann keeps the last of two equal keys: {"eta": "x", "eta": 1.5} was accepted,
   // the first value unseen (found by fuzz_material). Keys compare decoded.
-  expect_bad_input(run_gonio({"eval", "--bsdf", R"({"type":"plastic","eta":"x","eta":1.5})"}, kGoodEvalLine),
+  expect_bad_input(run_gonio({"eval", "--bsdf", R"({"type":"plastic","eta":"x","eta":1.5})"}, kLimitsGoodEvalLine),
                    {"--bsdf", "duplicate key \"eta\"", "line 1, column 29"});
-  expect_bad_input(run_gonio({"eval", "--bsdf", R"({"type":"diffuse","\u0074ype":"mirror"})"}, kGoodEvalLine),
+  expect_bad_input(run_gonio({"eval", "--bsdf", R"({"type":"diffuse","\u0074ype":"mirror"})"}, kLimitsGoodEvalLine),
                    {"duplicate key \"type\"", "column 19"});
   // The same key in two different objects, and a key's text inside a string value, are fine.
   const auto objs = run_lines(
       {"eval", "--bsdf", R"({"type":"blend","weight":0.5,"bsdfs":[{"type":"diffuse","reflectance":1},{"type":"diffuse","reflectance":0}]})"},
-      kGoodEvalLine, 1);
+      kLimitsGoodEvalLine, 1);
   ASSERT_EQ(objs.size(), 1u);
   EXPECT_NEAR(color3(objs[0]["f"])[0], 0.5 / kPi, 1e-6);
 }
@@ -79,7 +79,7 @@ TEST(CliInputLimits, DuplicateKeysAreRefused) {
 TEST(CliInputLimits, TenThousandNestedBlendsFailFast) {
   const TempFile blends(nested_blends(10000));
   const auto t0 = std::chrono::steady_clock::now();
-  const RunResult r = run_gonio({"eval", "--bsdf", "@" + blends.path()}, kGoodEvalLine, 20);
+  const RunResult r = run_gonio({"eval", "--bsdf", "@" + blends.path()}, kLimitsGoodEvalLine, 20);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   expect_bad_input(r, {"nested"});
   EXPECT_LT(seconds, 2.0);
@@ -87,12 +87,12 @@ TEST(CliInputLimits, TenThousandNestedBlendsFailFast) {
 
 TEST(CliInputLimits, BlendNestingIsBounded) {
   // 8 levels (256 leaves at most) evaluate; 9 are refused, naming the blend limit.
-  const auto objs = run_lines({"eval", "--bsdf", nested_blends(8)}, kGoodEvalLine, 1);
+  const auto objs = run_lines({"eval", "--bsdf", nested_blends(8)}, kLimitsGoodEvalLine, 1);
   ASSERT_EQ(objs.size(), 1u);
   // Every level halves the diffuse leaf's share: (0.5 (0.5 (... 1/π))) plus the other
   // parts, all diffuse with reflectance 0.5 by default: f = 0.5/π throughout.
   EXPECT_NEAR(color3(objs[0]["f"])[0], 0.5 / kPi, 1e-6);
-  expect_bad_input(run_gonio({"eval", "--bsdf", nested_blends(9)}, kGoodEvalLine), {"blend", "nested", "8"});
+  expect_bad_input(run_gonio({"eval", "--bsdf", nested_blends(9)}, kLimitsGoodEvalLine), {"blend", "nested", "8"});
 }
 
 // ---------------------------------------------------------------------------------------
@@ -100,29 +100,29 @@ TEST(CliInputLimits, BlendNestingIsBounded) {
 
 TEST(CliInputLimits, MaterialFileLargerThanTheLimitIsRejected) {
   // A valid material padded with spaces to 16 MiB + 1 byte.
-  std::string text = kDiffuse;
+  std::string text = kLimitsDiffuse;
   text.resize((size_t(16) << 20) + 1, ' ');
   const TempFile big(text);
-  expect_bad_input(run_gonio({"eval", "--bsdf", "@" + big.path()}, kGoodEvalLine),
+  expect_bad_input(run_gonio({"eval", "--bsdf", "@" + big.path()}, kLimitsGoodEvalLine),
                    {big.path(), "too large", "16 MiB"});
   // Exactly at the limit it is read and parsed.
   text.resize(size_t(16) << 20);
   const TempFile at_limit(text);
-  run_lines({"eval", "--bsdf", "@" + at_limit.path()}, kGoodEvalLine, 1);
+  run_lines({"eval", "--bsdf", "@" + at_limit.path()}, kLimitsGoodEvalLine, 1);
 }
 
 TEST(CliInputLimits, EndlessDeviceIsReadOnlyUpToTheLimit) {
   // /dev/zero never ends; reading it whole hung gonio until memory ran out.
-  const RunResult r = run_gonio({"eval", "--bsdf", "@/dev/zero"}, kGoodEvalLine, 10);
+  const RunResult r = run_gonio({"eval", "--bsdf", "@/dev/zero"}, kLimitsGoodEvalLine, 10);
   expect_bad_input(r, {"/dev/zero", "too large"});
 }
 
 TEST(CliInputLimits, MaterialFromStdinDevice) {
   // /dev/stdin is one more file: read through the same bounded reader.
-  const RunResult r = run_gonio({"albedo", "--bsdf", "@/dev/stdin", "--theta", "0"}, kDiffuse);
+  const RunResult r = run_gonio({"albedo", "--bsdf", "@/dev/stdin", "--theta", "0"}, kLimitsDiffuse);
   EXPECT_EQ(r.status, 0) << describe(r);
   EXPECT_NE(r.out.find("\"albedo\":[0.5,0.5,0.5]"), std::string::npos) << describe(r);
-  expect_bad_input(run_gonio({"eval", "--bsdf", "@/tmp"}, kGoodEvalLine), {"/tmp", "directory"});
+  expect_bad_input(run_gonio({"eval", "--bsdf", "@/tmp"}, kLimitsGoodEvalLine), {"/tmp", "directory"});
 }
 
 // ---------------------------------------------------------------------------------------
@@ -135,14 +135,14 @@ TEST(CliInputLimits, ControlCharactersInEchoedTextAreEscaped) {
     std::string shown;  // how the control character must appear
   };
   const std::vector<Case> cases = {
-      {{"eval", "--bsdf", R"({"type":"velvet\nrug"})"}, kGoodEvalLine, "velvet\\nrug"},
-      {{"eval", "--bsdf", R"({"type":"diffuse","a\tb":1})"}, kGoodEvalLine, "a\\tb"},
-      {{"eval", "--bsdf", R"({"type":"diffuse","a\u0001b":1})"}, kGoodEvalLine, "a\\x01b"},
-      {{"eval", "--bsdf", "@/nonexistent\nfile"}, kGoodEvalLine, "/nonexistent\\nfile"},
-      {{"eval", "--bsdf", kDiffuse}, "0 0 1 0 0.6 0.8\x01\n", "0.8\\x01"},
-      {{"albedo", "--bsdf", kDiffuse, "--theta", "1\n2"}, "", "1\\n2"},
+      {{"eval", "--bsdf", R"({"type":"velvet\nrug"})"}, kLimitsGoodEvalLine, "velvet\\nrug"},
+      {{"eval", "--bsdf", R"({"type":"diffuse","a\tb":1})"}, kLimitsGoodEvalLine, "a\\tb"},
+      {{"eval", "--bsdf", R"({"type":"diffuse","a\u0001b":1})"}, kLimitsGoodEvalLine, "a\\x01b"},
+      {{"eval", "--bsdf", "@/nonexistent\nfile"}, kLimitsGoodEvalLine, "/nonexistent\\nfile"},
+      {{"eval", "--bsdf", kLimitsDiffuse}, "0 0 1 0 0.6 0.8\x01\n", "0.8\\x01"},
+      {{"albedo", "--bsdf", kLimitsDiffuse, "--theta", "1\n2"}, "", "1\\n2"},
       {{"nosuch\ncommand"}, "", "nosuch\\ncommand"},
-      {{"eval", "--bsdf", kDiffuse, "--mode", "radiance\r"}, kGoodEvalLine, "radiance\\r"},
+      {{"eval", "--bsdf", kLimitsDiffuse, "--mode", "radiance\r"}, kLimitsGoodEvalLine, "radiance\\r"},
   };
   for (const auto& c : cases) {
     SCOPED_TRACE(c.shown);
@@ -197,10 +197,10 @@ TEST(CliInputLimits, MaterialNumbersThatUnderflowAFloatAreRejected) {
   };
   for (const auto& [bsdf, field] : cases) {
     SCOPED_TRACE(bsdf);
-    expect_bad_input(run_gonio({"eval", "--bsdf", bsdf}, kGoodEvalLine), {field, "float"});
+    expect_bad_input(run_gonio({"eval", "--bsdf", bsdf}, kLimitsGoodEvalLine), {field, "float"});
   }
   // The smallest normal float (1.18e-38) is still a (smooth) roughness.
-  run_lines({"eval", "--bsdf", R"({"type":"roughconductor","material":"Au","alpha":1.2e-38})"}, kGoodEvalLine, 1);
+  run_lines({"eval", "--bsdf", R"({"type":"roughconductor","material":"Au","alpha":1.2e-38})"}, kLimitsGoodEvalLine, 1);
 }
 
 // ---------------------------------------------------------------------------------------
@@ -208,9 +208,9 @@ TEST(CliInputLimits, MaterialNumbersThatUnderflowAFloatAreRejected) {
 
 TEST(CliInputLimits, FullStdoutIsReported) {
   const std::vector<std::pair<std::vector<std::string>, std::string>> runs = {
-      {{"eval", "--bsdf", kDiffuse}, kGoodEvalLine},
-      {{"sample", "--bsdf", kDiffuse}, "0 0 1 0.5 0.5 0.5\n"},
-      {{"albedo", "--bsdf", kDiffuse, "--theta", "30"}, ""},
+      {{"eval", "--bsdf", kLimitsDiffuse}, kLimitsGoodEvalLine},
+      {{"sample", "--bsdf", kLimitsDiffuse}, "0 0 1 0.5 0.5 0.5\n"},
+      {{"albedo", "--bsdf", kLimitsDiffuse, "--theta", "30"}, ""},
       {{"fresnel", "--eta", "1.5", "--theta", "30"}, ""},
       {{"table"}, ""},
       {{"check", "--bsdf", R"({"type":"mirror"})"}, ""},  // printf, not std::cout; the quickest check

@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -30,11 +31,24 @@ const PropertyResult& find(const ValidationReport& r, const std::string& name) {
   throw std::runtime_error("no property " + name);
 }
 
+// The sweep of the built-in models below runs at half the validator's sample counts (or
+// at GONIO_TEST_SCALE when lower: the sanitizer pass's 0.1): its 61 full validations were
+// most of the Release suite's time, and half the samples cut them by 43%. What halving
+// costs, measured by distorting GGX visible-normal sampling (u2 -> u2^(1+e)): chi2 caught
+// e = 0.02 at full counts on roughconductor (alpha 0.2, Cu) and roughdielectric (alpha 0.2,
+// eta 1.33); at half it catches e = 0.03 and 0.02 respectively. The models broken on
+// purpose further down keep the full counts.
+ValidationOptions sweep_options() {
+  ValidationOptions o = options();
+  o.scale = std::min(o.scale, 0.5);
+  return o;
+}
+
 class ValidateBuiltIn : public ::testing::TestWithParam<const char*> {};
 
 TEST_P(ValidateBuiltIn, EveryPropertyHolds) {
   const char* m = GetParam();
-  const ValidationReport r = validate(parse_material(m), options());
+  const ValidationReport r = validate(parse_material(m), sweep_options());
   ASSERT_EQ(r.properties.size(), 9u);
   for (const auto& p : r.properties) EXPECT_TRUE(p.pass) << m << ": " << p.name << ": " << p.detail;
 }
