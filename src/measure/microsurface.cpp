@@ -35,7 +35,7 @@ struct Microsurface::Impl {
   }
 };
 
-Microsurface::Microsurface(const HeightField& field, const BxDF& material, std::uint32_t max_bounces)
+Microsurface::Microsurface(const HeightField& field, const BxDF& material, std::uint32_t max_bounces, Mesh mesh)
     : impl_(std::make_unique<Impl>()),
       material_(material),
       max_bounces_(max_bounces),
@@ -64,7 +64,10 @@ Microsurface::Microsurface(const HeightField& field, const BxDF& material, std::
   rtcSetDeviceErrorFunction(im.device, embree_error, &im.error);
   im.scene = rtcNewScene(im.device);
   rtcSetSceneBuildQuality(im.scene, RTC_BUILD_QUALITY_HIGH);
-  RTCGeometry g = rtcNewGeometry(im.device, RTC_GEOMETRY_TYPE_GRID);
+  // Quads are faster, a grid smaller (the header); beyond kMaxQuadResolution the grid keeps
+  // the memory bounded.
+  const bool quad = mesh == Mesh::Quads || (mesh == Mesh::Auto && n <= kMaxQuadResolution);
+  RTCGeometry g = rtcNewGeometry(im.device, quad ? RTC_GEOMETRY_TYPE_QUAD : RTC_GEOMETRY_TYPE_GRID);
   const int m = n + 1;  // vertices per side: the last repeats the first (periodic closure)
   auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
                                                         3 * sizeof(float), std::size_t(m) * std::size_t(m)));
@@ -77,12 +80,24 @@ Microsurface::Microsurface(const HeightField& field, const BxDF& material, std::
       p[1] = j == n ? float(size_) : float(j * h);
       p[2] = field.at(i, j);
     }
-  auto* grid = static_cast<RTCGrid*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_GRID, 0, RTC_FORMAT_GRID,
+  if (quad) {
+    // Quad (v0, v1, v2, v3) is split by Embree into (v0, v1, v3) and (v2, v3, v1), as the grid.
+    auto* idx = static_cast<unsigned*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT4,
+                                                               4 * sizeof(unsigned), std::size_t(n) * std::size_t(n)));
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) {
+        unsigned* q4 = idx + 4 * (std::size_t(i) + std::size_t(n) * std::size_t(j));
+        const unsigned v0 = unsigned(i + m * j);
+        q4[0] = v0, q4[1] = v0 + 1, q4[2] = v0 + 1 + unsigned(m), q4[3] = v0 + unsigned(m);
+      }
+  } else {
+    auto* grid = static_cast<RTCGrid*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_GRID, 0, RTC_FORMAT_GRID,
                                                              sizeof(RTCGrid), 1));
-  grid->startVertexID = 0;
-  grid->stride = static_cast<unsigned>(m);
-  grid->width = static_cast<unsigned short>(m);
-  grid->height = static_cast<unsigned short>(m);
+    grid->startVertexID = 0;
+    grid->stride = static_cast<unsigned>(m);
+    grid->width = static_cast<unsigned short>(m);
+    grid->height = static_cast<unsigned short>(m);
+  }
   rtcCommitGeometry(g);
   rtcAttachGeometry(im.scene, g);
   rtcReleaseGeometry(g);

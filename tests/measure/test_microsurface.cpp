@@ -13,16 +13,18 @@
 namespace gonio::measure {
 namespace {
 
-// Embree's grid must split each cell along the (i+1, j)–(i, j+1) diagonal (heightfield.h):
-// the normal under every point is the forward-difference normal of its triangle,
-// computed here from the heights alone.
-TEST(Microsurface, FacetNormalsAreTheForwardDifferencesOfTheField) {
+// Embree's quads and grid must both split each cell along the (i+1, j)–(i, j+1) diagonal
+// (heightfield.h): the normal under every point is the forward-difference normal of its
+// triangle, computed here from the heights alone.
+class MicrosurfaceMesh : public ::testing::TestWithParam<Microsurface::Mesh> {};
+
+TEST_P(MicrosurfaceMesh, FacetNormalsAreTheForwardDifferencesOfTheField) {
   HeightField f;
   f.n = 8;
   f.size = 4;  // spacing 0.5
   Pcg32 rng(7);
   for (int k = 0; k < 64; ++k) f.z.push_back(float(rng.next_double() - 0.5));
-  const Microsurface s(f, parse_material(R"({"type":"diffuse"})"));
+  const Microsurface s(f, parse_material(R"({"type":"diffuse"})"), Microsurface::kDefaultMaxBounces, GetParam());
   const double h = f.spacing();
   for (int k = 0; k < 400; ++k) {
     const double x = rng.next_double() * f.size, y = rng.next_double() * f.size;
@@ -44,6 +46,8 @@ TEST(Microsurface, FacetNormalsAreTheForwardDifferencesOfTheField) {
     EXPECT_NEAR(got.z, expect.z, 1e-4) << x << " " << y;
   }
 }
+INSTANTIATE_TEST_SUITE_P(Microsurface, MicrosurfaceMesh,
+                         ::testing::Values(Microsurface::Mesh::Quads, Microsurface::Mesh::Grid));
 
 // A white conductor (F = 1) absorbs nothing: every ray leaves upwards with its whole
 // power, after however many bounces and wraps (a ray that slipped through the tile's

@@ -3,12 +3,14 @@
 // surface, rays scattered by the facets' material until they leave above the highest
 // point (reflected) or below the lowest (transmitted).
 //
-// Geometry: the field's n × n samples become one Embree grid of (n+1) × (n+1) vertices
-// (the last row and column repeat the first, so the tile closes periodically). Embree
-// splits each grid quad (v0 = (i, j), v1 = (i+1, j), v2 = (i+1, j+1), v3 = (i, j+1)) into
-// the triangles (v0, v1, v3) and (v2, v3, v1): exactly heightfield.h's triangulation,
-// so every facet normal is the forward-difference slope of the field. A grid costs
-// 12 bytes per vertex plus a compact BVH (a 2048² field stays far under 1 GB).
+// Geometry: the field's n × n samples become (n+1) × (n+1) vertices (the last row and
+// column repeat the first, so the tile closes periodically) and one Embree quad per cell,
+// or for fields above kMaxQuadResolution one Embree grid. Embree splits each quad
+// (v0 = (i, j), v1 = (i+1, j), v2 = (i+1, j+1), v3 = (i, j+1)), in both forms, into the
+// triangles (v0, v1, v3) and (v2, v3, v1): exactly heightfield.h's triangulation, so
+// every facet normal is the forward-difference slope of the field. Quads trace faster
+// (their BVH leaves hold vertex copies; 15-25% at 2048², docs/benchmarks.md) but a 2048²
+// field takes about 0.6 GB as quads against 0.16 GB as a grid.
 //
 // Periodic wrapping: a ray is traced only across the tile [0, size)²; when it leaves the
 // tile's square without a hit it re-enters at the opposite side with the same height and
@@ -60,9 +62,14 @@ class Microsurface {
   static constexpr std::uint32_t kDefaultMaxBounces = 1000;
   // Wraps allowed to one ray (every wrap is one segment).
   static constexpr std::uint32_t kMaxWraps = 100000;
+  // The largest field traced as quads by default (memory: see above).
+  static constexpr int kMaxQuadResolution = 2048;
+  // How the facets are handed to Embree; both give the same facets.
+  enum class Mesh : std::uint8_t { Auto, Quads, Grid };
 
   // Throws InputError for an empty or non-finite field.
-  Microsurface(const HeightField& field, const BxDF& material, std::uint32_t max_bounces = kDefaultMaxBounces);
+  Microsurface(const HeightField& field, const BxDF& material, std::uint32_t max_bounces = kDefaultMaxBounces,
+               Mesh mesh = Mesh::Auto);
   ~Microsurface();
   Microsurface(const Microsurface&) = delete;
   Microsurface& operator=(const Microsurface&) = delete;
