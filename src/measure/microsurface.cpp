@@ -143,6 +143,26 @@ double wrap(double x, double size) {
   return x >= size || x < 0 ? 0 : x;
 }
 
+// Where the segment from p along d ends: at the tile's border (texit) or at the slab
+// [z_min, z_max] (tz); tend = min of both, +inf for a direction that is not one.
+struct SegmentEnd {
+  double tx, ty, tz, texit, tend;
+};
+SegmentEnd segment_end(const double p[3], const Vec3& d, double size, double z_min, double z_max) {
+  SegmentEnd e;
+  e.tx = d.x > 0 ? (size - p[0]) / d.x : d.x < 0 ? -p[0] / d.x : kInf;
+  e.ty = d.y > 0 ? (size - p[1]) / d.y : d.y < 0 ? -p[1] / d.y : kInf;
+  e.tz = d.z > 0 ? (z_max - p[2]) / d.z : d.z < 0 ? (z_min - p[2]) / d.z : kInf;
+  e.texit = std::max(0.0, std::min(e.tx, e.ty));
+  e.tend = std::min(e.texit, e.tz);
+  return e;
+}
+
+// The far end handed to Embree: a little past the segment's end, because the lowest and
+// highest facets lie on the slab's faces, where a float hit distance may come out a hair
+// beyond tz.
+float query_tfar(double tend, double eps) { return float(tend * (1 + 1e-6) + eps); }
+
 }  // namespace
 
 Vec3 Microsurface::normal_below(double x, double y) const {
@@ -154,10 +174,57 @@ Vec3 Microsurface::normal_below(double x, double y) const {
 }
 
 TraceResult Microsurface::trace(double u, double v, const Vec3& direction, Pcg32& rng) const {
-  TraceResult r;
-  Vec3 d = direction;
   // Position in double: the wraps and the offsets are exact to far below a float ulp.
   double p[3] = {wrap(u * size_, size_), wrap(v * size_, size_), z_max_ + eps_};
+  return walk(p, direction, rng, nullptr);
+}
+
+void Microsurface::trace_packet(const double* u, const double* v, int count, const Vec3& direction, Pcg32& rng,
+                                TraceResult* out) const {
+  if (count < 1) return;
+  if (count > kPacketSize) throw std::invalid_argument("Microsurface::trace_packet: more than 16 rays");
+  double p[kPacketSize][3];
+  alignas(64) int valid[kPacketSize] = {};
+  alignas(64) RTCRayHit16 rh;
+  for (int k = 0; k < kPacketSize; ++k) {
+    rh.ray.tnear[k] = 0, rh.ray.tfar[k] = 0, rh.ray.time[k] = 0;
+    rh.ray.mask[k] = 0xFFFFFFFFu, rh.ray.id[k] = unsigned(k), rh.ray.flags[k] = 0;
+    rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
+    rh.ray.org_x[k] = rh.ray.org_y[k] = rh.ray.org_z[k] = 0;
+    rh.ray.dir_x[k] = direction.x, rh.ray.dir_y[k] = direction.y, rh.ray.dir_z[k] = direction.z;
+  }
+  // The rays whose first step walk() would take with a query go into the packet, with
+  // the very query walk() would make (same origin, direction and far end).
+  const bool queries = direction.z < 0;
+  for (int k = 0; k < count; ++k) {
+    p[k][0] = wrap(u[k] * size_, size_), p[k][1] = wrap(v[k] * size_, size_), p[k][2] = z_max_ + eps_;
+    const SegmentEnd e = segment_end(p[k], direction, size_, z_min_, z_max_);
+    if (!queries || !(p[k][2] > z_min_) || !std::isfinite(e.tend)) continue;
+    valid[k] = -1;
+    rh.ray.org_x[k] = float(p[k][0]), rh.ray.org_y[k] = float(p[k][1]), rh.ray.org_z[k] = float(p[k][2]);
+    rh.ray.tfar[k] = query_tfar(e.tend, eps_);
+  }
+  RTCIntersectContext ctx;
+  rtcInitIntersectContext(&ctx);
+  ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+  rtcIntersect16(valid, impl_->scene, &ctx, &rh);
+  // Then each ray in turn, in order, so that each draws from rng as trace() would.
+  for (int k = 0; k < count; ++k) {
+    if (!valid[k]) {
+      out[k] = walk(p[k], direction, rng, nullptr);
+      continue;
+    }
+    FirstQuery q;
+    q.t = rh.hit.geomID[k] == RTC_INVALID_GEOMETRY_ID ? kInf : double(rh.ray.tfar[k]);
+    q.ng = Vec3{rh.hit.Ng_x[k], rh.hit.Ng_y[k], rh.hit.Ng_z[k]};
+    out[k] = walk(p[k], direction, rng, &q);
+  }
+}
+
+TraceResult Microsurface::walk(double p[3], const Vec3& direction, Pcg32& rng, const FirstQuery* first) const {
+  TraceResult r;
+  Vec3 d = direction;
   Color w(1);
   std::uint32_t wraps = 0;
   for (;;) {
@@ -171,20 +238,20 @@ TraceResult Microsurface::trace(double u, double v, const Vec3& direction, Pcg32
       break;
     }
     // The segment ends at the tile's border or at the slab [z_min, z_max].
-    const double tx = d.x > 0 ? (size_ - p[0]) / d.x : d.x < 0 ? -p[0] / d.x : kInf;
-    const double ty = d.y > 0 ? (size_ - p[1]) / d.y : d.y < 0 ? -p[1] / d.y : kInf;
-    const double tz = d.z > 0 ? (z_max_ - p[2]) / d.z : d.z < 0 ? (z_min_ - p[2]) / d.z : kInf;
-    const double texit = std::max(0.0, std::min(tx, ty));
-    const double tend = std::min(texit, tz);
+    const auto [tx, ty, tz, texit, tend] = segment_end(p, d, size_, z_min_, z_max_);
     if (!std::isfinite(tend)) {  // horizontal and vertical at once: not a direction
       r.fate = Fate::Lost;
       break;
     }
     Vec3 ng;
     ++r.segments;
-    // A little past the segment's end: the lowest and highest facets lie on the slab's
-    // faces, where a float hit distance may come out a hair beyond tz.
-    const double t = intersect(impl_->scene, p, d, tend * (1 + 1e-6) + eps_, ng);
+    double t;
+    if (first) {  // this query was made in trace_packet's packet
+      t = first->t, ng = first->ng;
+      first = nullptr;
+    } else {
+      t = intersect(impl_->scene, p, d, query_tfar(tend, eps_), ng);
+    }
     if (std::isfinite(t)) {
       for (int k = 0; k < 3; ++k) p[k] += double(d[k]) * t;
       Vec3 n = normalize(ng);

@@ -49,6 +49,32 @@ TEST_P(MicrosurfaceMesh, FacetNormalsAreTheForwardDifferencesOfTheField) {
 INSTANTIATE_TEST_SUITE_P(Microsurface, MicrosurfaceMesh,
                          ::testing::Values(Microsurface::Mesh::Quads, Microsurface::Mesh::Grid));
 
+// trace_packet makes the same first queries as trace() (in one Embree packet) and then
+// draws from the rng in the same order: the rays must end alike, ray for ray.
+TEST(Microsurface, PacketTracesAsSingleRays) {
+  const Microsurface s(testsurf::eggcrate_field(32, 4), parse_material(R"({"type":"diffuse"})"));
+  for (const double theta : {0.0, 40.0, 75.0, 100.0}) {  // 100°: moving up, no query
+    const Vec3 d = -spherical_direction(theta * kPiD / 180, 0.7);
+    for (const int count : {1, 7, 16}) {
+      double u[16], v[16];
+      Pcg32 pick(3, std::uint64_t(count));
+      for (int k = 0; k < count; ++k) u[k] = pick.next_double(), v[k] = pick.next_double();
+      Pcg32 rng_single(5, std::uint64_t(theta)), rng_packet(5, std::uint64_t(theta));
+      TraceResult packet[16];
+      s.trace_packet(u, v, count, d, rng_packet, packet);
+      for (int k = 0; k < count; ++k) {
+        const TraceResult one = s.trace(u[k], v[k], d, rng_single);
+        EXPECT_EQ(int(packet[k].fate), int(one.fate)) << theta << " " << count << " " << k;
+        EXPECT_EQ(packet[k].bounces, one.bounces) << theta << " " << count << " " << k;
+        EXPECT_EQ(packet[k].segments, one.segments) << theta << " " << count << " " << k;
+        EXPECT_NEAR(packet[k].direction.x, one.direction.x, 1e-4);
+        EXPECT_NEAR(packet[k].direction.y, one.direction.y, 1e-4);
+        EXPECT_NEAR(packet[k].direction.z, one.direction.z, 1e-4);
+      }
+    }
+  }
+}
+
 // A white conductor (F = 1) absorbs nothing: every ray leaves upwards with its whole
 // power, after however many bounces and wraps (a ray that slipped through the tile's
 // border or a facet would leave downwards or be lost).

@@ -79,6 +79,14 @@ class Microsurface {
   // facets' lobe and direction samples.
   TraceResult trace(double u, double v, const Vec3& direction, Pcg32& rng) const;
 
+  // trace() for up to kPacketSize rays of one direction entering at (u[k], v[k]): their
+  // first segments go to Embree as one packet (faster when the entry points are close
+  // together, as in a stratum of a block), the rest of each ray as in trace(), ray after
+  // ray, drawing from rng as count calls of trace() would. Results in out[0, count).
+  static constexpr int kPacketSize = 16;
+  void trace_packet(const double* u, const double* v, int count, const Vec3& direction, Pcg32& rng,
+                    TraceResult* out) const;
+
   // The facet normal (z > 0) of the first facet a vertical ray at (x, y) hits, for tests
   // of the triangulation; (0, 0, 0) if it hits nothing.
   Vec3 normal_below(double x, double y) const;
@@ -89,6 +97,12 @@ class Microsurface {
   const BxDF& material() const { return material_; }
 
  private:
+  struct FirstQuery {  // the first query's answer, when it was made in a packet
+    double t;
+    Vec3 ng;
+  };
+  TraceResult walk(double p[3], const Vec3& direction, Pcg32& rng, const FirstQuery* first) const;
+
   struct Impl;
   std::unique_ptr<Impl> impl_;
   BxDF material_;
