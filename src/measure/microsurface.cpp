@@ -53,6 +53,20 @@ Microsurface::Microsurface(const HeightField& field, const BxDF& material, std::
     z_max_ = std::max(z_max_, double(z));
   }
   size_ = field.size;
+  // The steepest facet's slope |∇z| (the forward differences of heightfield.h's two
+  // triangles per cell), with a margin for the float vertices.
+  {
+    const double h = field.spacing();
+    double g2 = 0;
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) {
+        const double z00 = field.at(i, j), z10 = field.at(i + 1, j), z01 = field.at(i, j + 1),
+                     z11 = field.at(i + 1, j + 1);
+        g2 = std::max(g2, ((z10 - z00) * (z10 - z00) + (z01 - z00) * (z01 - z00)) / (h * h));
+        g2 = std::max(g2, ((z11 - z01) * (z11 - z01) + (z11 - z10) * (z11 - z10)) / (h * h));
+      }
+    max_slope_ = std::sqrt(g2) * (1 + 1e-3) + 1e-6;
+  }
   // The offset that lifts a scattered ray off its facet: a few float ulps of the largest
   // coordinate (Embree works in float), and never below a millionth of a cell.
   const double extent = std::max({size_, std::abs(z_min_), std::abs(z_max_)});
@@ -227,6 +241,7 @@ TraceResult Microsurface::walk(double p[3], const Vec3& direction, Pcg32& rng, c
   Vec3 d = direction;
   Color w(1);
   std::uint32_t wraps = 0;
+  bool above = true;  // on the upper side of the surface (it enters from above)
   for (;;) {
     // Done: above every facet going up, or below every facet going down.
     if (d.z > 0 && p[2] >= z_max_) {
@@ -235,6 +250,14 @@ TraceResult Microsurface::walk(double p[3], const Vec3& direction, Pcg32& rng, c
     }
     if (d.z < 0 && p[2] <= z_min_) {
       r.fate = Fate::Down;
+      break;
+    }
+    // Also done, without a query: a ray above the surface climbing more steeply than any
+    // facet (the piecewise-linear field is Lipschitz with constant max_slope_, so along the
+    // ray's horizontal path the surface rises more slowly than the ray and never reaches
+    // it), or one below it falling more steeply.
+    if ((above ? d.z : -d.z) > 0 && (above ? d.z : -d.z) > max_slope_ * std::hypot(double(d.x), double(d.y))) {
+      r.fate = above ? Fate::Up : Fate::Down;
       break;
     }
     // The segment ends at the tile's border or at the slab [z_min, z_max].
@@ -276,7 +299,8 @@ TraceResult Microsurface::walk(double p[3], const Vec3& direction, Pcg32& rng, c
       w *= s->weight;
       d = normalize(frame.to_world(s->wi));
       // Lift the origin off the facet's plane, on the side the new direction leaves to.
-      const double side = dot(d, n) > 0 ? eps_ : -eps_;
+      above = dot(d, n) > 0;
+      const double side = above ? eps_ : -eps_;
       p[0] = wrap(p[0] + n.x * side, size_);
       p[1] = wrap(p[1] + n.y * side, size_);
       p[2] += n.z * side;

@@ -75,6 +75,29 @@ TEST(Microsurface, PacketTracesAsSingleRays) {
   }
 }
 
+// A vertical ray into a mirror V-groove of facet slope s = tan θf leaves the first facet
+// at elevation e above the horizon, tan e = t = cot 2θf = (1 − s²) / 2s; it meets the
+// opposite facet iff it passes below the ridge, which happens for the entry points
+// nearer the groove's bottom: a fraction (s − t) / (s + t) of them (for a uniformly
+// drawn entry, from the two lines' heights). With s = 0.65 the rays climb at t = 0.444,
+// below the facets' slope but above half of it: a tracer that stopped rays climbing
+// more steeply than a too small slope bound would let them all escape after one bounce.
+TEST(Microsurface, VGrooveSecondBounceFraction) {
+  const double s = 0.65, t = (1 - s * s) / (2 * s);
+  const Microsurface surf(testsurf::vgroove_field(16, s), parse_material(R"({"type":"mirror","reflectance":1})"));
+  const std::uint64_t n = gonio::test::scaled(4000, 1000);
+  Pcg32 rng(17);
+  std::uint64_t twice = 0;
+  for (std::uint64_t k = 0; k < n; ++k) {
+    const double u = rng.next_double(), v = rng.next_double();
+    const TraceResult r = surf.trace(u, v, Vec3{0, 0, -1}, rng);
+    ASSERT_EQ(int(r.fate), int(Fate::Up));
+    if (r.bounces >= 2) ++twice;
+  }
+  const double expect = (s - t) / (s + t), se = std::sqrt(expect * (1 - expect) / double(n));
+  EXPECT_NEAR(double(twice) / double(n), expect, 5 * se);
+}
+
 // A white conductor (F = 1) absorbs nothing: every ray leaves upwards with its whole
 // power, after however many bounces and wraps (a ray that slipped through the tile's
 // border or a facet would leave downwards or be lost).

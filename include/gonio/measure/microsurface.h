@@ -16,6 +16,9 @@
 // tile's square without a hit it re-enters at the opposite side with the same height and
 // direction. It is done when it is above the highest point going up, or below the lowest
 // going down; a nearly horizontal ray that wraps endlessly is stopped and counted lost.
+// A ray above the surface that climbs more steeply than the steepest facet is done at
+// once (no facet can reach it: the field is Lipschitz), and so is one below it falling
+// more steeply; that saves the exit query of most rays leaving near the normal.
 //
 // Transport: rays come from the light and carry power, so each facet's BSDF is sampled
 // in TransportMode::Importance (SPEC §1; Veach 1997 §5.2): a smooth glass facet then
@@ -109,6 +112,7 @@ class Microsurface {
   std::uint32_t max_bounces_;
   bool transmissive_;
   double size_ = 1, z_min_ = 0, z_max_ = 0, eps_ = 0;
+  double max_slope_ = 0;  // the steepest facet's |∇z|, a little enlarged
 };
 
 }  // namespace gonio::measure
