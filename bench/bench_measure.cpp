@@ -94,6 +94,32 @@ void BM_TraceLoop(benchmark::State& state) {
 BENCHMARK(BM_TraceLoop)->Args({512, 0})->Args({512, 1})->Args({2048, 0})->Args({2048, 1})
     ->Unit(benchmark::kMillisecond)->Iterations(1);
 
+// trace() alone at one incidence (100,000 rays in the blocks' strata, one thread): where
+// the time per ray goes. Args: resolution, θi in degrees.
+void BM_TraceIncidence(benchmark::State& state) {
+  const Microsurface& s = surface(int(state.range(0)));
+  const Vec3 dir = -spherical_direction(double(state.range(1)) * kPiD / 180, 0);
+  constexpr std::uint64_t kRays = 100000;
+  double segments = 0, rays = 0;
+  for (auto _ : state) {
+    for (std::uint64_t first = 0; first < kRays; first += kBlockRays) {
+      const std::uint64_t last = std::min(kRays, first + kBlockRays);
+      Pcg32 rng(2, first);
+      for (std::uint64_t k = first; k < last; ++k) {
+        double u, v;
+        entry_point(k - first, last - first == kBlockRays, rng, u, v);
+        const TraceResult t = s.trace(u, v, dir, rng);
+        segments += t.segments;
+        benchmark::DoNotOptimize(t);
+      }
+      rays += double(last - first);
+    }
+  }
+  state.counters["rays/s"] = benchmark::Counter(rays, benchmark::Counter::kIsRate);
+  state.counters["segments/ray"] = segments / rays;
+}
+BENCHMARK(BM_TraceIncidence)->ArgsProduct({{512, 2048}, {0, 30, 60, 80}})->Unit(benchmark::kMillisecond)->Iterations(1);
+
 // The MERL table mode (uniform incidences, every exit binned), 2 M rays; args: threads.
 void BM_TableRays(benchmark::State& state) {
   const Microsurface& s = surface(512);
