@@ -9,8 +9,8 @@
 // (v0 = (i, j), v1 = (i+1, j), v2 = (i+1, j+1), v3 = (i, j+1)), in both forms, into the
 // triangles (v0, v1, v3) and (v2, v3, v1): exactly heightfield.h's triangulation, so
 // every facet normal is the forward-difference slope of the field. Quads trace faster
-// (their BVH leaves hold vertex copies; 15-25% at 2048², docs/benchmarks.md) but a 2048²
-// field takes about 0.6 GB as quads against 0.16 GB as a grid.
+// (their BVH leaves hold vertex copies; a quarter less time at 2048², docs/benchmarks.md)
+// but a 2048² field takes about 0.6 GB as quads against 0.16 GB as a grid.
 //
 // Periodic wrapping: a ray is traced only across the tile [0, size)²; when it leaves the
 // tile's square without a hit it re-enters at the opposite side with the same height and
