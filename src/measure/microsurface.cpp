@@ -35,7 +35,7 @@ struct Microsurface::Impl {
   }
 };
 
-Microsurface::Microsurface(const HeightField& field, const BxDF& material, std::uint32_t max_bounces)
+Microsurface::Microsurface(const HeightField& field, const BxDF& material, std::uint32_t max_bounces, Mesh mesh)
     : impl_(std::make_unique<Impl>()),
       material_(material),
       max_bounces_(max_bounces),
@@ -53,6 +53,20 @@ Microsurface::Microsurface(const HeightField& field, const BxDF& material, std::
     z_max_ = std::max(z_max_, double(z));
   }
   size_ = field.size;
+  // The steepest facet's slope |∇z| (the forward differences of heightfield.h's two
+  // triangles per cell), with a margin for the float vertices.
+  {
+    const double h = field.spacing();
+    double g2 = 0;
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) {
+        const double z00 = field.at(i, j), z10 = field.at(i + 1, j), z01 = field.at(i, j + 1),
+                     z11 = field.at(i + 1, j + 1);
+        g2 = std::max(g2, ((z10 - z00) * (z10 - z00) + (z01 - z00) * (z01 - z00)) / (h * h));
+        g2 = std::max(g2, ((z11 - z01) * (z11 - z01) + (z11 - z10) * (z11 - z10)) / (h * h));
+      }
+    max_slope_ = std::sqrt(g2) * (1 + 1e-3) + 1e-6;
+  }
   // The offset that lifts a scattered ray off its facet: a few float ulps of the largest
   // coordinate (Embree works in float), and never below a millionth of a cell.
   const double extent = std::max({size_, std::abs(z_min_), std::abs(z_max_)});
@@ -64,7 +78,10 @@ Microsurface::Microsurface(const HeightField& field, const BxDF& material, std::
   rtcSetDeviceErrorFunction(im.device, embree_error, &im.error);
   im.scene = rtcNewScene(im.device);
   rtcSetSceneBuildQuality(im.scene, RTC_BUILD_QUALITY_HIGH);
-  RTCGeometry g = rtcNewGeometry(im.device, RTC_GEOMETRY_TYPE_GRID);
+  // Quads are faster, a grid smaller (the header); beyond kMaxQuadResolution the grid keeps
+  // the memory bounded.
+  const bool quad = mesh == Mesh::Quads || (mesh == Mesh::Auto && n <= kMaxQuadResolution);
+  RTCGeometry g = rtcNewGeometry(im.device, quad ? RTC_GEOMETRY_TYPE_QUAD : RTC_GEOMETRY_TYPE_GRID);
   const int m = n + 1;  // vertices per side: the last repeats the first (periodic closure)
   auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
                                                         3 * sizeof(float), std::size_t(m) * std::size_t(m)));
@@ -77,12 +94,24 @@ Microsurface::Microsurface(const HeightField& field, const BxDF& material, std::
       p[1] = j == n ? float(size_) : float(j * h);
       p[2] = field.at(i, j);
     }
-  auto* grid = static_cast<RTCGrid*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_GRID, 0, RTC_FORMAT_GRID,
+  if (quad) {
+    // Quad (v0, v1, v2, v3) is split by Embree into (v0, v1, v3) and (v2, v3, v1), as the grid.
+    auto* idx = static_cast<unsigned*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT4,
+                                                               4 * sizeof(unsigned), std::size_t(n) * std::size_t(n)));
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) {
+        unsigned* q4 = idx + 4 * (std::size_t(i) + std::size_t(n) * std::size_t(j));
+        const unsigned v0 = unsigned(i + m * j);
+        q4[0] = v0, q4[1] = v0 + 1, q4[2] = v0 + 1 + unsigned(m), q4[3] = v0 + unsigned(m);
+      }
+  } else {
+    auto* grid = static_cast<RTCGrid*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_GRID, 0, RTC_FORMAT_GRID,
                                                              sizeof(RTCGrid), 1));
-  grid->startVertexID = 0;
-  grid->stride = static_cast<unsigned>(m);
-  grid->width = static_cast<unsigned short>(m);
-  grid->height = static_cast<unsigned short>(m);
+    grid->startVertexID = 0;
+    grid->stride = static_cast<unsigned>(m);
+    grid->width = static_cast<unsigned short>(m);
+    grid->height = static_cast<unsigned short>(m);
+  }
   rtcCommitGeometry(g);
   rtcAttachGeometry(im.scene, g);
   rtcReleaseGeometry(g);
@@ -128,6 +157,26 @@ double wrap(double x, double size) {
   return x >= size || x < 0 ? 0 : x;
 }
 
+// Where the segment from p along d ends: at the tile's border (texit) or at the slab
+// [z_min, z_max] (tz); tend = min of both, +inf for a direction that is not one.
+struct SegmentEnd {
+  double tx, ty, tz, texit, tend;
+};
+SegmentEnd segment_end(const double p[3], const Vec3& d, double size, double z_min, double z_max) {
+  SegmentEnd e;
+  e.tx = d.x > 0 ? (size - p[0]) / d.x : d.x < 0 ? -p[0] / d.x : kInf;
+  e.ty = d.y > 0 ? (size - p[1]) / d.y : d.y < 0 ? -p[1] / d.y : kInf;
+  e.tz = d.z > 0 ? (z_max - p[2]) / d.z : d.z < 0 ? (z_min - p[2]) / d.z : kInf;
+  e.texit = std::max(0.0, std::min(e.tx, e.ty));
+  e.tend = std::min(e.texit, e.tz);
+  return e;
+}
+
+// The far end handed to Embree: a little past the segment's end, because the lowest and
+// highest facets lie on the slab's faces, where a float hit distance may come out a hair
+// beyond tz.
+float query_tfar(double tend, double eps) { return float(tend * (1 + 1e-6) + eps); }
+
 }  // namespace
 
 Vec3 Microsurface::normal_below(double x, double y) const {
@@ -139,12 +188,60 @@ Vec3 Microsurface::normal_below(double x, double y) const {
 }
 
 TraceResult Microsurface::trace(double u, double v, const Vec3& direction, Pcg32& rng) const {
-  TraceResult r;
-  Vec3 d = direction;
   // Position in double: the wraps and the offsets are exact to far below a float ulp.
   double p[3] = {wrap(u * size_, size_), wrap(v * size_, size_), z_max_ + eps_};
+  return walk(p, direction, rng, nullptr);
+}
+
+void Microsurface::trace_packet(const double* u, const double* v, int count, const Vec3& direction, Pcg32& rng,
+                                TraceResult* out) const {
+  if (count < 1) return;
+  if (count > kPacketSize) throw std::invalid_argument("Microsurface::trace_packet: more than 16 rays");
+  double p[kPacketSize][3];
+  alignas(64) int valid[kPacketSize] = {};
+  alignas(64) RTCRayHit16 rh;
+  for (int k = 0; k < kPacketSize; ++k) {
+    rh.ray.tnear[k] = 0, rh.ray.tfar[k] = 0, rh.ray.time[k] = 0;
+    rh.ray.mask[k] = 0xFFFFFFFFu, rh.ray.id[k] = unsigned(k), rh.ray.flags[k] = 0;
+    rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
+    rh.ray.org_x[k] = rh.ray.org_y[k] = rh.ray.org_z[k] = 0;
+    rh.ray.dir_x[k] = direction.x, rh.ray.dir_y[k] = direction.y, rh.ray.dir_z[k] = direction.z;
+  }
+  // The rays whose first step walk() would take with a query go into the packet, with
+  // the very query walk() would make (same origin, direction and far end).
+  const bool queries = direction.z < 0;
+  for (int k = 0; k < count; ++k) {
+    p[k][0] = wrap(u[k] * size_, size_), p[k][1] = wrap(v[k] * size_, size_), p[k][2] = z_max_ + eps_;
+    const SegmentEnd e = segment_end(p[k], direction, size_, z_min_, z_max_);
+    if (!queries || !(p[k][2] > z_min_) || !std::isfinite(e.tend)) continue;
+    valid[k] = -1;
+    rh.ray.org_x[k] = float(p[k][0]), rh.ray.org_y[k] = float(p[k][1]), rh.ray.org_z[k] = float(p[k][2]);
+    rh.ray.tfar[k] = query_tfar(e.tend, eps_);
+  }
+  RTCIntersectContext ctx;
+  rtcInitIntersectContext(&ctx);
+  ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+  rtcIntersect16(valid, impl_->scene, &ctx, &rh);
+  // Then each ray in turn, in order, so that each draws from rng as trace() would.
+  for (int k = 0; k < count; ++k) {
+    if (!valid[k]) {
+      out[k] = walk(p[k], direction, rng, nullptr);
+      continue;
+    }
+    FirstQuery q;
+    q.t = rh.hit.geomID[k] == RTC_INVALID_GEOMETRY_ID ? kInf : double(rh.ray.tfar[k]);
+    q.ng = Vec3{rh.hit.Ng_x[k], rh.hit.Ng_y[k], rh.hit.Ng_z[k]};
+    out[k] = walk(p[k], direction, rng, &q);
+  }
+}
+
+TraceResult Microsurface::walk(double p[3], const Vec3& direction, Pcg32& rng, const FirstQuery* first) const {
+  TraceResult r;
+  Vec3 d = direction;
   Color w(1);
   std::uint32_t wraps = 0;
+  bool above = true;  // on the upper side of the surface (it enters from above)
   for (;;) {
     // Done: above every facet going up, or below every facet going down.
     if (d.z > 0 && p[2] >= z_max_) {
@@ -155,21 +252,29 @@ TraceResult Microsurface::trace(double u, double v, const Vec3& direction, Pcg32
       r.fate = Fate::Down;
       break;
     }
+    // Also done, without a query: a ray above the surface climbing more steeply than any
+    // facet (the piecewise-linear field is Lipschitz with constant max_slope_, so along the
+    // ray's horizontal path the surface rises more slowly than the ray and never reaches
+    // it), or one below it falling more steeply.
+    if ((above ? d.z : -d.z) > 0 && (above ? d.z : -d.z) > max_slope_ * std::hypot(double(d.x), double(d.y))) {
+      r.fate = above ? Fate::Up : Fate::Down;
+      break;
+    }
     // The segment ends at the tile's border or at the slab [z_min, z_max].
-    const double tx = d.x > 0 ? (size_ - p[0]) / d.x : d.x < 0 ? -p[0] / d.x : kInf;
-    const double ty = d.y > 0 ? (size_ - p[1]) / d.y : d.y < 0 ? -p[1] / d.y : kInf;
-    const double tz = d.z > 0 ? (z_max_ - p[2]) / d.z : d.z < 0 ? (z_min_ - p[2]) / d.z : kInf;
-    const double texit = std::max(0.0, std::min(tx, ty));
-    const double tend = std::min(texit, tz);
+    const auto [tx, ty, tz, texit, tend] = segment_end(p, d, size_, z_min_, z_max_);
     if (!std::isfinite(tend)) {  // horizontal and vertical at once: not a direction
       r.fate = Fate::Lost;
       break;
     }
     Vec3 ng;
     ++r.segments;
-    // A little past the segment's end: the lowest and highest facets lie on the slab's
-    // faces, where a float hit distance may come out a hair beyond tz.
-    const double t = intersect(impl_->scene, p, d, tend * (1 + 1e-6) + eps_, ng);
+    double t;
+    if (first) {  // this query was made in trace_packet's packet
+      t = first->t, ng = first->ng;
+      first = nullptr;
+    } else {
+      t = intersect(impl_->scene, p, d, query_tfar(tend, eps_), ng);
+    }
     if (std::isfinite(t)) {
       for (int k = 0; k < 3; ++k) p[k] += double(d[k]) * t;
       Vec3 n = normalize(ng);
@@ -194,7 +299,8 @@ TraceResult Microsurface::trace(double u, double v, const Vec3& direction, Pcg32
       w *= s->weight;
       d = normalize(frame.to_world(s->wi));
       // Lift the origin off the facet's plane, on the side the new direction leaves to.
-      const double side = dot(d, n) > 0 ? eps_ : -eps_;
+      above = dot(d, n) > 0;
+      const double side = above ? eps_ : -eps_;
       p[0] = wrap(p[0] + n.x * side, size_);
       p[1] = wrap(p[1] + n.y * side, size_);
       p[2] += n.z * side;

@@ -13,16 +13,18 @@
 namespace gonio::measure {
 namespace {
 
-// Embree's grid must split each cell along the (i+1, j)–(i, j+1) diagonal (heightfield.h):
-// the normal under every point is the forward-difference normal of its triangle,
-// computed here from the heights alone.
-TEST(Microsurface, FacetNormalsAreTheForwardDifferencesOfTheField) {
+// Embree's quads and grid must both split each cell along the (i+1, j)–(i, j+1) diagonal
+// (heightfield.h): the normal under every point is the forward-difference normal of its
+// triangle, computed here from the heights alone.
+class MicrosurfaceMesh : public ::testing::TestWithParam<Microsurface::Mesh> {};
+
+TEST_P(MicrosurfaceMesh, FacetNormalsAreTheForwardDifferencesOfTheField) {
   HeightField f;
   f.n = 8;
   f.size = 4;  // spacing 0.5
   Pcg32 rng(7);
   for (int k = 0; k < 64; ++k) f.z.push_back(float(rng.next_double() - 0.5));
-  const Microsurface s(f, parse_material(R"({"type":"diffuse"})"));
+  const Microsurface s(f, parse_material(R"({"type":"diffuse"})"), Microsurface::kDefaultMaxBounces, GetParam());
   const double h = f.spacing();
   for (int k = 0; k < 400; ++k) {
     const double x = rng.next_double() * f.size, y = rng.next_double() * f.size;
@@ -43,6 +45,57 @@ TEST(Microsurface, FacetNormalsAreTheForwardDifferencesOfTheField) {
     EXPECT_NEAR(got.y, expect.y, 1e-4) << x << " " << y;
     EXPECT_NEAR(got.z, expect.z, 1e-4) << x << " " << y;
   }
+}
+INSTANTIATE_TEST_SUITE_P(Microsurface, MicrosurfaceMesh,
+                         ::testing::Values(Microsurface::Mesh::Quads, Microsurface::Mesh::Grid));
+
+// trace_packet makes the same first queries as trace() (in one Embree packet) and then
+// draws from the rng in the same order: the rays must end alike, ray for ray.
+TEST(Microsurface, PacketTracesAsSingleRays) {
+  const Microsurface s(testsurf::eggcrate_field(32, 4), parse_material(R"({"type":"diffuse"})"));
+  for (const double theta : {0.0, 40.0, 75.0, 100.0}) {  // 100°: moving up, no query
+    const Vec3 d = -spherical_direction(theta * kPiD / 180, 0.7);
+    for (const int count : {1, 7, 16}) {
+      double u[16], v[16];
+      Pcg32 pick(3, std::uint64_t(count));
+      for (int k = 0; k < count; ++k) u[k] = pick.next_double(), v[k] = pick.next_double();
+      Pcg32 rng_single(5, std::uint64_t(theta)), rng_packet(5, std::uint64_t(theta));
+      TraceResult packet[16];
+      s.trace_packet(u, v, count, d, rng_packet, packet);
+      for (int k = 0; k < count; ++k) {
+        const TraceResult one = s.trace(u[k], v[k], d, rng_single);
+        EXPECT_EQ(int(packet[k].fate), int(one.fate)) << theta << " " << count << " " << k;
+        EXPECT_EQ(packet[k].bounces, one.bounces) << theta << " " << count << " " << k;
+        EXPECT_EQ(packet[k].segments, one.segments) << theta << " " << count << " " << k;
+        EXPECT_NEAR(packet[k].direction.x, one.direction.x, 1e-4);
+        EXPECT_NEAR(packet[k].direction.y, one.direction.y, 1e-4);
+        EXPECT_NEAR(packet[k].direction.z, one.direction.z, 1e-4);
+      }
+    }
+  }
+}
+
+// A vertical ray into a mirror V-groove of facet slope s = tan θf leaves the first facet
+// at elevation e above the horizon, tan e = t = cot 2θf = (1 − s²) / 2s; it meets the
+// opposite facet iff it passes below the ridge, which happens for the entry points
+// nearer the groove's bottom: a fraction (s − t) / (s + t) of them (for a uniformly
+// drawn entry, from the two lines' heights). With s = 0.65 the rays climb at t = 0.444,
+// below the facets' slope but above half of it: a tracer that stopped rays climbing
+// more steeply than a too small slope bound would let them all escape after one bounce.
+TEST(Microsurface, VGrooveSecondBounceFraction) {
+  const double s = 0.65, t = (1 - s * s) / (2 * s);
+  const Microsurface surf(testsurf::vgroove_field(16, s), parse_material(R"({"type":"mirror","reflectance":1})"));
+  const std::uint64_t n = gonio::test::scaled(4000, 1000);
+  Pcg32 rng(17);
+  std::uint64_t twice = 0;
+  for (std::uint64_t k = 0; k < n; ++k) {
+    const double u = rng.next_double(), v = rng.next_double();
+    const TraceResult r = surf.trace(u, v, Vec3{0, 0, -1}, rng);
+    ASSERT_EQ(int(r.fate), int(Fate::Up));
+    if (r.bounces >= 2) ++twice;
+  }
+  const double expect = (s - t) / (s + t), se = std::sqrt(expect * (1 - expect) / double(n));
+  EXPECT_NEAR(double(twice) / double(n), expect, 5 * se);
 }
 
 // A white conductor (F = 1) absorbs nothing: every ray leaves upwards with its whole

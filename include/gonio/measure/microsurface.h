@@ -3,17 +3,22 @@
 // surface, rays scattered by the facets' material until they leave above the highest
 // point (reflected) or below the lowest (transmitted).
 //
-// Geometry: the field's n × n samples become one Embree grid of (n+1) × (n+1) vertices
-// (the last row and column repeat the first, so the tile closes periodically). Embree
-// splits each grid quad (v0 = (i, j), v1 = (i+1, j), v2 = (i+1, j+1), v3 = (i, j+1)) into
-// the triangles (v0, v1, v3) and (v2, v3, v1): exactly heightfield.h's triangulation,
-// so every facet normal is the forward-difference slope of the field. A grid costs
-// 12 bytes per vertex plus a compact BVH (a 2048² field stays far under 1 GB).
+// Geometry: the field's n × n samples become (n+1) × (n+1) vertices (the last row and
+// column repeat the first, so the tile closes periodically) and one Embree quad per cell,
+// or for fields above kMaxQuadResolution one Embree grid. Embree splits each quad
+// (v0 = (i, j), v1 = (i+1, j), v2 = (i+1, j+1), v3 = (i, j+1)), in both forms, into the
+// triangles (v0, v1, v3) and (v2, v3, v1): exactly heightfield.h's triangulation, so
+// every facet normal is the forward-difference slope of the field. Quads trace faster
+// (their BVH leaves hold vertex copies; a quarter less time at 2048², docs/benchmarks.md)
+// but a 2048² field takes about 0.6 GB as quads against 0.16 GB as a grid.
 //
 // Periodic wrapping: a ray is traced only across the tile [0, size)²; when it leaves the
 // tile's square without a hit it re-enters at the opposite side with the same height and
 // direction. It is done when it is above the highest point going up, or below the lowest
 // going down; a nearly horizontal ray that wraps endlessly is stopped and counted lost.
+// A ray above the surface that climbs more steeply than the steepest facet is done at
+// once (no facet can reach it: the field is Lipschitz), and so is one below it falling
+// more steeply; that saves the exit query of most rays leaving near the normal.
 //
 // Transport: rays come from the light and carry power, so each facet's BSDF is sampled
 // in TransportMode::Importance (SPEC §1; Veach 1997 §5.2): a smooth glass facet then
@@ -60,9 +65,14 @@ class Microsurface {
   static constexpr std::uint32_t kDefaultMaxBounces = 1000;
   // Wraps allowed to one ray (every wrap is one segment).
   static constexpr std::uint32_t kMaxWraps = 100000;
+  // The largest field traced as quads by default (memory: see above).
+  static constexpr int kMaxQuadResolution = 2048;
+  // How the facets are handed to Embree; both give the same facets.
+  enum class Mesh : std::uint8_t { Auto, Quads, Grid };
 
   // Throws InputError for an empty or non-finite field.
-  Microsurface(const HeightField& field, const BxDF& material, std::uint32_t max_bounces = kDefaultMaxBounces);
+  Microsurface(const HeightField& field, const BxDF& material, std::uint32_t max_bounces = kDefaultMaxBounces,
+               Mesh mesh = Mesh::Auto);
   ~Microsurface();
   Microsurface(const Microsurface&) = delete;
   Microsurface& operator=(const Microsurface&) = delete;
@@ -71,6 +81,14 @@ class Microsurface {
   // above the highest point and moves along `direction` (unit, z < 0). The rng draws the
   // facets' lobe and direction samples.
   TraceResult trace(double u, double v, const Vec3& direction, Pcg32& rng) const;
+
+  // trace() for up to kPacketSize rays of one direction entering at (u[k], v[k]): their
+  // first segments go to Embree as one packet (faster when the entry points are close
+  // together, as in a stratum of a block), the rest of each ray as in trace(), ray after
+  // ray, drawing from rng as count calls of trace() would. Results in out[0, count).
+  static constexpr int kPacketSize = 16;
+  void trace_packet(const double* u, const double* v, int count, const Vec3& direction, Pcg32& rng,
+                    TraceResult* out) const;
 
   // The facet normal (z > 0) of the first facet a vertical ray at (x, y) hits, for tests
   // of the triangulation; (0, 0, 0) if it hits nothing.
@@ -82,12 +100,19 @@ class Microsurface {
   const BxDF& material() const { return material_; }
 
  private:
+  struct FirstQuery {  // the first query's answer, when it was made in a packet
+    double t;
+    Vec3 ng;
+  };
+  TraceResult walk(double p[3], const Vec3& direction, Pcg32& rng, const FirstQuery* first) const;
+
   struct Impl;
   std::unique_ptr<Impl> impl_;
   BxDF material_;
   std::uint32_t max_bounces_;
   bool transmissive_;
   double size_ = 1, z_min_ = 0, z_max_ = 0, eps_ = 0;
+  double max_slope_ = 0;  // the steepest facet's |∇z|, a little enlarged
 };
 
 }  // namespace gonio::measure
