@@ -60,7 +60,7 @@ MeasuredData::MeasuredData(MerlTable table, std::string path) : table_(std::move
 
 namespace {
 // Where (wo, wi) falls in the table: the eight neighbouring entries (offsets into the
-// interleaved RGB data) and their trilinear weights.
+// interleaved RGB data) and the fractions between them along each axis.
 struct TableCorners {
   std::size_t offset[8];  // corner n = 4 di + 2 dj + dk
   Float ti, tj, tk;       // the fractions along θh, θd, φd
@@ -220,8 +220,8 @@ inline int find_interval(const float* cdf, int n, Float u) {
 // Found from cos θo = wo.z without an arctangent: a table over cos θo in kBinLutSize steps
 // gives the bin at each step's upper end; every bin is wider than a step (the narrowest,
 // the last, spans 0.0016 in cos θo), so at most one edge lies below and one comparison
-// settles it (the loop is only a guard). wo.z is taken as cos θo: sample and pdf agree for any wo, and for unit
-// vectors (as callers pass them) it is exact.
+// settles it (the loop is only a guard). wo.z is taken as cos θo: sample and pdf agree
+// for any wo, and for unit vectors (as callers pass them) it is exact.
 int MeasuredData::theta_o_bin(const Vec3& wo) const {
   const Float c = wo.z > 0 ? std::min(wo.z, Float(1)) : Float(0);  // NaN: 0
   const int step = std::min(int(c * Float(kBinLutSize)), kBinLutSize - 1);
