@@ -154,4 +154,10 @@ nlohmann::json parse_json_text(std::string_view text, std::string_view source) {
   }
 }
 
+std::string json_excerpt(const nlohmann::json& value) {
+  std::string s = value.dump();
+  if (s.size() > 60) s = s.substr(0, 57) + "...";
+  return s;
+}
+
 }  // namespace gonio

@@ -37,12 +37,8 @@ using nlohmann::json;
 bool positive_float(double v) { return static_cast<float>(v) >= FLT_MIN; }
 constexpr const char* kTooSmallForFloat = " (too small for a float: it would round to 0 or a denormal)";
 
-// Short rendering of a JSON value for error messages.
-std::string show(const json& v) {
-  std::string s = v.dump();
-  if (s.size() > 60) s = s.substr(0, 57) + "...";
-  return s;
-}
+// Error messages show values as json_excerpt does (json_text.h).
+std::string show(const json& v) { return json_excerpt(v); }
 
 // Reads the parameters of one material as its entry in the registry (material_types.h)
 // declares them: defaults, ranges and choices come from there, and any key the entry

@@ -35,4 +35,7 @@ std::string read_text_file(const std::string& path, std::size_t limit, std::stri
 // of the second occurrence of the key).
 nlohmann::json parse_json_text(std::string_view text, std::string_view source);
 
+// A value as error messages show it: compact JSON, cut to 60 characters.
+std::string json_excerpt(const nlohmann::json& value);
+
 }  // namespace gonio

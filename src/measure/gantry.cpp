@@ -97,8 +97,10 @@ GantrySpec parse_gantry(std::string_view json_text, std::string_view source) {
     if (t == 90) throw InputError(src + ": theta_o = 90 lies in the horizon (below 90: reflection, above: transmission)");
   if (j.contains("aperture")) {
     const auto& a = j["aperture"];
-    if (!a.is_number() || !(a.get<double>() > 0 && a.get<double>() <= 30))
-      throw InputError(src + ": aperture must be a half-angle in (0, 30] degrees, got " + a.dump());
+    // Bounded below: the reading divides by the cone's projected solid angle, π sin²β cos θc,
+    // which a vanishing β would make 0.
+    if (!a.is_number() || !(a.get<double>() >= 0.01 && a.get<double>() <= 30))
+      throw InputError(src + ": aperture must be a half-angle in [0.01, 30] degrees, got " + a.dump());
     g.aperture = a.get<double>();
   }
   if (g.theta_i.size() * g.phi_i.size() > 100000 || g.theta_o.size() * g.phi_o.size() > 100000)

@@ -19,12 +19,8 @@ namespace {
 
 using nlohmann::json;
 
-// A value as messages show it: compact JSON, cut short.
-std::string show(const json& v) {
-  std::string s = v.dump();
-  if (s.size() > 60) s = s.substr(0, 57) + "...";
-  return s;
-}
+// Error messages show values as json_excerpt does (json_text.h).
+std::string show(const json& v) { return json_excerpt(v); }
 
 // The fields of one surface type: read by name, each read marked, the rest refused.
 class Fields {

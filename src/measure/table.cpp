@@ -15,7 +15,7 @@ constexpr int kBands = 90;
 
 struct Score {
   std::uint32_t entry;
-  float value[3];
+  double value[3];  // w / (p cos θo): a float would overflow for an exit within 1e-38 of grazing
 };
 
 struct BlockResult {
@@ -69,7 +69,7 @@ TableReading measure_table(const Microsurface& surface, const RunOptions& option
           const double scale = inv_p / wo.z;
           Score s;
           s.entry = std::uint32_t(MerlTable::index(bin.i, bin.j, bin.k));
-          for (int c = 0; c < 3; ++c) s.value[c] = float(t.weight[c] * scale);
+          for (int c = 0; c < 3; ++c) s.value[c] = double(t.weight[c]) * scale;
           r.scores.push_back(s);
         }
       },
@@ -78,7 +78,7 @@ TableReading measure_table(const Microsurface& surface, const RunOptions& option
         for (const Score& s : r.scores) {
           for (int c = 0; c < 3; ++c) {
             sum[3 * std::size_t(s.entry) + c] += s.value[c];
-            sum2[3 * std::size_t(s.entry) + c] += double(s.value[c]) * s.value[c];
+            sum2[3 * std::size_t(s.entry) + c] += s.value[c] * s.value[c];
           }
           ++count[s.entry];
         }

@@ -30,11 +30,8 @@ namespace {
 
 using nlohmann::json;
 
-std::string show(const json& v) {
-  std::string s = v.dump();
-  if (s.size() > 60) s = s.substr(0, 57) + "...";
-  return s;
-}
+// Error messages show values as json_excerpt does (json_text.h).
+std::string show(const json& v) { return json_excerpt(v); }
 
 // A JSON value together with where it is, for messages.
 class Node {

@@ -187,6 +187,7 @@ TEST(Gantry, SameBitsWhateverTheThreadCount) {
 TEST(Gantry, BadSpecIsOneLineInputError) {
   for (const char* bad : {R"({"theta_i":[0]})", R"({"theta_o":90})", R"({"theta_o":[10],"theta_i":95})",
                           R"({"theta_o":{"from":0,"to":80}})", R"({"theta_o":[10],"aperture":0})",
+                          R"({"theta_o":[10],"aperture":1e-300})",  // a cone of no solid angle
                           R"({"theta_o":[10],"colour":1})", R"([1,2])", R"({"theta_o":"x"})"}) {
     try {
       parse_gantry(bad);
