@@ -18,6 +18,7 @@ void register_measure(CLI::App& app);  // with the renderer (Embree, oneTBB)
 void register_spectrum(CLI::App& app);
 void register_materials(CLI::App& app);
 void register_tabulate(CLI::App& app);
+void register_subsurface(CLI::App& app);
 void register_fit(CLI::App& app);  // when built with GONIO_BUILD_FIT
 
 // Exit status of a run that completed without an error (1 when a check failed).

@@ -43,6 +43,7 @@ int main(int argc, char** argv) {
   gonio::cli::register_spectrum(app);
   gonio::cli::register_materials(app);
   gonio::cli::register_tabulate(app);
+  gonio::cli::register_subsurface(app);
 #ifdef GONIO_HAVE_FIT
   gonio::cli::register_fit(app);
 #endif
