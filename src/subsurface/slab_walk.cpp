@@ -8,25 +8,10 @@
 #include <thread>
 #include <vector>
 
-#include "gonio/subsurface/random_walk.h"
+#include "slab_path.h"
 
 namespace gonio {
 namespace {
-
-// The plane z = 0 seen from below (z < 0): a ray crosses it only when it rises.
-struct PlaneBoundary {
-  struct Hit {
-    Float t = 0;
-    Vec3 p, d;  // the crossing and the direction of travel there
-  };
-  bool nearest(const Vec3& o, const Vec3& d, Hit& hit) const {
-    if (!(d.z > 0)) return false;
-    hit.t = std::max(Float(0), -o.z / d.z);
-    hit.p = {o.x + d.x * hit.t, o.y + d.y * hit.t, 0};
-    hit.d = d;
-    return true;
-  }
-};
 
 constexpr int kChannels = Color::size();
 
@@ -41,36 +26,6 @@ int annulus(Float r, Float log_r0, Float inv_log_q) {
   if (!(r > 0)) return -1;
   const Float k = std::floor((std::log(r) - log_r0) * inv_log_q + Float(0.5));
   return k >= 0 && k < kSlabProfilePoints ? int(k) : -1;
-}
-
-// One path: its contribution to Rd (per channel) and the radius where it left (−1: none).
-Color trace_path(const Subsurface& s, Pcg32& rng, Float& r_out, WalkStats& stats) {
-  r_out = -1;
-  // Entering: light arriving along −z, so wo = +z on the outside; particles carry power,
-  // hence importance transport (SPEC §1: transmission weighted without the η² factor).
-  const Vec3 up{0, 0, 1};
-  const Float ul = rng.next_float(), u1 = rng.next_float(), u2 = rng.next_float();
-  const auto entry = s.boundary.sample(up, ul, u1, u2, TransportMode::Importance);
-  if (!entry || entry->wi.z >= 0) return Color(0);  // the first-surface reflection is not counted
-  Color beta = entry->weight;
-  Vec3 p{0, 0, 0}, d = entry->wi;
-  const PlaneBoundary plane;
-  PlaneBoundary::Hit hit;
-  for (int bounce = 0; bounce < kMaxSlabBounces; ++bounce) {
-    if (!walk_to_boundary(s.medium, plane, p, d, beta, rng, hit, &stats)) return Color(0);
-    // At the surface from inside: wo = −d (wo.z < 0) in the frame of the outward normal.
-    const Float vl = rng.next_float(), v1 = rng.next_float(), v2 = rng.next_float();
-    const auto out = s.boundary.sample(-hit.d, vl, v1, v2, TransportMode::Importance);
-    if (!out) return Color(0);
-    beta *= out->weight;
-    if (out->wi.z > 0) {  // transmitted: leaves the slab
-      r_out = std::sqrt(hit.p.x * hit.p.x + hit.p.y * hit.p.y);
-      return beta.is_finite() ? beta : Color(0);
-    }
-    p = hit.p;
-    d = out->wi;
-  }
-  return Color(0);
 }
 
 }  // namespace
@@ -100,7 +55,7 @@ SlabResult slab_random_walk(const Subsurface& s, std::uint64_t samples, std::uin
     const std::uint64_t begin = b * kSlabBlock, end = std::min(samples, begin + kSlabBlock);
     for (std::uint64_t i = begin; i < end; ++i) {
       Float r = -1;
-      const Color c = trace_path(s, rng, r, stats);
+      const Color c = detail::trace_slab_path(s.boundary, s.medium, rng, r, stats);
       for (int k = 0; k < kChannels; ++k) {
         bs.sum[size_t(k)] += c[k];
         bs.sum2[size_t(k)] += double(c[k]) * c[k];

@@ -52,12 +52,14 @@ struct WalkStats {
 // kMaxWalkSteps, or escapes where there is no boundary. The direction of travel at the
 // crossing is the `d` of the last `nearest` call: a Boundary may record it (and the
 // point) in its Hit, or the caller passes `d_out` to receive it.
+// walk_to_boundary with its own cap on scattering events (the albedo table's walks,
+// albedo_inversion.h, stop earlier than kMaxWalkSteps).
 template <typename C, typename Boundary>
-bool walk_to_boundary(const MediumT<C>& medium, const Boundary& boundary, Vec3 p, Vec3 d, C& beta, Pcg32& rng,
-                      typename Boundary::Hit& hit, WalkStats* stats = nullptr, Vec3* d_out = nullptr) {
+bool walk_to_boundary_capped(const MediumT<C>& medium, const Boundary& boundary, Vec3 p, Vec3 d, C& beta, Pcg32& rng,
+                             typename Boundary::Hit& hit, WalkStats* stats, Vec3* d_out, std::uint32_t max_steps) {
   constexpr int N = C::size();
   const C sigma_t = medium.sigma_t();
-  for (std::uint32_t step = 0; step <= kMaxWalkSteps; ++step) {
+  for (std::uint32_t step = 0; step <= max_steps; ++step) {
     // The channel whose σt draws the distance, with probability ∝ β_c.
     Float total = 0;
     for (int c = 0; c < N; ++c) total += std::max(beta[c], Float(0));
@@ -88,7 +90,7 @@ bool walk_to_boundary(const MediumT<C>& medium, const Boundary& boundary, Vec3 p
       return beta.is_finite();
     }
     if (!std::isfinite(t)) return false;  // no boundary ahead and nothing to scatter from
-    if (step == kMaxWalkSteps) return false;
+    if (step == max_steps) return false;
 
     // A scattering event at p + t d: weight σs_c e^{−σt_c t} / Σ p_k σt_k e^{−σt_k t}.
     p = p + d * t;
@@ -117,6 +119,13 @@ bool walk_to_boundary(const MediumT<C>& medium, const Boundary& boundary, Vec3 p
     d = hg_sample(d, medium.g, u1, u2);
   }
   return false;
+}
+
+// The walk described above, ended after kMaxWalkSteps scattering events.
+template <typename C, typename Boundary>
+bool walk_to_boundary(const MediumT<C>& medium, const Boundary& boundary, Vec3 p, Vec3 d, C& beta, Pcg32& rng,
+                      typename Boundary::Hit& hit, WalkStats* stats = nullptr, Vec3* d_out = nullptr) {
+  return walk_to_boundary_capped(medium, boundary, p, d, beta, rng, hit, stats, d_out, kMaxWalkSteps);
 }
 
 }  // namespace gonio
