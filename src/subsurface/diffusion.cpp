@@ -120,7 +120,7 @@ double segment_invert(double b, double log_q, double v) {
 }
 
 constexpr double kTwoPi = 2 * kPi;
-constexpr double kLogStep = 0.06;      // ln q: table nodes per e-fold of r ≈ 17
+constexpr double kLogStep = 0.04;      // ln q: 25 table nodes per e-fold of r
 constexpr double kMaxSlopeNear0 = -1.9;  // Sp ~ r^b below r0 needs b > −2 to integrate
 constexpr double kRmaxFraction = 0.999;
 
@@ -199,7 +199,7 @@ Float RadialProfile::Sp(Float r) const {
 
 Float RadialProfile::pdf_r(Float r) const {
   if (!(norm_ > 0) || !(r <= r_max_)) return 0;
-  return static_cast<Float>(Sp(r) * norm_ / kTwoPi);
+  return static_cast<Float>(Sp(r) * norm_);
 }
 
 Float RadialProfile::sample_r(Float u) const {
