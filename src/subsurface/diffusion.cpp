@@ -11,6 +11,7 @@
 #include <limits>
 
 #include "gonio/fresnel.h"
+#include "gonio/subsurface/henyey_greenstein.h"
 #include "gonio/subsurface/subsurface.h"
 #include "gonio/subsurface/sw_bxdf.h"
 
@@ -97,9 +98,8 @@ struct PbdMedium {
       const double t = tc + tau;
       const double d2 = r * r + t * t, d = std::sqrt(d2);
       const double mu = t / d;
-      // Henyey & Greenstein 1941, eq. 3, at cos = −μo (g > 0 scatters forward, down).
-      const double hg_den = 1 + g * g + 2 * g * mu;
-      const double phase = kInv4Pi * (1 - g * g) / (hg_den * std::sqrt(hg_den));
+      // Henyey–Greenstein between the beam (down) and the way up to r: cos = −μo.
+      const double phase = hg_phase(static_cast<Float>(-mu), static_cast<Float>(g));
       const double tr = 1 - fresnel_dielectric(-mu, eta);
       sum += sigma_s * std::exp(-st * (t + d)) * phase * tr * mu / d2 * tau;  // dt = τ ds
     }
