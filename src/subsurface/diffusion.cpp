@@ -206,7 +206,8 @@ Float RadialProfile::pdf_r(Float r) const {
 
 Float RadialProfile::sample_r(Float u) const {
   if (!(norm_ > 0)) return 0;
-  const double target = std::clamp(double(u), 0.0, 1.0) * cdf_[static_cast<size_t>(n_max_)];
+  const double uu = u >= 0 ? std::min(double(u), 1.0) : 0.0;  // NaN → 0
+  const double target = uu * cdf_[static_cast<size_t>(n_max_)];
   // First node whose cumulative mass exceeds the target: the segment ends there.
   const auto begin = cdf_.begin(), end = cdf_.begin() + n_max_ + 1;
   const int j = static_cast<int>(std::upper_bound(begin, end, target) - begin);

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 #include <functional>
+#include <limits>
 #include <vector>
 
 #include "gonio/bxdf/custom.h"
@@ -241,6 +242,9 @@ TEST(SubsurfaceDiffusion, NoScatteringGivesAnEmptyProfile) {
   }
   EXPECT_TRUE(std::isfinite(p.sample_r(1, 0.0f)));
   EXPECT_TRUE(std::isfinite(p.sample_r(1, kOneMinusEpsilon)));
+  EXPECT_TRUE(std::isfinite(p.sample_r(1, std::numeric_limits<Float>::quiet_NaN())));
+  EXPECT_EQ(p.Sp(std::numeric_limits<Float>::quiet_NaN())[1], 0);
+  EXPECT_EQ(p.pdf_r(1, std::numeric_limits<Float>::quiet_NaN()), 0);
 }
 
 // Index-matched, isotropic: the exact half-space albedo 1 − H(1)√(1 − ϖ) (Chandrasekhar,
