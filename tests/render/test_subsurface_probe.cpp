@@ -25,7 +25,7 @@ constexpr double kPiT = 3.14159265358979323846;
 Medium probe_medium() {
   Medium m;
   m.sigma_s = Color(1.0f, 2.0f, 4.0f);
-  m.sigma_a = Color(0.3f, 0.1f, 0.05f);
+  m.sigma_a = Color(0.5f, 0.1f, 0.01f);  // probe spheres of quite different radii
   m.g = 0;
   return m;
 }
@@ -75,7 +75,8 @@ TEST(SubsurfaceProbe, FlatSlabExitsReproduceTheProfile) {
   Scene scene;
   scene.materials.resize(1);
   // Top face at z = 0 (the entry's surface), bottom face below it: normal chords cross both.
-  const Float depth = 0.3f * near;
+  // Deep enough that bottom points within one channel's disc radius lie beyond its sphere.
+  const Float depth = 0.6f * near;
   scene.meshes = {square(3 * reach, 0, true), square(3 * reach, -depth, false)};
   const Accel accel(scene);
   SurfaceHit entry;
@@ -87,7 +88,9 @@ TEST(SubsurfaceProbe, FlatSlabExitsReproduceTheProfile) {
   constexpr int kBins = 10;
   std::vector<double> edge(kBins + 1);
   for (int k = 0; k <= kBins; ++k) edge[static_cast<size_t>(k)] = 0.01 * near * std::pow(90.0, double(k) / kBins);
-  std::vector<std::array<Tally, 3>> tally(kBins);
+  std::vector<std::array<Tally, 3>> tally(kBins), bottom(kBins);
+  std::vector<double> bottom_edge(kBins + 1);
+  for (int k = 0; k <= kBins; ++k) bottom_edge[static_cast<size_t>(k)] = 0.01 * reach * std::pow(100.0, double(k) / kBins);
   const std::uint64_t n = test::scaled(300000, 30000);
   Pcg32 rng(11);
   std::uint64_t found = 0;
@@ -96,8 +99,13 @@ TEST(SubsurfaceProbe, FlatSlabExitsReproduceTheProfile) {
     if (!exit) continue;
     ++found;
     ASSERT_TRUE(exit->weight.is_finite());
-    if (std::abs(exit->hit.p.z) > 1e-4f * reach) continue;  // the top face only
     const double r = std::hypot(exit->hit.p.x, exit->hit.p.y);
+    if (std::abs(exit->hit.p.z) > 1e-4f * reach) {  // the bottom face
+      const int k = static_cast<int>(std::upper_bound(bottom_edge.begin(), bottom_edge.end(), r) - bottom_edge.begin()) - 1;
+      if (k >= 0 && k < kBins)
+        for (int c = 0; c < 3; ++c) bottom[static_cast<size_t>(k)][static_cast<size_t>(c)].add(exit->weight[c]);
+      continue;
+    }
     const int k = static_cast<int>(std::upper_bound(edge.begin(), edge.end(), r) - edge.begin()) - 1;
     if (k < 0 || k >= kBins) continue;
     for (int c = 0; c < 3; ++c) tally[static_cast<size_t>(k)][static_cast<size_t>(c)].add(exit->weight[c]);
@@ -113,7 +121,20 @@ TEST(SubsurfaceProbe, FlatSlabExitsReproduceTheProfile) {
       worst = std::max(worst, std::abs(z));
       EXPECT_LT(std::abs(z), 5) << "bin " << k << " channel " << c;
     }
-  std::printf("worst |z| %.2f\n", worst);
+  // The bottom face: Sp at the distance √(ρ² + depth²), where some channel's sphere reaches.
+  for (int k = 0; k < kBins; ++k)
+    for (int c = 0; c < 3; ++c) {
+      const double want = annulus_integral(
+          [&](double rho) {
+            const double dist = std::hypot(rho, double(depth));
+            return dist <= reach ? double(p.Sp(Float(dist))[c]) : 0.0;
+          },
+          bottom_edge[static_cast<size_t>(k)], bottom_edge[static_cast<size_t>(k) + 1], 20000);
+      const double z = bottom[static_cast<size_t>(k)][static_cast<size_t>(c)].z(want, n);
+      worst = std::max(worst, std::abs(z));
+      EXPECT_LT(std::abs(z), 5) << "bottom bin " << k << " channel " << c;
+    }
+  std::printf("worst |z| %.2f (r_max %g %g %g)\n", worst, p.r_max(0), p.r_max(1), p.r_max(2));
 }
 
 TEST(SubsurfaceProbe, SphereExitsIntegrateTheProfile) {
