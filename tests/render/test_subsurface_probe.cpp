@@ -139,8 +139,10 @@ TEST(SubsurfaceProbe, FlatSlabExitsReproduceTheProfile) {
 
 TEST(SubsurfaceProbe, SphereExitsIntegrateTheProfile) {
   const DiffusionProfile& p = probe_profile();
-  // The sphere lies inside every channel's probe sphere, so every point of it can be found.
-  const Float radius = 0.4f * min_rmax(p);
+  // The sphere lies inside the largest probe sphere, so every point of it can be found,
+  // but its far side lies beyond the smaller ones (their strategies cannot reach it).
+  const Float radius = 0.45f * max_rmax(p);
+  ASSERT_GT(2 * radius, min_rmax(p));
   Scene scene;
   scene.materials.resize(1);
   scene.spheres.push_back({{0, 0, -radius}, radius, 0, -1});
