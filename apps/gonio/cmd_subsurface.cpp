@@ -13,6 +13,7 @@
 #include "cli_io.h"
 #include "commands.h"
 #include "gonio/json_text.h"
+#include "gonio/subsurface/diffusion.h"
 #include "gonio/subsurface/slab_walk.h"
 #include "gonio/subsurface/subsurface.h"
 
@@ -74,9 +75,7 @@ void run_subsurface(const SubsurfaceArgs& a) {
   SlabResult r;
   std::uint64_t steps = 0;
   if (s.method == SubsurfaceMethod::Diffusion) {
-    // TODO(issue 14, ssdiffusion): r = slab_diffusion(s) from gonio/subsurface/diffusion.h
-    // once that branch is merged.
-    throw InputError("diffusion: not built yet");
+    r = slab_diffusion(s);  // the profile's closed form: stderr 0, no paths
   } else {
     SlabWalkOptions o;
     o.steps = &steps;

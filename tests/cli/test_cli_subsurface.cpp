@@ -47,6 +47,20 @@ TEST(CliSubsurface, PrintsOneLineWithRdStderrAndProfile) {
   EXPECT_EQ(again.out, r.out);
 }
 
+// "method": "diffusion" answers from the profile: the same line, a zero standard error.
+TEST(CliSubsurface, DiffusionMethodPrintsTheSameLine) {
+  const RunResult r =
+      run_gonio({"subsurface", "--bsdf", R"({"type":"subsurface","medium":"skin1","method":"diffusion"})"});
+  ASSERT_EQ(r.status, 0) << describe(r);
+  const auto lines = split_lines(r.out);
+  ASSERT_EQ(lines.size(), 1u) << r.out;
+  const json j = json::parse(lines[0]);
+  EXPECT_EQ(j.size(), 3u) << lines[0];
+  for (double x : color3(j.at("stderr"))) EXPECT_EQ(x, 0);
+  for (double x : color3(j.at("Rd"))) EXPECT_TRUE(x > 0 && x < 1) << lines[0];
+  EXPECT_EQ(j.at("profile").size(), 40u);
+}
+
 TEST(CliSubsurface, ReadsAFileAndPrintsHelp) {
   TempFile f(R"({"type":"subsurface","medium":"ketchup","scale":0.1})");
   const RunResult r = run_gonio({"subsurface", "--bsdf", "@" + f.path(), "--samples", "500"});
