@@ -17,9 +17,13 @@ constexpr int kChannels = Color::size();
 
 struct BlockSums {
   std::array<double, kChannels> sum{}, sum2{};
-  std::vector<std::array<double, kChannels>> bins;
+  std::array<std::array<double, kChannels>, kSlabProfilePoints> bins{};
   std::uint64_t steps = 0;
 };
+
+// Blocks run at once, then summed: memory stays bounded whatever --samples is (up to
+// 10¹² paths, 2.4·10⁸ blocks).
+constexpr std::uint64_t kBlocksPerWave = 256;
 
 // Index of the annulus [r_k / √q, r_k √q] holding r, or −1.
 int annulus(Float r, Float log_r0, Float inv_log_q) {
@@ -46,10 +50,8 @@ SlabResult slab_random_walk(const Subsurface& s, std::uint64_t samples, std::uin
   const Float inv_log_q = 1 / log_q;
 
   const std::uint64_t blocks = (samples + kSlabBlock - 1) / kSlabBlock;
-  std::vector<BlockSums> sums(blocks);
-  auto run_block = [&](std::uint64_t b) {
-    BlockSums& bs = sums[b];
-    bs.bins.assign(kSlabProfilePoints, {});
+  auto run_block = [&](std::uint64_t b, BlockSums& bs) {
+    bs = BlockSums{};
     Pcg32 rng(seed, b);
     WalkStats stats;
     const std::uint64_t begin = b * kSlabBlock, end = std::min(samples, begin + kSlabBlock);
@@ -68,30 +70,34 @@ SlabResult slab_random_walk(const Subsurface& s, std::uint64_t samples, std::uin
   };
 
   unsigned n_threads = options.threads > 0 ? unsigned(options.threads) : std::max(1u, std::thread::hardware_concurrency());
-  n_threads = unsigned(std::min<std::uint64_t>(n_threads, blocks));
-  if (n_threads <= 1) {
-    for (std::uint64_t b = 0; b < blocks; ++b) run_block(b);
-  } else {
-    std::vector<std::thread> pool;
-    for (unsigned t = 0; t < n_threads; ++t)
-      pool.emplace_back([&, t] {
-        for (std::uint64_t b = t; b < blocks; b += n_threads) run_block(b);
-      });
-    for (auto& th : pool) th.join();
-  }
-
+  n_threads = unsigned(std::min<std::uint64_t>(n_threads, std::min(blocks, kBlocksPerWave)));
   // Summed in block order: the same doubles whatever the thread count.
   std::array<double, kChannels> sum{}, sum2{};
-  std::vector<std::array<double, kChannels>> bins(kSlabProfilePoints);
+  std::array<std::array<double, kChannels>, kSlabProfilePoints> bins{};
   std::uint64_t steps = 0;
-  for (const auto& bs : sums) {
-    for (int k = 0; k < kChannels; ++k) {
-      sum[size_t(k)] += bs.sum[size_t(k)];
-      sum2[size_t(k)] += bs.sum2[size_t(k)];
+  std::vector<BlockSums> wave(size_t(std::min(blocks, kBlocksPerWave)));
+  for (std::uint64_t first = 0; first < blocks; first += kBlocksPerWave) {
+    const std::uint64_t count = std::min(kBlocksPerWave, blocks - first);
+    if (n_threads <= 1) {
+      for (std::uint64_t i = 0; i < count; ++i) run_block(first + i, wave[size_t(i)]);
+    } else {
+      std::vector<std::thread> pool;
+      for (unsigned t = 0; t < n_threads; ++t)
+        pool.emplace_back([&, t] {
+          for (std::uint64_t i = t; i < count; i += n_threads) run_block(first + i, wave[size_t(i)]);
+        });
+      for (auto& th : pool) th.join();
     }
-    for (int a = 0; a < kSlabProfilePoints; ++a)
-      for (int k = 0; k < kChannels; ++k) bins[size_t(a)][size_t(k)] += bs.bins[size_t(a)][size_t(k)];
-    steps += bs.steps;
+    for (std::uint64_t i = 0; i < count; ++i) {
+      const BlockSums& bs = wave[size_t(i)];
+      for (int k = 0; k < kChannels; ++k) {
+        sum[size_t(k)] += bs.sum[size_t(k)];
+        sum2[size_t(k)] += bs.sum2[size_t(k)];
+      }
+      for (int a = 0; a < kSlabProfilePoints; ++a)
+        for (int k = 0; k < kChannels; ++k) bins[size_t(a)][size_t(k)] += bs.bins[size_t(a)][size_t(k)];
+      steps += bs.steps;
+    }
   }
   if (options.steps) *options.steps = steps;
 

@@ -115,6 +115,19 @@ TEST(SubsurfaceWalk, IndexMatchedHalfSpaceMatchesHFunction) {
   }
 }
 
+// Blocks have their own streams and are summed in order: the same bits for 1 and 3
+// threads (and another seed gives another estimate).
+TEST(SubsurfaceWalk, SlabEstimateDoesNotDependOnTheThreadCount) {
+  const Subsurface s = grey_medium(0.7, 1.33, 0.3);
+  const std::uint64_t n = 3 * kSlabBlock + 17;
+  const SlabResult a = slab_random_walk(s, n, 9, 1), b = slab_random_walk(s, n, 9, 3);
+  EXPECT_EQ(a.Rd, b.Rd);
+  EXPECT_EQ(a.stderr_, b.stderr_);
+  ASSERT_EQ(a.profile.size(), b.profile.size());
+  for (size_t i = 0; i < a.profile.size(); ++i) EXPECT_EQ(a.profile[i].value, b.profile[i].value) << i;
+  EXPECT_NE(slab_random_walk(s, n, 10, 1).Rd, a.Rd);
+}
+
 // --- An analog Monte Carlo written here from the papers --------------------------------
 // Photons in double precision: exponential free flights (σt = 1), absorption with
 // probability 1 − ϖ at each collision, HG directions by rejection from the phase
