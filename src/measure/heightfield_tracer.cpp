@@ -13,10 +13,9 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-// The level a query starts at: about the horizontal reach of a ray through the slab of a
-// rough surface; it climbs from there when the ray runs above the surface and descends
-// where it comes close (docs/benchmarks.md, "gonio measure", for the choice).
-constexpr int kStartLevel = 3;
+// The highest level a query starts at (it climbs on from there when the ray runs above
+// the surface): docs/benchmarks.md, "gonio measure", for the choice.
+constexpr int kMaxStartLevel = 4;
 
 std::int64_t floor_div(std::int64_t a, std::int64_t b) {
   const std::int64_t q = a / b;
@@ -81,7 +80,8 @@ HeightFieldTracer::HeightFieldTracer(const HeightField& field) {
         q[0] = std::uint16_t(std::clamp(std::floor((mn - z_lo_) / z_step_), 0.0, 65535.0));
         q[1] = std::uint16_t(std::clamp(std::ceil((mx - z_lo_) / z_step_), 0.0, 65535.0));
       }
-    levels_.push_back(std::move(codes));
+    offsets_.push_back(codes_.size());
+    codes_.insert(codes_.end(), codes.begin(), codes.end());
     fine = std::move(coarse);
   }
 }
@@ -100,12 +100,12 @@ float HeightFieldTracer::node_max(int level, int a, int b) const {
 
 std::size_t HeightFieldTracer::memory_bytes() const {
   std::size_t b = z_.size() * sizeof(float);
-  for (const auto& l : levels_) b += l.size() * sizeof(std::uint16_t);
+  b += codes_.size() * sizeof(std::uint16_t);
   return b;
 }
 
 HeightFieldTracer::Hit HeightFieldTracer::intersect(const double o[3], const double d[3], double tmax,
-                                                    std::uint32_t max_wraps, Stats* stats) const {
+                                                    std::uint32_t max_wraps, Stats* stats, int start_level) const {
   Hit hit;
   hit.t = kInf;
   if (!(tmax >= 0)) return hit;
@@ -134,9 +134,16 @@ HeightFieldTracer::Hit HeightFieldTracer::intersect(const double o[3], const dou
   };
   // Every vertex is transformed by this one function of its grid position and height, so
   // a vertex shared by several triangles has the same coordinates in each of them.
+  // As rows of a matrix (rel[kx] − Sx rel[kz] = Σ_k Mx[k] rel[k], exactly: the other
+  // coefficients are 0 and 1), so that no component is picked by a run-time index.
+  double mx[3] = {0, 0, 0}, my[3] = {0, 0, 0}, mz[3] = {0, 0, 0};
+  mx[kx] = 1, mx[kz] = -sx_shear;
+  my[ky] = 1, my[kz] = -sy_shear;
+  mz[kz] = sz_shear;
   auto vertex = [&](std::int64_t gx, std::int64_t gy, float z) {
-    const double rel[3] = {double(gx) - org[0], double(gy) - org[1], double(z) - org[2]};
-    return V2{rel[kx] - sx_shear * rel[kz], rel[ky] - sy_shear * rel[kz], sz_shear * rel[kz]};
+    const double rx = double(gx) - org[0], ry = double(gy) - org[1], rz = double(z) - org[2];
+    return V2{mx[0] * rx + mx[1] * ry + mx[2] * rz, my[0] * rx + my[1] * ry + my[2] * rz,
+              mz[0] * rx + mz[1] * ry + mz[2] * rz};
   };
   // The 2-D edge function of the directed edge P → Q (twice the signed area of the ray's
   // point with P and Q): each edge is evaluated in one fixed direction only.
@@ -163,9 +170,8 @@ HeightFieldTracer::Hit HeightFieldTracer::intersect(const double o[3], const dou
   std::uint32_t wraps = 0;
   // The triangles of the cell at grid position (gx, gy) (unwrapped; its heights are read
   // modulo n): on a hit, fills `hit` and returns true.
-  auto test_cell = [&](std::int64_t gx, std::int64_t gy) {
+  auto test_cell = [&](std::int64_t gx, std::int64_t gy, int i, int j) {  // (i, j): (gx, gy) mod n
     if (stats) ++stats->cells;
-    const int i = int(((gx % n) + n) % n), j = int(((gy % n) + n) % n);
     const int i1 = i + 1 == n_ ? 0 : i + 1, j1 = j + 1 == n_ ? 0 : j + 1;
     const float za = height(i, j), zb = height(i1, j), zc = height(i, j1), zd = height(i1, j1);
     const V2 A = vertex(gx, gy, za), B = vertex(gx + 1, gy, zb), C = vertex(gx, gy + 1, zc),
@@ -187,7 +193,14 @@ HeightFieldTracer::Hit HeightFieldTracer::intersect(const double o[3], const dou
     return true;
   };
 
-  int level = std::min(top, kStartLevel);
+  // The starting level: given, or from the ray's horizontal reach up to tmax in cells
+  // (a node about a quarter of it: a ray that crosses the slab steeply needs only the
+  // cells it starts over, a grazing one skips the space above the surface in large steps).
+  if (start_level < 0) {
+    const double reach = std::min(tmax, 1e12) * std::sqrt(dir[0] * dir[0] + dir[1] * dir[1]);
+    start_level = reach < 4 ? 0 : int(std::log2(1 + reach / 4));
+  }
+  int level = std::min({top, start_level, kMaxStartLevel});
   double t = 0;
   for (;;) {
     const std::int64_t s = std::int64_t(1) << level;
@@ -216,7 +229,7 @@ HeightFieldTracer::Hit HeightFieldTracer::intersect(const double o[3], const dou
       const int i1 = i + 1 == n_ ? 0 : i + 1, j1 = j + 1 == n_ ? 0 : j + 1;
       const float c0 = height(i, j), c1 = height(i1, j), c2 = height(i, j1), c3 = height(i1, j1);
       if (ray_hi >= double(std::min(std::min(c0, c1), std::min(c2, c3))) &&
-          ray_lo <= double(std::max(std::max(c0, c1), std::max(c2, c3))) && test_cell(ix, iy))
+          ray_lo <= double(std::max(std::max(c0, c1), std::max(c2, c3))) && test_cell(ix, iy, i, j))
         return hit;
     }
     if (!(std::min(tx, ty) < tmax)) {  // no border before tmax: the ray ends in this node
@@ -230,7 +243,12 @@ HeightFieldTracer::Hit HeightFieldTracer::intersect(const double o[3], const dou
     if (step_x && step_y && std::abs(tx - ty) <= 1e-9 * std::max(tx, ty)) {
       const std::int64_t cx = step_x > 0 ? x0 + s : x0 - 1, cy = step_y > 0 ? y0 + s : y0 - 1;  // beyond
       const std::int64_t lx = step_x > 0 ? x0 + s - 1 : x0, ly = step_y > 0 ? y0 + s - 1 : y0;  // this node's corner cell
-      if (test_cell(cx, ly) || test_cell(lx, cy)) return hit;
+      auto wrapped = [&](std::int64_t g, std::int64_t base) {
+        const std::int64_t l = g - base;
+        return int(l < 0 ? l + n : l >= n ? l - n : l);
+      };
+      if (test_cell(cx, ly, wrapped(cx, bx), wrapped(ly, by)) || test_cell(lx, cy, wrapped(lx, bx), wrapped(cy, by)))
+        return hit;
     }
     // Step into the next node: across the border the ray meets first (both at a corner);
     // the other index stays inside this node's range, where the ray still is.

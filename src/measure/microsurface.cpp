@@ -253,7 +253,8 @@ void Microsurface::trace_packet(const double* u, const double* v, int count, con
 }
 
 Microsurface::Step Microsurface::advance(double p[3], const Vec3& d, Vec3& ng, std::uint32_t& wraps,
-                                         std::uint32_t& segments, const FirstQuery*& first, double* distance) const {
+                                         std::uint32_t& segments, const FirstQuery*& first, double* distance,
+                                         bool from_facet) const {
   const double tz = d.z > 0 ? (z_max_ - p[2]) / d.z : d.z < 0 ? (z_min_ - p[2]) / d.z : kInf;
   if (hf_) {
     // One query across as many tiles as the ray crosses, up to a little past the slab's
@@ -261,7 +262,8 @@ Microsurface::Step Microsurface::advance(double p[3], const Vec3& d, Vec3& ng, s
     ++segments;
     const double o[3] = {p[0], p[1], p[2]}, dir[3] = {d.x, d.y, d.z};
     const double tfar = tz * (1 + 1e-6) + eps_;
-    const HeightFieldTracer::Hit hit = hf_->intersect(o, dir, tfar, kMaxWraps - std::min(wraps, kMaxWraps));
+    const HeightFieldTracer::Hit hit =
+        hf_->intersect(o, dir, tfar, kMaxWraps - std::min(wraps, kMaxWraps), nullptr, from_facet ? 0 : -1);
     wraps += hit.wraps;
     segments += hit.wraps;
     if (hit.overflow || !(std::isfinite(hit.t) || std::isfinite(tz))) return Step::Lost;
@@ -318,7 +320,7 @@ Microsurface::Probe Microsurface::probe(const double p[3], const Vec3& d) const 
   double q[3] = {p[0], p[1], p[2]};
   const FirstQuery* none = nullptr;
   std::uint32_t segments = 0;
-  const Step s = advance(q, d, r.ng, r.wraps, segments, none, &r.distance);
+  const Step s = advance(q, d, r.ng, r.wraps, segments, none, &r.distance, false);
   r.facet = s == Step::Facet;
   r.lost = s == Step::Lost;
   if (r.facet) q[0] = wrap(q[0], size_), q[1] = wrap(q[1], size_);
@@ -351,7 +353,7 @@ TraceResult Microsurface::walk(double p[3], const Vec3& direction, Pcg32& rng, c
       break;
     }
     Vec3 ng;
-    const Step step = advance(p, d, ng, wraps, r.segments, first, nullptr);
+    const Step step = advance(p, d, ng, wraps, r.segments, first, nullptr, r.bounces > 0);
     if (step == Step::Lost) {
       r.fate = Fate::Lost;
       break;

@@ -57,12 +57,14 @@ class HeightFieldTracer {
 
   // The first facet along o + t d, 0 ≤ t ≤ tmax (world coordinates: o anywhere in the
   // plane, d need not be unit; t is in units of |d|). Stops early with overflow = true once
-  // the ray has crossed more than max_wraps tile borders.
+  // the ray has crossed more than max_wraps tile borders. start_level: the mipmap level the
+  // walk starts at (0 for a ray leaving a facet, whose next facet is usually near); < 0
+  // chooses one from the ray's horizontal reach. It changes the work, not the answer.
   Hit intersect(const double o[3], const double d[3], double tmax, std::uint32_t max_wraps,
-                Stats* stats = nullptr) const;
+                Stats* stats = nullptr, int start_level = -1) const;
 
   int n() const { return n_; }
-  int levels() const { return int(levels_.size()) + 1; }
+  int levels() const { return int(offsets_.size()) + 1; }
   // Level L's node (a, b) (a, b in [0, n >> L)): its [min, max] height (level 0: the cells).
   float node_min(int level, int a, int b) const;
   float node_max(int level, int a, int b) const;
@@ -76,18 +78,19 @@ class HeightFieldTracer {
   // levels' bounds are 16-bit codes, rounded outwards (min down, max up) on a grid of
   // (z_hi − z_lo) / 65535, also in 4 × 4 blocks: 4 bytes per node.
   static std::size_t blocked(std::size_t a, std::size_t b, std::size_t side) {
-    if (side % 4 != 0) return a + side * b;
+    if ((side & 3) != 0) return a + side * b;
     return ((b >> 2) * (side >> 2) + (a >> 2)) * 16 + (b & 3) * 4 + (a & 3);
   }
   float height(int i, int j) const { return z_[blocked(std::size_t(i), std::size_t(j), std::size_t(n_))]; }
   const std::uint16_t* node(int level, int a, int b) const {  // level ≥ 1
     const std::size_t m = std::size_t(n_ >> level);
-    return &levels_[std::size_t(level - 1)][2 * blocked(std::size_t(a), std::size_t(b), m)];
+    return &codes_[offsets_[std::size_t(level - 1)] + 2 * blocked(std::size_t(a), std::size_t(b), m)];
   }
   int n_ = 0;
   double h_ = 1;                                    // cell side
   std::vector<float> z_;                            // the heights, blocked
-  std::vector<std::vector<std::uint16_t>> levels_;  // levels 1, 2, ...: (min, max) codes per node
+  std::vector<std::uint16_t> codes_;                // levels 1, 2, ...: (min, max) codes per node
+  std::vector<std::size_t> offsets_;                // where level L ≥ 1 starts in codes_
   double z_lo_ = 0, z_step_ = 1;                    // a code q stands for z_lo_ + q · z_step_
   double margin_ = 0;                       // slack of the interval test (float heights)
 };

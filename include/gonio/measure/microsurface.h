@@ -132,7 +132,7 @@ class Microsurface {
   // ahead (Step::Slab), with either tracer; wraps and segments are counted on.
   enum class Step : std::uint8_t { Facet, Slab, Lost };
   Step advance(double p[3], const Vec3& d, Vec3& ng, std::uint32_t& wraps, std::uint32_t& segments,
-               const FirstQuery*& first, double* distance) const;
+               const FirstQuery*& first, double* distance, bool from_facet) const;
 
   struct Impl;
   std::unique_ptr<Impl> impl_;                   // Embree (Tracer::Embree)
