@@ -126,7 +126,8 @@ void BM_TraceIncidence(benchmark::State& state) {
   state.counters["rays/s"] = benchmark::Counter(rays, benchmark::Counter::kIsRate);
   state.counters["segments/ray"] = segments / rays;
 }
-BENCHMARK(BM_TraceIncidence)->ArgsProduct({{512, 2048}, {0, 30, 60, 80}, {0, 1}})->Unit(benchmark::kMillisecond)->Iterations(1);
+BENCHMARK(BM_TraceIncidence)->ArgsProduct({{512, 2048}, {0, 30, 60, 80}, {0, 1}})
+    ->Unit(benchmark::kMillisecond)->Iterations(1);
 
 // The height-field tracer's work per query (HeightFieldTracer::Stats): 100,000 rays at one
 // incidence entering at uniform points from just above the highest point, and for each
@@ -157,7 +158,8 @@ void BM_HeightFieldWork(benchmark::State& state) {
       const double dm = d[0] * m.x + d[1] * m.y + d[2] * m.z;
       const double r[3] = {d[0] - 2 * dm * m.x, d[1] - 2 * dm * m.y, d[2] - 2 * dm * m.z};
       if (!(r[2] > 0)) continue;
-      const double o2[3] = {o[0] + d[0] * h.t + 1e-7 * m.x, o[1] + d[1] * h.t + 1e-7 * m.y, o[2] + d[2] * h.t + 1e-7 * m.z};
+      const double o2[3] = {o[0] + d[0] * h.t + 1e-7 * m.x, o[1] + d[1] * h.t + 1e-7 * m.y,
+                            o[2] + d[2] * h.t + 1e-7 * m.z};
       benchmark::DoNotOptimize(tr->intersect(o2, r, (hi - o2[2]) / r[2], 100000, &exit, 0));
       ++q_exit;
     }
@@ -167,7 +169,8 @@ void BM_HeightFieldWork(benchmark::State& state) {
   state.counters["exit nodes/q"] = double(exit.nodes) / q_exit;
   state.counters["exit cells/q"] = double(exit.cells) / q_exit;
 }
-BENCHMARK(BM_HeightFieldWork)->ArgsProduct({{512, 2048}, {0, 30, 60, 80}})->Unit(benchmark::kMillisecond)->Iterations(1);
+BENCHMARK(BM_HeightFieldWork)->ArgsProduct({{512, 2048}, {0, 30, 60, 80}})
+    ->Unit(benchmark::kMillisecond)->Iterations(1);
 
 // The MERL table mode (uniform incidences, every exit binned), 2 M rays; args: threads, tracer.
 void BM_TableRays(benchmark::State& state) {

@@ -164,7 +164,8 @@ HeightFieldTracer::Hit HeightFieldTracer::intersect(const double o[3], const dou
   std::int64_t ix = std::int64_t(std::floor(org[0])), iy = std::int64_t(std::floor(org[1]));
   if (dir[0] < 0 && double(ix) == org[0]) --ix;
   if (dir[1] < 0 && double(iy) == org[1]) --iy;
-  std::int64_t bx = floor_div(ix, n) * n, by = floor_div(iy, n) * n;  // the current tile's corner
+  // The current tile's corner (a query from trace() starts in the tile [0, n]²).
+  std::int64_t bx = ix >= 0 && ix < n ? 0 : floor_div(ix, n) * n, by = iy >= 0 && iy < n ? 0 : floor_div(iy, n) * n;
   const int step_x = dir[0] > 0 ? 1 : dir[0] < 0 ? -1 : 0, step_y = dir[1] > 0 ? 1 : dir[1] < 0 ? -1 : 0;
   const double inv_dx = step_x ? 1 / dir[0] : 0, inv_dy = step_y ? 1 / dir[1] : 0;
   std::uint32_t wraps = 0;
@@ -198,10 +199,14 @@ HeightFieldTracer::Hit HeightFieldTracer::intersect(const double o[3], const dou
   // cells it starts over, a grazing one skips the space above the surface in large steps).
   if (start_level < 0) {
     const double reach = std::min(tmax, 1e12) * std::sqrt(dir[0] * dir[0] + dir[1] * dir[1]);
-    start_level = reach < 4 ? 0 : int(std::log2(1 + reach / 4));
+    start_level = 0;
+    while (start_level < kMaxStartLevel && reach >= double(4 << (start_level + 1)) - 4) ++start_level;
   }
   int level = std::min({top, start_level, kMaxStartLevel});
   double t = 0;
+  double z_t = org[2];  // the ray's height at t
+  const bool rising = dir[2] > 0;
+  const double inv_step = 1 / z_step_;
   for (;;) {
     const std::int64_t s = std::int64_t(1) << level;
     const std::int64_t ax = (ix - bx) >> level, ay = (iy - by) >> level;  // the node in its tile
@@ -212,15 +217,19 @@ HeightFieldTracer::Hit HeightFieldTracer::intersect(const double o[3], const dou
     const double ty = step_y > 0 ? (double(y0 + s) - org[1]) * inv_dy
                       : step_y < 0 ? (double(y0) - org[1]) * inv_dy
                                    : kInf;
-    const double t1 = std::min({tx, ty, tmax});
+    const double t1 = std::min(std::min(tx, ty), tmax);
     if (stats) ++stats->nodes;
     // The ray's heights over the node's footprint against the node's [min, max] (a cell's
     // from its corners).
-    const double za = org[2] + dir[2] * t, zb = org[2] + dir[2] * t1;
-    const double ray_lo = std::min(za, zb) - margin_, ray_hi = std::max(za, zb) + margin_;
+    const double zb = org[2] + dir[2] * t1;
+    const double ray_lo = (rising ? z_t : zb) - margin_, ray_hi = (rising ? zb : z_t) + margin_;
     if (level > 0) {
-      const std::uint16_t* nd = node(level, int(ax), int(ay));
-      if (ray_hi >= z_lo_ + nd[0] * z_step_ && ray_lo <= z_lo_ + nd[1] * z_step_) {
+      const std::size_t side = std::size_t(n_ >> level);
+      const std::uint16_t* nd = &codes_[offsets_[std::size_t(level - 1)] +
+                                        2 * blocked(std::size_t(ax), std::size_t(ay), side)];
+      // In code units: the node overlaps iff code_min ≤ (ray_hi − z_lo) / step and
+      // code_max ≥ (ray_lo − z_lo) / step.
+      if ((ray_hi - z_lo_) * inv_step >= double(nd[0]) && (ray_lo - z_lo_) * inv_step <= double(nd[1])) {
         --level;
         continue;
       }
@@ -241,8 +250,9 @@ HeightFieldTracer::Hit HeightFieldTracer::intersect(const double o[3], const dou
     // triangles' edge functions are computed differently, and the ray, passing a vertex
     // there, may meet the surface in a facet of either (a vertex has six).
     if (step_x && step_y && std::abs(tx - ty) <= 1e-9 * std::max(tx, ty)) {
-      const std::int64_t cx = step_x > 0 ? x0 + s : x0 - 1, cy = step_y > 0 ? y0 + s : y0 - 1;  // beyond
-      const std::int64_t lx = step_x > 0 ? x0 + s - 1 : x0, ly = step_y > 0 ? y0 + s - 1 : y0;  // this node's corner cell
+      const std::int64_t cx = step_x > 0 ? x0 + s : x0 - 1, cy = step_y > 0 ? y0 + s : y0 - 1;
+      // cx, cy: the column and row beyond the corner; lx, ly: this node's corner cell's.
+      const std::int64_t lx = step_x > 0 ? x0 + s - 1 : x0, ly = step_y > 0 ? y0 + s - 1 : y0;
       auto wrapped = [&](std::int64_t g, std::int64_t base) {
         const std::int64_t l = g - base;
         return int(l < 0 ? l + n : l >= n ? l - n : l);
@@ -258,6 +268,7 @@ HeightFieldTracer::Hit HeightFieldTracer::intersect(const double o[3], const dou
     if (ty <= tx) iy = step_y > 0 ? y0 + s : y0 - 1;
     else if (step_y) iy = std::clamp(std::int64_t(std::floor(org[1] + dir[1] * tx)), y0, y0 + s - 1);
     t = t1;
+    z_t = zb;
     // Periodic wrapping: a new tile is only a new origin for the indices modulo n.
     if (ix - bx >= n) bx += n, ++wraps;
     else if (ix < bx) bx -= n, ++wraps;
@@ -268,8 +279,9 @@ HeightFieldTracer::Hit HeightFieldTracer::intersect(const double o[3], const dou
       hit.overflow = true;
       return hit;
     }
-    // Climb while the ray has entered a new parent node.
-    while (level < top && ((ix >> (level + 1)) != (old_x >> (level + 1)) || (iy >> (level + 1)) != (old_y >> (level + 1))))
+    // Climb one level when the ray has entered a new parent node (one at a time: climbing
+    // to every new ancestor at once cost more visits, descending again, than it saved).
+    if (level < top && ((ix >> (level + 1)) != (old_x >> (level + 1)) || (iy >> (level + 1)) != (old_y >> (level + 1))))
       ++level;
   }
 }

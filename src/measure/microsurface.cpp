@@ -348,7 +348,8 @@ TraceResult Microsurface::walk(double p[3], const Vec3& direction, Pcg32& rng, c
     // facet (the piecewise-linear field is Lipschitz with constant max_slope_, so along the
     // ray's horizontal path the surface rises more slowly than the ray and never reaches
     // it), or one below it falling more steeply.
-    if ((above ? d.z : -d.z) > 0 && (above ? d.z : -d.z) > max_slope_ * std::sqrt(double(d.x) * d.x + double(d.y) * d.y)) {
+    const double rise = above ? d.z : -d.z;
+    if (rise > 0 && rise > max_slope_ * std::sqrt(double(d.x) * d.x + double(d.y) * d.y)) {
       r.fate = above ? Fate::Up : Fate::Down;
       break;
     }

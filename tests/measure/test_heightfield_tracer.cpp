@@ -110,7 +110,8 @@ struct Compare {
     // float and not watertight, may slip through an edge that the ray crosses (then the
     // height-field tracer is the nearer), or touch a peak or ridge that the ray passes by
     // in double precision (then Embree is). Those are counted apart.
-    if (a.lost == b.lost && (a.facet != b.facet || std::abs(a.distance - b.distance) > 1e-4 * std::max(a.distance, 1.0))) {
+    const bool differ = a.facet != b.facet || std::abs(a.distance - b.distance) > 1e-4 * std::max(a.distance, 1.0);
+    if (a.lost == b.lost && differ) {
       const bool a_nearer = a.facet && (!b.facet || a.distance < b.distance);
       const Microsurface::Probe& near = a_nearer ? a : b;
       if (near.facet && facet_at(near.point[0], near.point[1], n).border < 1e-3) {
@@ -128,8 +129,8 @@ struct Compare {
       const Vec3 na = normalize(a.ng.z < 0 ? -a.ng : a.ng), nb = normalize(b.ng);
       if (std::abs(a.distance - b.distance) > tol) {
         why = "distance " + std::to_string(a.distance) + " vs " + std::to_string(b.distance);
-      } else if (wrapped_distance(a.point[0], b.point[0], n) > tol || wrapped_distance(a.point[1], b.point[1], n) > tol ||
-                 std::abs(a.point[2] - b.point[2]) > tol) {
+      } else if (wrapped_distance(a.point[0], b.point[0], n) > tol ||
+                 wrapped_distance(a.point[1], b.point[1], n) > tol || std::abs(a.point[2] - b.point[2]) > tol) {
         why = "end point differs";
       } else if (fa.border > 1e-3 && (fa.i != fb.i || fa.j != fb.j || fa.triangle != fb.triangle)) {
         why = "facet (" + std::to_string(fa.i) + "," + std::to_string(fa.j) + "," + std::to_string(fa.triangle) +
@@ -166,7 +167,8 @@ TEST(HeightFieldTracer, FirstHitIsEmbreesOnRandomRays) {
     Pcg32 rng(29, std::uint64_t(c.field.n));
     for (std::uint64_t k = 0; k < per_kind; ++k) {
       // Anywhere in the slab and a little around it, in any direction (from below too).
-      const double p[3] = {rng.next_double() * n, rng.next_double() * n, lo - 0.1 * range + 1.3 * range * rng.next_double()};
+      const double p[3] = {rng.next_double() * n, rng.next_double() * n,
+                           lo - 0.1 * range + 1.3 * range * rng.next_double()};
       cmp.ray(p, uniform_direction(rng), "random");
       // Grazing: within 3° of the horizon, so long paths over many cells.
       const double phi = 2 * kPiD * rng.next_double(), e = (rng.next_double() * 3 + 0.01) * kPiD / 180;
@@ -178,7 +180,8 @@ TEST(HeightFieldTracer, FirstHitIsEmbreesOnRandomRays) {
       const Vec3 down = uniform_direction(rng);
       cmp.ray(top, Vec3{down.x, down.y, -std::abs(down.z)}, "from above");
     }
-    EXPECT_EQ(cmp.mismatches, 0) << c.name << ": " << cmp.mismatches << " of " << cmp.rays << "; first: " << cmp.first_failure;
+    EXPECT_EQ(cmp.mismatches, 0) << c.name << ": " << cmp.mismatches << " of " << cmp.rays
+                                 << "; first: " << cmp.first_failure;
     EXPECT_GT(cmp.hits, cmp.rays / 3) << c.name;
   }
 }
@@ -218,9 +221,10 @@ TEST(HeightFieldTracer, FirstHitIsEmbreesAlongEdgesAndThroughVertices) {
                               hi + 0.01 * range};
       cmp.ray(from, down, "at a vertex", false);
     }
-    EXPECT_EQ(cmp.mismatches, 0) << c.name << ": " << cmp.mismatches << " of " << cmp.rays << "; first: " << cmp.first_failure;
-    std::printf("%s: %d rays, %d hits; at a border, Embree nearer %d, height field nearer %d\n", c.name.c_str(), cmp.rays,
-                cmp.hits, cmp.embree_nearer_at_border, cmp.hf_nearer_at_border);
+    EXPECT_EQ(cmp.mismatches, 0) << c.name << ": " << cmp.mismatches << " of " << cmp.rays
+                                 << "; first: " << cmp.first_failure;
+    std::printf("%s: %d rays, %d hits; at a border, Embree nearer %d, height field nearer %d\n", c.name.c_str(),
+                cmp.rays, cmp.hits, cmp.embree_nearer_at_border, cmp.hf_nearer_at_border);
   }
 }
 
@@ -250,7 +254,8 @@ TEST(HeightFieldTracer, FirstHitIsEmbreesAfterManyWraps) {
       wraps += hf.probe(p, d).wraps;
       ++total;
     }
-    EXPECT_EQ(cmp.mismatches, 0) << c.name << ": " << cmp.mismatches << " of " << cmp.rays << "; first: " << cmp.first_failure;
+    EXPECT_EQ(cmp.mismatches, 0) << c.name << ": " << cmp.mismatches << " of " << cmp.rays
+                                 << "; first: " << cmp.first_failure;
   }
   EXPECT_GT(double(wraps) / double(total), 10.0) << "the rays should wrap many times";
 }
@@ -347,7 +352,8 @@ TEST(HeightFieldTracer, MipmapBoundsHoldTheirCells) {
         for (int a = 0; a < m; ++a) {
           float mn = c.field.at(a * s, b * s), mx = mn;
           for (int y = b * s; y <= b * s + s; ++y)
-            for (int x = a * s; x <= a * s + s; ++x) mn = std::min(mn, c.field.at(x, y)), mx = std::max(mx, c.field.at(x, y));
+            for (int x = a * s; x <= a * s + s; ++x)
+              mn = std::min(mn, c.field.at(x, y)), mx = std::max(mx, c.field.at(x, y));
           const double slack = level == 0 ? 0 : 1.01 * step + 1e-6 * std::abs(mx);
           ASSERT_LE(tracer.node_min(level, a, b), mn) << c.name << " level " << level << " node " << a << "," << b;
           ASSERT_GE(tracer.node_max(level, a, b), mx) << c.name << " level " << level << " node " << a << "," << b;

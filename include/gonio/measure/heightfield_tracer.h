@@ -3,8 +3,8 @@
 // only the grid itself and a maximum mipmap over it.
 //
 // Structure (Tevs, Ihrke & Seidel 2008, "Maximum mipmaps for fast, accurate, and scalable
-// dynamic height field rendering", §3): level 0 holds each cell's [min, max] height over
-// its four corners (both triangles); level L holds the [min, max] of 2^L × 2^L cells.
+// dynamic height field rendering", §3): level 0 is each cell's [min, max] height over its
+// four corners (both triangles); level L holds the [min, max] of 2^L × 2^L cells.
 // Only levels whose node size 2^L divides n are built, so every level tiles the periodic
 // patch exactly and a node never straddles the tile's border (a power-of-two n gets
 // the whole pyramid, an odd n only the cells).
@@ -15,7 +15,11 @@
 // node's footprint is compared with the node's [min, max]: disjoint, the ray steps past
 // the node (and climbs a level when it enters a new parent); overlapping, it descends,
 // and at a cell it is tested against the cell's two triangles. Cells are visited in the
-// order the ray meets them, so the first cell with a hit holds the nearest hit.
+// order the ray meets them, so the first cell with a hit holds the nearest hit. Where the
+// ray passes through (or within rounding of) a node's corner, the DDA would step
+// diagonally; the two cells touching that corner from the side are then tested too,
+// because the ray meets the surface at the vertex there and the facet the edge functions
+// assign it to may be in either (without this, rays aimed at vertices slipped through).
 //
 // Triangles: watertight ray–triangle tests (Woop, Benthin & Wald 2013, "Watertight
 // ray/triangle intersection", JCGT 2(1), §3–4): the vertices are moved into a frame in
