@@ -1,6 +1,15 @@
 // The height-field tracer (heightfield_tracer.h) against Embree, the reference: the same
 // first facet for random, grazing, edge-aligned, vertex-aimed and many-times-wrapping rays
 // over several fields; no ray slips between facets; the mipmap's bounds hold every height.
+//
+// Bugs put into heightfield_tracer.cpp that these tests caught (each reverted): a DDA step
+// that skips a column going −x, or a +x border one cell short (every comparison with
+// Embree, NoRaySlips, ReportsTheFacetItHit, PathsAreEmbrees); the upper levels' bounds, or
+// a cell's own bound, without the (i+1, j+1) corner (the comparisons, NoRaySlips; the
+// former also MipmapBoundsHoldTheirCells); the cell's far corners read without the wrap
+// (all of the above); tile crossings not counted (FirstHitIsEmbreesOnRandomRays and
+// AfterManyWraps); the two side cells at a node's corner not tested (NoRaySlips alone:
+// rays aimed at vertices then slipped through, 10–40 of 4000 per field).
 #include <gtest/gtest.h>
 
 #include <algorithm>
