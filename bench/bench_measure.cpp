@@ -1,15 +1,18 @@
 // Speed of the virtual gonioreflectometer (docs/benchmarks.md): traced segments per
-// second (every Embree query counts: the first hit, each bounce, each wrap and the exit)
-// on Gaussian microsurfaces with white conductor facets, and the MERL table mode.
+// second (every facet query counts: the first hit, each bounce, each wrap and the exit)
+// on Gaussian microsurfaces with white conductor facets, and the MERL table mode; with the
+// height-field tracer (tracer argument 0, the default) or Embree (1).
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
+#include <cmath>
 #include <map>
 #include <memory>
 
 #include "gonio/material.h"
 #include "gonio/measure/gantry.h"
 #include "gonio/measure/gaussian_surface.h"
+#include "gonio/measure/heightfield_tracer.h"
 #include "gonio/measure/instrument.h"
 #include "gonio/measure/microsurface.h"
 #include "gonio/measure/table.h"
@@ -19,22 +22,27 @@ namespace {
 using namespace gonio;
 using namespace gonio::measure;
 
-// One surface per resolution, built once (α = 0.3, the generator's default correlation).
-const Microsurface& surface(int n) {
-  static std::map<int, std::unique_ptr<Microsurface>> cache;
-  auto& s = cache[n];
-  if (!s) {
-    GaussianSurfaceParams p;
-    p.resolution = n;
-    p.alpha_x = p.alpha_y = 0.3;
-    s = std::make_unique<Microsurface>(gaussian_height_field(p), parse_material(R"({"type":"mirror"})"));
-  }
+HeightField gaussian_field(int n) {  // α = 0.3, the generator's default correlation
+  GaussianSurfaceParams p;
+  p.resolution = n;
+  p.alpha_x = p.alpha_y = 0.3;
+  return gaussian_height_field(p);
+}
+
+// One surface per resolution and tracer (0: height field, 1: Embree), built once.
+const Microsurface& surface(int n, int tracer = 0) {
+  static std::map<std::pair<int, int>, std::unique_ptr<Microsurface>> cache;
+  auto& s = cache[{n, tracer}];
+  if (!s)
+    s = std::make_unique<Microsurface>(gaussian_field(n), parse_material(R"({"type":"mirror"})"),
+                                       Microsurface::kDefaultMaxBounces, Microsurface::Mesh::Auto,
+                                       tracer ? Microsurface::Tracer::Embree : Microsurface::Tracer::HeightField);
   return *s;
 }
 
-// Gantry: 4 incidences (0°, 30°, 60°, 80°), 18 detectors; args: resolution, threads.
+// Gantry: 4 incidences (0°, 30°, 60°, 80°), 18 detectors; args: resolution, threads, tracer.
 void BM_GantrySegments(benchmark::State& state) {
-  const Microsurface& s = surface(int(state.range(0)));
+  const Microsurface& s = surface(int(state.range(0)), int(state.range(2)));
   GantrySpec g;
   g.theta_i = {0, 30, 60, 80};
   g.theta_o = {5, 15, 25, 35, 45, 55, 65, 75, 85};
@@ -52,7 +60,7 @@ void BM_GantrySegments(benchmark::State& state) {
   state.counters["rays/s"] = benchmark::Counter(rays, benchmark::Counter::kIsRate);
   state.counters["segments/ray"] = segments / rays;
 }
-BENCHMARK(BM_GantrySegments)->Args({512, 1})->Args({512, 2})->Args({2048, 1})->Args({2048, 2})
+BENCHMARK(BM_GantrySegments)->ArgsProduct({{512, 2048}, {1, 2}, {0, 1}})
     ->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
 
 // The gantry's ray loop on one thread, without the detectors: blocks of kBlockRays rays
@@ -95,9 +103,9 @@ BENCHMARK(BM_TraceLoop)->Args({512, 0})->Args({512, 1})->Args({2048, 0})->Args({
     ->Unit(benchmark::kMillisecond)->Iterations(1);
 
 // trace() alone at one incidence (100,000 rays in the blocks' strata, one thread): where
-// the time per ray goes. Args: resolution, θi in degrees.
+// the time per ray goes. Args: resolution, θi in degrees, tracer.
 void BM_TraceIncidence(benchmark::State& state) {
-  const Microsurface& s = surface(int(state.range(0)));
+  const Microsurface& s = surface(int(state.range(0)), int(state.range(2)));
   const Vec3 dir = -spherical_direction(double(state.range(1)) * kPiD / 180, 0);
   constexpr std::uint64_t kRays = 100000;
   double segments = 0, rays = 0;
@@ -118,11 +126,55 @@ void BM_TraceIncidence(benchmark::State& state) {
   state.counters["rays/s"] = benchmark::Counter(rays, benchmark::Counter::kIsRate);
   state.counters["segments/ray"] = segments / rays;
 }
-BENCHMARK(BM_TraceIncidence)->ArgsProduct({{512, 2048}, {0, 30, 60, 80}})->Unit(benchmark::kMillisecond)->Iterations(1);
+BENCHMARK(BM_TraceIncidence)->ArgsProduct({{512, 2048}, {0, 30, 60, 80}, {0, 1}})
+    ->Unit(benchmark::kMillisecond)->Iterations(1);
 
-// The MERL table mode (uniform incidences, every exit binned), 2 M rays; args: threads.
+// The height-field tracer's work per query (HeightFieldTracer::Stats): 100,000 rays at one
+// incidence entering at uniform points from just above the highest point, and for each
+// that meets a facet, the mirror-reflected query that leaves it upwards. Counters: node
+// visits (all levels) and cells tested per query, for the entry and the exit queries.
+void BM_HeightFieldWork(benchmark::State& state) {
+  static std::map<int, std::unique_ptr<HeightFieldTracer>> cache;
+  const int n = int(state.range(0));
+  auto& tr = cache[n];
+  static std::map<int, std::pair<double, double>> range;
+  if (!tr) {
+    const HeightField f = gaussian_field(n);
+    tr = std::make_unique<HeightFieldTracer>(f);
+    range[n] = {*std::min_element(f.z.begin(), f.z.end()), *std::max_element(f.z.begin(), f.z.end())};
+  }
+  const auto [lo, hi] = range[n];
+  const double th = double(state.range(1)) * kPiD / 180;
+  HeightFieldTracer::Stats entry, exit;
+  double q_entry = 0, q_exit = 0;
+  for (auto _ : state) {
+    Pcg32 rng(3);
+    for (int k = 0; k < 100000; ++k) {
+      const double o[3] = {rng.next_double(), rng.next_double(), hi + 1e-6}, d[3] = {std::sin(th), 0, -std::cos(th)};
+      const HeightFieldTracer::Hit h = tr->intersect(o, d, (hi - lo + 1e-5) / std::cos(th), 100000, &entry);
+      ++q_entry;
+      if (!std::isfinite(h.t)) continue;
+      const Vec3 m = normalize(h.ng);
+      const double dm = d[0] * m.x + d[1] * m.y + d[2] * m.z;
+      const double r[3] = {d[0] - 2 * dm * m.x, d[1] - 2 * dm * m.y, d[2] - 2 * dm * m.z};
+      if (!(r[2] > 0)) continue;
+      const double o2[3] = {o[0] + d[0] * h.t + 1e-7 * m.x, o[1] + d[1] * h.t + 1e-7 * m.y,
+                            o[2] + d[2] * h.t + 1e-7 * m.z};
+      benchmark::DoNotOptimize(tr->intersect(o2, r, (hi - o2[2]) / r[2], 100000, &exit, 0));
+      ++q_exit;
+    }
+  }
+  state.counters["entry nodes/q"] = double(entry.nodes) / q_entry;
+  state.counters["entry cells/q"] = double(entry.cells) / q_entry;
+  state.counters["exit nodes/q"] = double(exit.nodes) / q_exit;
+  state.counters["exit cells/q"] = double(exit.cells) / q_exit;
+}
+BENCHMARK(BM_HeightFieldWork)->ArgsProduct({{512, 2048}, {0, 30, 60, 80}})
+    ->Unit(benchmark::kMillisecond)->Iterations(1);
+
+// The MERL table mode (uniform incidences, every exit binned), 2 M rays; args: threads, tracer.
 void BM_TableRays(benchmark::State& state) {
-  const Microsurface& s = surface(512);
+  const Microsurface& s = surface(512, int(state.range(1)));
   RunOptions o;
   o.samples = 2000000;
   o.threads = int(state.range(0));
@@ -135,7 +187,7 @@ void BM_TableRays(benchmark::State& state) {
   state.counters["segments/s"] = benchmark::Counter(segments, benchmark::Counter::kIsRate);
   state.counters["rays/s"] = benchmark::Counter(rays, benchmark::Counter::kIsRate);
 }
-BENCHMARK(BM_TableRays)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
+BENCHMARK(BM_TableRays)->ArgsProduct({{1, 2}, {0, 1}})->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
 
 }  // namespace
 

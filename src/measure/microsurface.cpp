@@ -35,7 +35,8 @@ struct Microsurface::Impl {
   }
 };
 
-Microsurface::Microsurface(const HeightField& field, const BxDF& material, std::uint32_t max_bounces, Mesh mesh)
+Microsurface::Microsurface(const HeightField& field, const BxDF& material, std::uint32_t max_bounces, Mesh mesh,
+                           Tracer tracer)
     : impl_(std::make_unique<Impl>()),
       material_(material),
       max_bounces_(max_bounces),
@@ -72,6 +73,10 @@ Microsurface::Microsurface(const HeightField& field, const BxDF& material, std::
   const double extent = std::max({size_, std::abs(z_min_), std::abs(z_max_)});
   eps_ = std::max(8 * extent * double(std::numeric_limits<float>::epsilon()), 1e-6 * field.spacing());
 
+  if (tracer == Tracer::HeightField) {
+    hf_ = std::make_unique<HeightFieldTracer>(field);
+    return;
+  }
   Impl& im = *impl_;
   im.device = rtcNewDevice("verbose=0");
   if (!im.device) throw std::runtime_error("cannot create the Embree device");
@@ -182,7 +187,14 @@ float query_tfar(double tend, double eps) { return float(tend * (1 + 1e-6) + eps
 Vec3 Microsurface::normal_below(double x, double y) const {
   const double o[3] = {wrap(x, size_), wrap(y, size_), z_max_ + 1 + (z_max_ - z_min_)};
   Vec3 ng;
-  if (!std::isfinite(intersect(impl_->scene, o, Vec3{0, 0, -1}, kInf, ng))) return {};
+  if (hf_) {
+    const double down[3] = {0, 0, -1};
+    const HeightFieldTracer::Hit hit = hf_->intersect(o, down, kInf, 0);
+    if (!std::isfinite(hit.t)) return {};
+    ng = hit.ng;
+  } else if (!std::isfinite(intersect(impl_->scene, o, Vec3{0, 0, -1}, kInf, ng))) {
+    return {};
+  }
   const Vec3 n = normalize(ng);
   return n.z < 0 ? -n : n;
 }
@@ -197,6 +209,10 @@ void Microsurface::trace_packet(const double* u, const double* v, int count, con
                                 TraceResult* out) const {
   if (count < 1) return;
   if (count > kPacketSize) throw std::invalid_argument("Microsurface::trace_packet: more than 16 rays");
+  if (hf_) {  // no packets: the height-field tracer takes one ray at a time
+    for (int k = 0; k < count; ++k) out[k] = trace(u[k], v[k], direction, rng);
+    return;
+  }
   double p[kPacketSize][3];
   alignas(64) int valid[kPacketSize] = {};
   alignas(64) RTCRayHit16 rh;
@@ -236,6 +252,82 @@ void Microsurface::trace_packet(const double* u, const double* v, int count, con
   }
 }
 
+Microsurface::Step Microsurface::advance(double p[3], const Vec3& d, Vec3& ng, std::uint32_t& wraps,
+                                         std::uint32_t& segments, const FirstQuery*& first, double* distance,
+                                         bool from_facet) const {
+  const double tz = d.z > 0 ? (z_max_ - p[2]) / d.z : d.z < 0 ? (z_min_ - p[2]) / d.z : kInf;
+  if (hf_) {
+    // One query across as many tiles as the ray crosses, up to a little past the slab's
+    // face (the lowest and highest facets lie on it), as Embree's far end below.
+    ++segments;
+    const double o[3] = {p[0], p[1], p[2]}, dir[3] = {d.x, d.y, d.z};
+    const double tfar = tz * (1 + 1e-6) + eps_;
+    const HeightFieldTracer::Hit hit =
+        hf_->intersect(o, dir, tfar, kMaxWraps - std::min(wraps, kMaxWraps), nullptr, from_facet ? 0 : -1);
+    wraps += hit.wraps;
+    segments += hit.wraps;
+    if (hit.overflow || !(std::isfinite(hit.t) || std::isfinite(tz))) return Step::Lost;
+    const double t = std::isfinite(hit.t) ? hit.t : tz;
+    if (distance) *distance = t;
+    for (int k = 0; k < 3; ++k) p[k] += double(d[k]) * t;
+    p[0] = wrap(p[0], size_);
+    p[1] = wrap(p[1], size_);
+    if (!std::isfinite(hit.t)) {
+      p[2] = d.z > 0 ? z_max_ : z_min_;
+      return Step::Slab;
+    }
+    ng = hit.ng;
+    return Step::Facet;
+  }
+  double travelled = 0;
+  for (;;) {
+    // The segment ends at the tile's border or at the slab [z_min, z_max].
+    const auto [tx, ty, tz_seg, texit, tend] = segment_end(p, d, size_, z_min_, z_max_);
+    if (!std::isfinite(tend)) return Step::Lost;  // horizontal and vertical at once: not a direction
+    ++segments;
+    double t;
+    if (first) {  // this query was made in trace_packet's packet
+      t = first->t, ng = first->ng;
+      first = nullptr;
+    } else {
+      t = intersect(impl_->scene, p, d, query_tfar(tend, eps_), ng);
+    }
+    if (std::isfinite(t)) {
+      for (int k = 0; k < 3; ++k) p[k] += double(d[k]) * t;
+      if (distance) *distance = travelled + t;
+      return Step::Facet;
+    }
+    if (tz_seg <= texit) {  // reached the slab's face: the next test ends the ray
+      p[0] = wrap(p[0] + double(d.x) * tz_seg, size_);
+      p[1] = wrap(p[1] + double(d.y) * tz_seg, size_);
+      p[2] = d.z > 0 ? z_max_ : z_min_;
+      if (distance) *distance = travelled + tz_seg;
+      return Step::Slab;
+    }
+    // Left the tile's square: re-enter at the opposite side.
+    if (++wraps > kMaxWraps) return Step::Lost;
+    for (int k = 0; k < 3; ++k) p[k] += double(d[k]) * texit;
+    travelled += texit;
+    if (tx <= ty) p[0] = d.x > 0 ? 0 : size_;
+    if (ty <= tx) p[1] = d.y > 0 ? 0 : size_;
+    p[0] = wrap(p[0], size_);
+    p[1] = wrap(p[1], size_);
+  }
+}
+
+Microsurface::Probe Microsurface::probe(const double p[3], const Vec3& d) const {
+  Probe r;
+  double q[3] = {p[0], p[1], p[2]};
+  const FirstQuery* none = nullptr;
+  std::uint32_t segments = 0;
+  const Step s = advance(q, d, r.ng, r.wraps, segments, none, &r.distance, false);
+  r.facet = s == Step::Facet;
+  r.lost = s == Step::Lost;
+  if (r.facet) q[0] = wrap(q[0], size_), q[1] = wrap(q[1], size_);
+  for (int k = 0; k < 3; ++k) r.point[k] = q[k];
+  return r;
+}
+
 TraceResult Microsurface::walk(double p[3], const Vec3& direction, Pcg32& rng, const FirstQuery* first) const {
   TraceResult r;
   Vec3 d = direction;
@@ -256,72 +348,45 @@ TraceResult Microsurface::walk(double p[3], const Vec3& direction, Pcg32& rng, c
     // facet (the piecewise-linear field is Lipschitz with constant max_slope_, so along the
     // ray's horizontal path the surface rises more slowly than the ray and never reaches
     // it), or one below it falling more steeply.
-    if ((above ? d.z : -d.z) > 0 && (above ? d.z : -d.z) > max_slope_ * std::hypot(double(d.x), double(d.y))) {
+    const double rise = above ? d.z : -d.z;
+    if (rise > 0 && rise > max_slope_ * std::sqrt(double(d.x) * d.x + double(d.y) * d.y)) {
       r.fate = above ? Fate::Up : Fate::Down;
       break;
     }
-    // The segment ends at the tile's border or at the slab [z_min, z_max].
-    const auto [tx, ty, tz, texit, tend] = segment_end(p, d, size_, z_min_, z_max_);
-    if (!std::isfinite(tend)) {  // horizontal and vertical at once: not a direction
-      r.fate = Fate::Lost;
-      break;
-    }
     Vec3 ng;
-    ++r.segments;
-    double t;
-    if (first) {  // this query was made in trace_packet's packet
-      t = first->t, ng = first->ng;
-      first = nullptr;
-    } else {
-      t = intersect(impl_->scene, p, d, query_tfar(tend, eps_), ng);
-    }
-    if (std::isfinite(t)) {
-      for (int k = 0; k < 3; ++k) p[k] += double(d[k]) * t;
-      Vec3 n = normalize(ng);
-      if (n.z < 0) n = -n;
-      if (!(n.z > 0)) {  // a degenerate facet
-        r.fate = Fate::Lost;
-        break;
-      }
-      if (r.bounces >= max_bounces_) {  // one facet more than the cap allows
-        r.fate = Fate::Capped;
-        break;
-      }
-      const Frame frame = Frame::from_normal_tangent(n, Vec3{1, 0, 0});
-      const Vec3 wo = frame.to_local(-d);
-      const Float u0 = rng.next_float(), u1 = rng.next_float(), u2 = rng.next_float();
-      const auto s = material_.sample(wo, u0, u1, u2, TransportMode::Importance);
-      ++r.bounces;
-      if (!s || s->weight.is_black()) {
-        r.fate = Fate::Absorbed;
-        break;
-      }
-      w *= s->weight;
-      d = normalize(frame.to_world(s->wi));
-      // Lift the origin off the facet's plane, on the side the new direction leaves to.
-      above = dot(d, n) > 0;
-      const double side = above ? eps_ : -eps_;
-      p[0] = wrap(p[0] + n.x * side, size_);
-      p[1] = wrap(p[1] + n.y * side, size_);
-      p[2] += n.z * side;
-      continue;
-    }
-    if (tz <= texit) {  // reached the slab's face: the next test ends the ray
-      p[0] = wrap(p[0] + double(d.x) * tz, size_);
-      p[1] = wrap(p[1] + double(d.y) * tz, size_);
-      p[2] = d.z > 0 ? z_max_ : z_min_;
-      continue;
-    }
-    // Left the tile's square: re-enter at the opposite side.
-    if (++wraps > kMaxWraps) {
+    const Step step = advance(p, d, ng, wraps, r.segments, first, nullptr, r.bounces > 0);
+    if (step == Step::Lost) {
       r.fate = Fate::Lost;
       break;
     }
-    for (int k = 0; k < 3; ++k) p[k] += double(d[k]) * texit;
-    if (tx <= ty) p[0] = d.x > 0 ? 0 : size_;
-    if (ty <= tx) p[1] = d.y > 0 ? 0 : size_;
-    p[0] = wrap(p[0], size_);
-    p[1] = wrap(p[1], size_);
+    if (step == Step::Slab) continue;  // at the slab's face: the next test ends the ray
+    Vec3 n = normalize(ng);
+    if (n.z < 0) n = -n;
+    if (!(n.z > 0)) {  // a degenerate facet
+      r.fate = Fate::Lost;
+      break;
+    }
+    if (r.bounces >= max_bounces_) {  // one facet more than the cap allows
+      r.fate = Fate::Capped;
+      break;
+    }
+    const Frame frame = Frame::from_normal_tangent(n, Vec3{1, 0, 0});
+    const Vec3 wo = frame.to_local(-d);
+    const Float u0 = rng.next_float(), u1 = rng.next_float(), u2 = rng.next_float();
+    const auto s = material_.sample(wo, u0, u1, u2, TransportMode::Importance);
+    ++r.bounces;
+    if (!s || s->weight.is_black()) {
+      r.fate = Fate::Absorbed;
+      break;
+    }
+    w *= s->weight;
+    d = normalize(frame.to_world(s->wi));
+    // Lift the origin off the facet's plane, on the side the new direction leaves to.
+    above = dot(d, n) > 0;
+    const double side = above ? eps_ : -eps_;
+    p[0] = wrap(p[0] + n.x * side, size_);
+    p[1] = wrap(p[1] + n.y * side, size_);
+    p[2] += n.z * side;
   }
   // Below an opaque material nothing can arrive: a ray that got there slipped between
   // facets (a float-precision crack at a sharp crease, about 1 ray in 10^5 on a 60°

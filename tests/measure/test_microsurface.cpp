@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <utility>
 
 #include "../unit/test_scale.h"
 #include "gonio/material.h"
@@ -13,10 +14,10 @@
 namespace gonio::measure {
 namespace {
 
-// Embree's quads and grid must both split each cell along the (i+1, j)–(i, j+1) diagonal
-// (heightfield.h): the normal under every point is the forward-difference normal of its
-// triangle, computed here from the heights alone.
-class MicrosurfaceMesh : public ::testing::TestWithParam<Microsurface::Mesh> {};
+// Embree's quads and grid, and the height-field tracer, must all split each cell along the
+// (i+1, j)–(i, j+1) diagonal (heightfield.h): the normal under every point is the
+// forward-difference normal of its triangle, computed here from the heights alone.
+class MicrosurfaceMesh : public ::testing::TestWithParam<std::pair<Microsurface::Mesh, Microsurface::Tracer>> {};
 
 TEST_P(MicrosurfaceMesh, FacetNormalsAreTheForwardDifferencesOfTheField) {
   HeightField f;
@@ -24,7 +25,9 @@ TEST_P(MicrosurfaceMesh, FacetNormalsAreTheForwardDifferencesOfTheField) {
   f.size = 4;  // spacing 0.5
   Pcg32 rng(7);
   for (int k = 0; k < 64; ++k) f.z.push_back(float(rng.next_double() - 0.5));
-  const Microsurface s(f, parse_material(R"({"type":"diffuse"})"), Microsurface::kDefaultMaxBounces, GetParam());
+  const Microsurface s(f, parse_material(R"({"type":"diffuse"})"), Microsurface::kDefaultMaxBounces, GetParam().first,
+                       GetParam().second);
+  ASSERT_EQ(int(s.tracer()), int(GetParam().second));
   const double h = f.spacing();
   for (int k = 0; k < 400; ++k) {
     const double x = rng.next_double() * f.size, y = rng.next_double() * f.size;
@@ -47,12 +50,15 @@ TEST_P(MicrosurfaceMesh, FacetNormalsAreTheForwardDifferencesOfTheField) {
   }
 }
 INSTANTIATE_TEST_SUITE_P(Microsurface, MicrosurfaceMesh,
-                         ::testing::Values(Microsurface::Mesh::Quads, Microsurface::Mesh::Grid));
+                         ::testing::Values(std::pair{Microsurface::Mesh::Quads, Microsurface::Tracer::Embree},
+                                           std::pair{Microsurface::Mesh::Grid, Microsurface::Tracer::Embree},
+                                           std::pair{Microsurface::Mesh::Auto, Microsurface::Tracer::HeightField}));
 
 // trace_packet makes the same first queries as trace() (in one Embree packet) and then
 // draws from the rng in the same order: the rays must end alike, ray for ray.
 TEST(Microsurface, PacketTracesAsSingleRays) {
-  const Microsurface s(testsurf::eggcrate_field(32, 4), parse_material(R"({"type":"diffuse"})"));
+  const Microsurface s(testsurf::eggcrate_field(32, 4), parse_material(R"({"type":"diffuse"})"),
+                       Microsurface::kDefaultMaxBounces, Microsurface::Mesh::Auto, Microsurface::Tracer::Embree);
   for (const double theta : {0.0, 40.0, 75.0, 100.0}) {  // 100°: moving up, no query
     const Vec3 d = -spherical_direction(theta * kPiD / 180, 0.7);
     for (const int count : {1, 7, 16}) {
