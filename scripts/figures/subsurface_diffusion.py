@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Diffusion against the random walk for docs/subsurface-diffusion.md (issue 14 item 4(e)).
+"""Diffusion against the random walk for docs/subsurface.md (issue 14 item 4(e)).
 
 For every named medium of Jensen et al. 2001 (SPEC §2, `"medium"`, η = 1.3, g = 0, 1 scene
 unit = 1 mm), runs `gonio subsurface` with `"method": "diffusion"` (photon beam diffusion)

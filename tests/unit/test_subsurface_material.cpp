@@ -46,7 +46,9 @@ TEST(SubsurfaceMaterial, BsdfIsTheBoundary) {
       }
       const auto sa = a.sample(wo, 0.3f, 0.6f, 0.2f), sb = b.sample(wo, 0.3f, 0.6f, 0.2f);
       ASSERT_EQ(bool(sa), bool(sb));
-      if (sa) EXPECT_EQ(sa->weight, sb->weight);
+      if (sa) {
+        EXPECT_EQ(sa->weight, sb->weight);
+      }
     }
   }
 }
