@@ -1,0 +1,209 @@
+// Subsurface scattering in the renderer (issue 14): the random walk as a path segment, the
+// closed-mesh check, and the diffusion exit. Expected values are closed forms: a white
+// furnace, Beer–Lambert through a slab between two Fresnel interfaces.
+
+#include <cmath>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "../unit/test_scale.h"
+#include "gonio/error.h"
+#include "gonio/render/accel.h"
+#include "gonio/render/path_tracer.h"
+#include "gonio/render/renderer.h"
+#include "gonio/render/scene_loader.h"
+#include "gonio/render/subsurface_walk.h"
+#include "render_test_util.h"
+#include "scratch_dir.h"
+
+namespace gonio::render {
+namespace {
+
+using gonio::test::ScratchDir;
+using gonio::test::scaled;
+
+// An axis-aligned box as an OBJ, wound counter-clockwise seen from outside (or, with
+// `inward`, the other way); `drop` faces (of 6, two triangles each) are left out.
+std::string box_obj(Vec3 lo, Vec3 hi, bool inward = false, int drop = 0) {
+  std::string s;
+  for (int i = 0; i < 8; ++i) {
+    const Vec3 p{(i & 1) ? hi.x : lo.x, (i & 2) ? hi.y : lo.y, (i & 4) ? hi.z : lo.z};
+    s += "v " + std::to_string(p.x) + " " + std::to_string(p.y) + " " + std::to_string(p.z) + "\n";
+  }
+  // Quads as corner indices (1-based), outward by the right-hand rule.
+  const int quads[6][4] = {{1, 3, 4, 2}, {5, 6, 8, 7}, {1, 2, 6, 5}, {3, 7, 8, 4}, {1, 5, 7, 3}, {2, 4, 8, 6}};
+  for (int f = drop; f < 6; ++f) {
+    const int* q = quads[f];
+    if (inward) s += "f " + std::to_string(q[3]) + " " + std::to_string(q[2]) + " " + std::to_string(q[1]) + " " + std::to_string(q[0]) + "\n";
+    else s += "f " + std::to_string(q[0]) + " " + std::to_string(q[1]) + " " + std::to_string(q[2]) + " " + std::to_string(q[3]) + "\n";
+  }
+  return s;
+}
+
+// Mean over an image's pixels of one channel, and the standard error of that mean from
+// the pixels' own spread (pixels are independent estimates).
+struct MeanErr {
+  double mean = 0, err = 0;
+};
+MeanErr image_mean(const Image& img, int c) {
+  double s = 0, s2 = 0;
+  const int n = img.width() * img.height();
+  for (int y = 0; y < img.height(); ++y)
+    for (int x = 0; x < img.width(); ++x) {
+      const double v = img.at(x, y)[c];
+      s += v;
+      s2 += v * v;
+    }
+  const double m = s / n;
+  return {m, std::sqrt(std::max(0.0, s2 / n - m * m) / (n - 1))};
+}
+
+// A white furnace: a sphere that absorbs nothing, filling the image, inside a uniform
+// environment of radiance 1. Every path that is not cut short returns 1: light is only
+// moved around, never lost (the boundary's Fresnel split and the medium's scattering
+// conserve energy), so the image is 1 within its noise.
+std::string furnace_scene(const std::string& material, int spp) {
+  return R"({"camera": {"position": [0, 0, 6], "look_at": [0, 0, 0], "fov": 8, "width": 8, "height": 8},
+             "render": {"spp": )" + std::to_string(spp) + R"(, "max_depth": 1024},
+             "shapes": [{"type": "sphere", "center": [0, 0, 0], "radius": 1, "material": )" + material + R"(}],
+             "environment": {"radiance": 1}})";
+}
+
+void expect_furnace(const std::string& material, int spp) {
+  const Image img = test::render_text(furnace_scene(material, spp));
+  for (int c = 0; c < 3; ++c) {
+    const MeanErr m = image_mean(img, c);
+    EXPECT_NEAR(m.mean, 1.0, 4 * m.err + 1e-3) << material << " channel " << c << " ± " << m.err;
+  }
+}
+
+TEST(SubsurfaceRender, FurnaceRandomWalkSmoothBoundary) {
+  expect_furnace(R"({"type": "subsurface", "eta": 1.33, "sigma_s": [1, 3, 8], "sigma_a": 0, "g": 0.3})",
+                 static_cast<int>(scaled(64, 16)));
+}
+
+TEST(SubsurfaceRender, FurnaceRandomWalkRoughBoundary) {
+  expect_furnace(R"({"type": "subsurface", "eta": 1.5, "alpha": 0.3, "sigma_s": [2, 2, 5], "sigma_a": 0})",
+                 static_cast<int>(scaled(64, 16)));
+}
+
+// A slab 1 unit thick that only absorbs (σs = 0), lit from below by a uniform area light
+// and seen straight down at normal incidence. With the Fresnel reflectance at normal
+// incidence R = ((η − 1)/(η + 1))² (Born & Wolf §1.5.3) and τ = σa d, the light that
+// reaches the eye went through both interfaces and bounced 2k times inside between them:
+//   T = (1 − R)² e^{−τ} Σ_k (R² e^{−2τ})^k = (1 − R)² e^{−τ} / (1 − R² e^{−2τ}).
+// (The radiance factor η² of entering cancels that of leaving.)
+TEST(SubsurfaceRender, AbsorbingSlabIsBeerLambertBetweenTwoFresnelInterfaces) {
+  ScratchDir dir("gonio_subsurface");
+  dir.file("slab.obj", box_obj({-100, 0, -100}, {100, 1, 100}));
+  const double eta = 2.0, sigma_a[3] = {0.1, 0.3, 0.6};
+  const std::string scene_path = dir.file("slab.json", R"({
+    "shapes": [{"type": "mesh", "file": "slab.obj",
+                "material": {"type": "subsurface", "eta": 2.0, "sigma_s": 0, "sigma_a": [0.1, 0.3, 0.6]}}],
+    "lights": [{"type": "quad", "corner": [-300, -1, -300], "edge1": [0, 0, 600], "edge2": [600, 0, 0], "radiance": 1}],
+    "render": {"max_depth": 64}})");
+  const Scene scene = load_scene_file(scene_path);
+  const Accel accel(scene);
+  const PathTracer tracer(scene, accel);
+  Pcg32 rng(7, 3);
+  PathStats stats;
+  const std::uint64_t n = scaled(100000, 20000);
+  double sum[3] = {0, 0, 0}, sum2[3] = {0, 0, 0};
+  for (std::uint64_t i = 0; i < n; ++i) {
+    const Color L = tracer.radiance(Ray{{0.3f, 5, -0.2f}, {0, -1, 0}}, rng, stats);
+    for (int c = 0; c < 3; ++c) sum[c] += L[c], sum2[c] += double(L[c]) * L[c];
+  }
+  EXPECT_GT(stats.walks, 0u);
+  const double R = std::pow((eta - 1) / (eta + 1), 2);
+  for (int c = 0; c < 3; ++c) {
+    const double a = std::exp(-sigma_a[c]);
+    const double expected = (1 - R) * (1 - R) * a / (1 - R * R * a * a);
+    const double mean = sum[c] / double(n);
+    const double err = std::sqrt(std::max(0.0, sum2[c] / double(n) - mean * mean) / double(n - 1));
+    EXPECT_NEAR(mean, expected, 4 * err + 1e-4) << "channel " << c << " ± " << err;
+  }
+}
+
+// The closed-mesh check: a walk in an open mesh leaves through the hole.
+TEST(SubsurfaceRender, OpenMeshIsRejectedWithItsCountOfOpenEdges) {
+  ScratchDir dir("gonio_subsurface");
+  dir.file("open.obj", box_obj({0, 0, 0}, {1, 1, 1}, false, 1));  // one face missing: 4 open edges
+  const std::string path = dir.file("open.json", R"({"shapes": [
+    {"type": "sphere", "center": [0, 5, 0], "radius": 1, "material": {"type": "diffuse"}},
+    {"type": "mesh", "file": "open.obj", "material": {"type": "subsurface", "sigma_s": 1, "sigma_a": 0.1}}]})");
+  try {
+    load_scene_file(path);
+    FAIL() << "an open mesh was accepted";
+  } catch (const InputError& e) {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find(path), std::string::npos) << msg;
+    EXPECT_NE(msg.find("/shapes/1"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("open.obj"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("4 open edges"), std::string::npos) << msg;
+    EXPECT_EQ(msg.find('\n'), std::string::npos) << msg;
+  }
+  // A quad is never closed; the diffusion method does not need a closed mesh.
+  EXPECT_THROW(parse_scene(R"({"shapes": [{"type": "quad", "corner": [0, 0, 0], "edge1": [1, 0, 0], "edge2": [0, 1, 0],
+                                 "material": {"type": "subsurface", "sigma_s": 1, "sigma_a": 0.1}}]})",
+                           "q.json", ""),
+               InputError);
+}
+
+TEST(SubsurfaceRender, ClosedMeshesAreAcceptedAndTurnedOutward) {
+  ScratchDir dir("gonio_subsurface");
+  dir.file("in.obj", box_obj({0, 0, 0}, {1, 2, 3}, true));
+  const Scene scene = load_scene_file(dir.file("in.json", R"({"shapes": [
+    {"type": "mesh", "file": "in.obj", "material": {"type": "subsurface", "sigma_s": 1, "sigma_a": 0.1}}]})"));
+  ASSERT_EQ(scene.meshes.size(), 1u);
+  const MeshClosure c = mesh_closure(scene.meshes[0]);
+  EXPECT_EQ(c.edges, 18u);  // 12 box edges and 6 face diagonals
+  EXPECT_EQ(c.open_edges, 0u);
+  EXPECT_EQ(c.inconsistent_edges, 0u);
+  EXPECT_NEAR(c.volume, 6.0, 1e-5);  // wound inward in the file, outward after loading
+
+  // The lecture's bunny (data/meshes/bunny.obj) is closed and wound outward as shipped.
+  const Scene bunny = parse_scene(R"({"shapes": [{"type": "mesh", "file": "data/meshes/bunny.obj",
+    "material": {"type": "diffuse"}}]})", "bunny.json", GONIO_SOURCE_DIR);
+  const MeshClosure b = mesh_closure(bunny.meshes[0]);
+  EXPECT_EQ(b.open_edges, 0u);
+  EXPECT_EQ(b.inconsistent_edges, 0u);
+  EXPECT_EQ(b.edges, 5511u);  // Euler: V − E + F = 2 with V = 1839, F = 3674
+  EXPECT_GT(b.volume, 0);
+}
+
+TEST(SubsurfaceRender, InconsistentWindingIsRejected) {
+  ScratchDir dir("gonio_subsurface");
+  std::string obj = box_obj({0, 0, 0}, {1, 1, 1});
+  obj += "f 1 2 3\n";  // an extra triangle: its edges are now used three times
+  dir.file("bad.obj", obj);
+  EXPECT_THROW(load_scene_file(dir.file("bad.json", R"({"shapes": [
+    {"type": "mesh", "file": "bad.obj", "material": {"type": "subsurface", "sigma_s": 1, "sigma_a": 0.1}}]})")),
+               InputError);
+  // One face turned around: closed, but its four edges run the same way twice.
+  std::string flipped = box_obj({0, 0, 0}, {1, 1, 1});
+  flipped.replace(flipped.find("f 1 3 4 2"), 9, "f 2 4 3 1");
+  dir.file("flip.obj", flipped);
+  try {
+    load_scene_file(dir.file("flip.json", R"({"shapes": [
+      {"type": "mesh", "file": "flip.obj", "material": {"type": "subsurface", "sigma_s": 1, "sigma_a": 0.1}}]})"));
+    FAIL() << "an inconsistently wound mesh was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("wound inconsistently (4 edges"), std::string::npos) << e.what();
+  }
+}
+
+// The medium is RGB: a spectral render says so rather than render it wrong.
+TEST(SubsurfaceRender, SpectralRenderIsRejected) {
+  Scene scene = parse_scene(furnace_scene(R"({"type": "subsurface", "sigma_s": 1, "sigma_a": 0})", 1), "s.json", "");
+  scene.settings.spectral = true;
+  try {
+    render(scene, {});
+    FAIL() << "a spectral subsurface render was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("RGB only"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace gonio::render
