@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <cfloat>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <array>
 #include <iterator>
@@ -26,6 +27,9 @@
 #include "gonio/spectrum/metal_spectra.h"
 #include "gonio/spectrum/spectrum_json.h"
 #include "gonio/spectrum/spectrum_to_rgb.h"
+#include "gonio/subsurface/albedo_inversion.h"
+#include "gonio/subsurface/named_media.h"
+#include "gonio/subsurface/subsurface.h"
 
 namespace gonio {
 namespace {
@@ -108,7 +112,13 @@ class Params {
     Color c;
     const std::string k(key);
     const bool index = k == "eta" || k == "k";
-    std::optional<Spectrum>& recorded = spectra_.colour[size_t(colour_param(key))];
+    // A subsurface medium's coefficients (1/unit) and mean free path are not
+    // reflectances: a spectrum gives its values at the channels' wavelengths, as an index
+    // does. They have no slot among the textured parameters, so nothing is recorded.
+    const bool coefficient = k == "sigma_s" || k == "sigma_a" || k == "mfp";
+    std::optional<Spectrum> unrecorded;
+    std::optional<Spectrum>& recorded =
+        is_colour_param(key) ? spectra_.colour[size_t(colour_param(key))] : unrecorded;
     if (v.is_number() || v.is_array()) {
       if (v.is_number()) {
         c = Color(static_cast<Float>(checked(key, v)));
@@ -125,7 +135,7 @@ class Params {
     } else if (v.is_object()) {
       // A spectrum (SPEC §2), reduced to RGB: a conductor's n and k by their values at the
       // channels' wavelengths, any other colour as a reflectance under D65.
-      const SpectrumUse use = index ? SpectrumUse::kIndex : SpectrumUse::kReflectance;
+      const SpectrumUse use = index || coefficient ? SpectrumUse::kIndex : SpectrumUse::kReflectance;
       Spectrum sp = spectrum(key, use);
       c = spectrum_to_rgb(sp, use);
       for (int i = 0; i < Color::size(); ++i) check_range(key, c[i]);
@@ -230,6 +240,11 @@ class Params {
   }
 
  private:
+  static bool is_colour_param(const char* key) {
+    for (int i = 0; i < kColourParams; ++i)
+      if (material_param_info(MaterialParam(i)).key == key) return true;
+    return false;
+  }
   static MaterialParam colour_param(const char* key) {
     for (int i = 0; i < kColourParams; ++i)
       if (material_param_info(MaterialParam(i)).key == key) return MaterialParam(i);
@@ -504,6 +519,95 @@ BxDF make_measured(Params& p) {
   }
 }
 
+// --- subsurface (SPEC §2, issue 14) --------------------------------------------------
+
+// The key of the albedo table: what A(ϖ) depends on besides ϖ (hexadecimal floats, exact).
+std::string albedo_table_key(const BxDF& boundary, Float eta, Float g) {
+  char buf[160];
+  Float ax = 0, ay = 0;
+  int dist = -1;
+  if (const auto* r = std::get_if<RoughDielectricBxDF>(&boundary.models())) {
+    ax = r->distribution.alpha_x;
+    ay = r->distribution.alpha_y;
+    dist = int(r->distribution.type);
+  }
+  std::snprintf(buf, sizeof buf, "%a %a %a %d %a", double(eta), double(ax), double(ay), dist, double(g));
+  return buf;
+}
+
+// Every form of the medium; `invert` false skips the albedo table (material_from_json
+// needs only the boundary, and the values are checked without it).
+Subsurface parse_subsurface(Params& p, bool invert) {
+  Subsurface s;
+  const bool has_sigma_s = p.has("sigma_s"), has_sigma_a = p.has("sigma_a");
+  const bool has_albedo = p.has("albedo"), has_mfp = p.has("mfp");
+  const bool has_medium = p.has("medium");
+  const int forms = int(has_sigma_s || has_sigma_a) + int(has_albedo || has_mfp) + int(has_medium);
+  if (forms == 0) p.fail("missing the medium: give sigma_s and sigma_a, albedo and mfp, or medium");
+  if (forms > 1) {
+    std::string given;
+    for (const char* k : {"sigma_s", "sigma_a", "albedo", "mfp", "medium"})
+      if (p.has(k)) given += (given.empty() ? "" : ", ") + std::string(k);
+    p.fail("give exactly one form of the medium (sigma_s + sigma_a, albedo + mfp, or medium), got " + given);
+  }
+  if (has_sigma_s != has_sigma_a) p.fail(has_sigma_s ? "sigma_s needs sigma_a" : "sigma_a needs sigma_s");
+  if (has_albedo != has_mfp) p.fail(has_albedo ? "albedo needs mfp" : "mfp needs albedo");
+  if (p.has("scale") && !has_medium) p.fail("scale needs medium (it converts the medium's 1/mm to scene units)");
+
+  // The boundary: 1.33 (water-like) by default, the paper's 1.3 for its media.
+  s.eta = Float(p.has("eta") ? p.index("eta") : has_medium ? kJensen2001Eta : 1.33);
+  if (p.has("alpha")) {
+    RoughDielectricBxDF m;
+    m.distribution = make_distribution(p);
+    m.eta = s.eta;
+    s.boundary = m;
+  } else {
+    if (p.has("distribution")) p.fail("distribution needs alpha (a rough boundary)");
+    DielectricBxDF m;
+    m.eta = s.eta;
+    s.boundary = m;
+  }
+
+  const double g = p.number("g");
+  // g within (−1, 1) as a double may round to ±1 as a float, where 1 − g = 0 divides
+  // σs′ and the phase function is a delta.
+  if (!(std::abs(Float(g)) < 1)) p.fail("g must be > -1 and < 1, got " + format_number(g) + " (it rounds to +-1 as a float)");
+  s.medium.g = Float(g);
+  s.method = p.choice("method") == "diffusion" ? SubsurfaceMethod::Diffusion : SubsurfaceMethod::RandomWalk;
+
+  if (has_sigma_s) {
+    s.medium.sigma_s = p.color("sigma_s");
+    s.medium.sigma_a = p.color("sigma_a");
+  } else if (has_albedo) {
+    const Color albedo = p.color("albedo"), mfp = p.color("mfp");
+    const Color sigma_t = map(mfp, [](Float l) { return 1 / l; });
+    Color ssa = albedo;  // replaced by the inversion below
+    if (invert) {
+      const auto table = SlabAlbedoTable::get(s.boundary, s.eta, s.medium.g, albedo_table_key(s.boundary, s.eta, s.medium.g));
+      for (int c = 0; c < Color::size(); ++c) ssa[c] = Float(table->single_scattering_albedo(albedo[c]));
+    }
+    s.medium.sigma_s = ssa * sigma_t;
+    s.medium.sigma_a = (1 - ssa) * sigma_t;
+  } else {
+    const std::string name = p.choice("medium");
+    const NamedMedium* m = find_named_medium(name);
+    if (!m) throw std::logic_error("material registry: medium " + name + " has no table entry");
+    const double scale = p.number("scale");  // scene units per mm: σ per unit = σ per mm / scale
+    for (int c = 0; c < Color::size(); ++c) {
+      const double ss = m->sigma_s_prime[size_t(c)] / (1 - double(s.medium.g)) / scale;
+      const double sa = m->sigma_a[size_t(c)] / scale;
+      if (!(ss <= 1e30 && sa <= 1e30))
+        p.fail("scale " + format_number(scale) + " makes the medium's coefficients overflow (" + format_number(ss) +
+               " 1/unit)");
+      s.medium.sigma_s[c] = Float(ss);
+      s.medium.sigma_a[c] = Float(sa);
+    }
+  }
+  return s;
+}
+
+BxDF make_subsurface(Params& p) { return parse_subsurface(p, false).boundary; }
+
 BxDF make_blend(Params& p, const std::string& where, int depth);
 BxDF parse_description(const json& description, const std::string& where, int blend_depth, MaterialSpectra& spectra,
                        const std::string& base_dir);
@@ -527,6 +631,7 @@ constexpr TypeEntry kMakers[] = {
     {"ashikhminshirley", make_ashikhminshirley},
     {"plastic", make_plastic},
     {"measured", make_measured},
+    {"subsurface", make_subsurface},
 };
 
 }  // namespace
@@ -575,6 +680,21 @@ MaterialWithSpectra material_with_spectra_from_json(const json& description, con
 MaterialWithSpectra parse_material_with_spectra(std::string_view json_text, std::string_view source) {
   const json j = parse_json_text(json_text, source);
   return material_with_spectra_from_json(j, std::string(source));
+}
+
+Subsurface subsurface_from_json(const json& description, const std::string& where, const std::string& base_dir) {
+  const std::string at = where.empty() ? "" : where + ": ";
+  if (!description.is_object()) throw InputError(at + "material must be a JSON object, got " + show(description));
+  const auto it = description.find("type");
+  if (it == description.end()) throw InputError(at + "material: missing field 'type'");
+  if (!it->is_string() || *it != "subsurface")
+    throw InputError(at + "material: type must be \"subsurface\" (a medium under a boundary), got " + show(*it));
+  MaterialSpectra spectra;
+  Params p(description, at + "subsurface: ", *find_material_type("subsurface"), spectra, base_dir);
+  p.reject_undeclared();
+  Subsurface s = parse_subsurface(p, true);
+  p.reject_unknown();
+  return s;
 }
 
 namespace {

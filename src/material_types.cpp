@@ -100,6 +100,35 @@ constexpr ParamSpec kBlend[] = {
     {"bsdfs", K::Materials, "", {}, "", "", true, "The two materials [f0, f1]; blends nest at most 8 deep."},
 };
 
+// Scattering coefficients and mean free paths in 1 / scene unit and scene units: far
+// wider than any medium at any scene scale, and finite as floats when inverted.
+constexpr ParamRange kCoefficient = closed(0, 1e9);
+constexpr ParamSpec kSubsurface[] = {
+    {"eta", K::Number, "", kIndex, "", "", false,
+     "Relative index of the boundary, inside / outside (a number, a named glass, {\"sellmeier\": ...} or a "
+     "spectrum, read at 550 nm); default 1.33, or 1.3 with medium."},
+    {"alpha", K::Roughness, "", kAlpha, "", "", false,
+     "Roughness of the boundary (a roughdielectric); absent: a smooth dielectric."},
+    {"distribution", K::Choice, "\"ggx\"", {}, "", "ggx|beckmann", false,
+     "Microfacet distribution of a rough boundary; needs alpha."},
+    {"sigma_s", K::Colour, "", kCoefficient, "1/unit", "", false,
+     "Scattering coefficient per scene unit (with sigma_a); a spectrum gives its values at 650, 550, 450 nm."},
+    {"sigma_a", K::Colour, "", kCoefficient, "1/unit", "", false,
+     "Absorption coefficient per scene unit (with sigma_s); a spectrum gives its values at 650, 550, 450 nm."},
+    {"g", K::Number, "0", {-1, 1, true, true, true}, "", "", false,
+     "Henyey-Greenstein asymmetry: the mean cosine of the scattering angle (0 isotropic, > 0 forward)."},
+    {"albedo", K::Colour, "", closed_open(0, 1), "", "", false,
+     "The artist's colour (with mfp): the fraction of the light entering at normal incidence that leaves again, "
+     "Rd / (1 - F(0)); inverted to the single-scattering albedo for the actual eta, g and roughness."},
+    {"mfp", K::Colour, "", closed(1e-9, 1e9), "units", "", false,
+     "Mean free path 1 / sigma_t per channel, in scene units (with albedo)."},
+    {"medium", K::Choice, "", {}, "", "apple|chicken1|chicken2|cream|ketchup|marble|potato|skimmilk|skin1|skin2|wholemilk",
+     false, "A medium measured by Jensen et al. 2001 (Fig. 5): reduced sigma_s' and sigma_a in 1/mm."},
+    {"scale", K::Number, "1", open_closed(0, 1e9), "", "", false, "Scene units per mm, for medium."},
+    {"method", K::Choice, "\"randomwalk\"", {}, "", "randomwalk|diffusion", false,
+     "How the renderer and gonio subsurface treat the medium: the exact random walk, or a diffusion profile."},
+};
+
 constexpr MaterialTypeSpec kTypes[] = {
     {"diffuse", "Ideal diffuse (Lambertian) reflection, f = ρ/π.", "Lambert 1760; the lecture, §5.1", kDiffuse, ""},
     {"mirror", "Perfect specular reflection with a constant reflectance.", "The lecture, §5.2, eq. 23", kMirror, ""},
@@ -133,6 +162,13 @@ constexpr MaterialTypeSpec kTypes[] = {
     {"measured", "A measured isotropic BRDF: a MERL table, interpolated in half/difference angles and importance-sampled.",
      "Matusik et al. 2003 (MERL format); Rusinkiewicz 1998 (half/difference angles)", kMeasured,
      "Reflection only; docs/measured.md says how it interpolates, treats unmeasured entries and samples."},
+    {"subsurface", "Dielectric boundary (smooth or rough) over a homogeneous scattering medium (a BSSRDF).",
+     "Henyey & Greenstein 1941 (phase function); Jensen et al. 2001 (measured media); Chiang, Kutz & Burley 2016 "
+     "(random walk, albedo and mfp)",
+     kSubsurface,
+     "The medium is exactly one of: sigma_s + sigma_a (and g), albedo + mfp (and g), or medium (with scale, and g: "
+     "sigma_s = sigma_s' / (1 - g)). As a BSDF (eval, sample, check) it is its boundary; the medium belongs to the "
+     "renderer and gonio subsurface. docs/subsurface.md."},
 };
 
 std::string number_text(double v) {
