@@ -138,7 +138,9 @@ Accel::Accel(const Scene& scene) : impl_(std::make_unique<Impl>(scene)) {
 
 Accel::~Accel() = default;
 
-bool Accel::intersect(const Ray& ray, SurfaceHit& hit) const {
+bool Accel::intersect(const Ray& ray, SurfaceHit& hit) const { return intersect_after(ray, 0, hit); }
+
+bool Accel::intersect_after(const Ray& ray, Float tnear, SurfaceHit& hit) const {
   RTCIntersectContext ctx;
   rtcInitIntersectContext(&ctx);
   RTCRayHit rh;
@@ -148,7 +150,7 @@ bool Accel::intersect(const Ray& ray, SurfaceHit& hit) const {
   rh.ray.dir_x = ray.d.x;
   rh.ray.dir_y = ray.d.y;
   rh.ray.dir_z = ray.d.z;
-  rh.ray.tnear = 0;
+  rh.ray.tnear = tnear;
   rh.ray.tfar = ray.tmax;
   rh.ray.time = 0;
   rh.ray.mask = 0xFFFFFFFFu;

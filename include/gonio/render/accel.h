@@ -4,6 +4,9 @@
 // Embree's hit into the surface record the integrator shades: position, geometric and
 // shading normals, tangent and texture coordinates.
 
+#include <algorithm>
+#include <cmath>
+#include <limits>
 #include <memory>
 
 #include "gonio/render/ray.h"
@@ -31,6 +34,29 @@ class Accel {
   Accel& operator=(const Accel&) = delete;
 
   bool intersect(const Ray& ray, SurfaceHit& hit) const;
+  // The nearest hit with tnear < t < ray.tmax: intersect() resumed past a surface already
+  // found, for walking along a segment.
+  bool intersect_after(const Ray& ray, Float tnear, SurfaceHit& hit) const;
+  // The all-hits query (subsurface probe rays, King et al. 2013): calls visit(hit) for
+  // every surface the segment o + t·d, 0 < t < tmax, crosses, nearest first, at most
+  // max_hits of them; returns how many. Each crossing is one query resumed just past the
+  // previous one: crossings closer than 1e-6 of the segment's reach to the previous one are
+  // merged with it (a shared edge of two triangles is reported once). visit returns false
+  // to stop early.
+  template <typename F>
+  int for_each_hit(const Ray& ray, F&& visit, int max_hits = 256) const {
+    const Float reach = std::isfinite(ray.tmax) ? ray.tmax : Float(1);
+    const Float gap = Float(1e-6) * reach;
+    Float tnear = 0;
+    int n = 0;
+    SurfaceHit hit;
+    while (n < max_hits && intersect_after(ray, tnear, hit)) {
+      ++n;
+      if (!visit(static_cast<const SurfaceHit&>(hit))) break;
+      tnear = std::max(std::nextafter(hit.t, std::numeric_limits<Float>::infinity()), hit.t + gap);
+    }
+    return n;
+  }
   // True when anything lies on the segment o + t·d, 0 < t < tmax.
   bool occluded(const Vec3& o, const Vec3& d, Float tmax) const;
 

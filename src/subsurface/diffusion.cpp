@@ -1,0 +1,255 @@
+// Photon beam diffusion (Habel, Christensen & Jarosz 2013) tabulated per channel, and the
+// slab of `gonio subsurface` by the diffusion method. The two PBD integrals over depth are
+// computed here in double, once per radius of the table, by the midpoint rule in log depth
+// (the integrands vary on the scale of r near the surface and of the mean free path below,
+// which a log grid resolves for every r of the table alike).
+
+#include "gonio/subsurface/diffusion.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "gonio/fresnel.h"
+#include "gonio/subsurface/subsurface.h"
+#include "gonio/subsurface/sw_bxdf.h"
+
+namespace gonio {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kInv4Pi = 1 / (4 * kPi);
+
+// The medium of one channel and what PBD derives from it once.
+struct PbdMedium {
+  double sigma_s, sigma_a, g, eta;
+  double sps, spt, rhop;  // reduced σs′ = (1 − g) σs (similarity relation), σt′, ρ′ = σs′/σt′
+  double D, sigma_tr;     // Grosjean's diffusion coefficient and the effective transport coefficient
+  double ze, c_phi, c_e;  // extrapolation depth (negative: above the surface) and exitance weights
+
+  PbdMedium(double ss, double sa, double g_, double eta_) : sigma_s(ss), sigma_a(sa), g(g_), eta(eta_) {
+    sps = (1 - g) * sigma_s;
+    spt = sigma_a + sps;
+    rhop = sps / spt;
+    // Grosjean's non-classical diffusion coefficient D = (2σa + σs′) / (3 σt′²) (d'Eon 2012,
+    // "A better dipole", eq. 5; pbrt-v3 eq. 15.24), σtr = √(σa / D).
+    D = (2 * sigma_a + sps) / (3 * spt * spt);
+    sigma_tr = std::sqrt(sigma_a / D);
+    // The boundary of d'Eon & Irving 2011 (eqs. 11–13; pbrt-v3 §15.5.2): Fresnel moments of
+    // light inside the medium reaching the surface (relative index 1/η crossed outward),
+    // ze = −2D (1 + 3 FM2) / (1 − 2 FM1), E = cΦ φ + cE D ∂φ/∂n with
+    // cΦ = (1 − 2 FM1)/4, cE = (1 − 3 FM2)/2.
+    const double fm1 = fresnel_moment(1, 1 / eta), fm2 = fresnel_moment(2, 1 / eta);
+    ze = -2 * D * (1 + 3 * fm2) / (1 - 2 * fm1);
+    c_phi = 0.25 * (1 - 2 * fm1);
+    c_e = 0.5 * (1 - 3 * fm2);
+  }
+
+  // Radiant exitance at distance r from a unit point source at depth zr: the dipole
+  // (Farrell et al. 1992; real source at zr, mirror source at zv = 2 ze − zr above the
+  // surface; fluence φ = (e^{−σtr dr}/dr − e^{−σtr dv}/dv) / (4π D)), times the factor
+  // κ = 1 − e^{−2σt′(dr + zr)} of Habel et al. 2013 (§4.2) that suppresses the dipole's
+  // overestimate close to the source. Habel et al. 2013, eq. 10 with pbrt-v3 §15.5.3.
+  double dipole_exitance(double r, double zr) const {
+    const double zv = -zr + 2 * ze;
+    const double dr = std::sqrt(r * r + zr * zr), dv = std::sqrt(r * r + zv * zv);
+    const double er = std::exp(-sigma_tr * dr), ev = std::exp(-sigma_tr * dv);
+    const double phi = kInv4Pi / D * (er / dr - ev / dv);
+    const double dphi = kInv4Pi * (zr * (1 + sigma_tr * dr) * er / (dr * dr * dr) -
+                                   zv * (1 + sigma_tr * dv) * ev / (dv * dv * dv));
+    const double kappa = -std::expm1(-2 * spt * (dr + zr));
+    return kappa * (c_phi * phi + c_e * dphi);
+  }
+
+  // Multiple scattering: the beam refracted in at normal incidence scatters (reduced) at
+  // depth t with density σs′ e^{−σt′ t} per unit length and unit entered power, each such
+  // point a dipole: Rms(r) = ρ′ ∫0^∞ σs′ e^{−σt′ t} E(r, t) dt. The second factor ρ′ is
+  // PBD's as pbrt-v3 evaluates it (BeamDiffusionMS, ρ′² with depths drawn ∝ σt′ e^{−σt′ t});
+  // against the exact half-space (Chandrasekhar's H-function, η = 1, g = 0) it brings the
+  // total Rd within +11 % at ϖ = 0.5 where one ρ′ is +55 % (docs/subsurface-diffusion.md).
+  double multiple(double r, int n) const {
+    const double ell = 1 / spt;
+    const double lo = std::log(1e-5 * std::min(std::max(r, 1e-3 * ell), ell)), hi = std::log(60 * ell);
+    const double ds = (hi - lo) / n;
+    double sum = 0;
+    for (int i = 0; i < n; ++i) {
+      const double t = std::exp(lo + (i + 0.5) * ds);
+      sum += sps * std::exp(-spt * t) * dipole_exitance(r, t) * t;  // dt = t ds
+    }
+    return rhop * sum * ds;
+  }
+
+  // Single scattering of the unreduced beam (Habel et al. 2013, §4.3; pbrt-v3 eq. 15.28):
+  // scattered at depth t towards the exit point at distance d = √(r² + t²), cosine
+  // μo = t/d with the normal, phase p at the angle between the beam (down) and that
+  // direction (up), attenuated over d, spread over the surface by μo/d², transmitted by
+  // 1 − Fr(μo) from inside: Rss(r) = ∫ σs e^{−σt t} p e^{−σt d} (1 − Fr) μo/d² dt. Depths
+  // above tc = r √(η² − 1) only: shallower points reach r beyond the critical angle.
+  double single(double r, int n) const {
+    const double st = sigma_s + sigma_a;
+    const double tc = eta > 1 ? r * std::sqrt(eta * eta - 1) : 0.0;
+    const double ell = 1 / st;
+    const double lo = std::log(1e-5 * std::min(std::max(r, 1e-3 * ell), ell)), hi = std::log(60 * ell);
+    const double ds = (hi - lo) / n;
+    double sum = 0;
+    for (int i = 0; i < n; ++i) {
+      const double tau = std::exp(lo + (i + 0.5) * ds);
+      const double t = tc + tau;
+      const double d2 = r * r + t * t, d = std::sqrt(d2);
+      const double mu = t / d;
+      // Henyey & Greenstein 1941, eq. 3, at cos = −μo (g > 0 scatters forward, down).
+      const double hg_den = 1 + g * g + 2 * g * mu;
+      const double phase = kInv4Pi * (1 - g * g) / (hg_den * std::sqrt(hg_den));
+      const double tr = 1 - fresnel_dielectric(-mu, eta);
+      sum += sigma_s * std::exp(-st * (t + d)) * phase * tr * mu / d2 * tau;  // dt = τ ds
+    }
+    return sum * ds;
+  }
+};
+
+// ∫1^q x^(b+1) dx (the power-law segment's mass in units of r_k²), and the x in [1, q]
+// below which a fraction v of it lies.
+double segment_mass(double b, double log_q) {
+  const double a = (b + 2) * log_q;
+  return std::abs(a) < 1e-9 ? log_q : std::expm1(a) / (b + 2);
+}
+double segment_invert(double b, double log_q, double v) {
+  const double a = (b + 2) * log_q;
+  if (std::abs(a) < 1e-9) return std::exp(v * log_q);
+  return std::exp(std::log1p(v * std::expm1(a)) / (b + 2));
+}
+
+constexpr double kTwoPi = 2 * kPi;
+constexpr double kLogStep = 0.04;      // ln q: 25 table nodes per e-fold of r
+constexpr double kMaxSlopeNear0 = -1.9;  // Sp ~ r^b below r0 needs b > −2 to integrate
+constexpr double kRmaxFraction = 0.999;
+
+}  // namespace
+
+RadialProfile::RadialProfile(Float sigma_s, Float sigma_a, Float g, Float eta, int quadrature_points) {
+  const double ss = sigma_s, sa = sigma_a;
+  if (!(ss > 0) || !(sa >= 0) || !(std::abs(g) < 1) || !(eta > 0) || !std::isfinite(ss) || !std::isfinite(sa))
+    return;  // no scattering: an empty profile (Sp = 0, Rd = 0, nothing to sample)
+  const PbdMedium m(ss, sa, g, eta);
+  if (!(m.spt > 0) || !std::isfinite(m.D)) return;
+  const int nq = std::max(16, quadrature_points);
+  // The table spans 10⁻³ transport mean free paths to where the slowest decay, e^{−σtr r}
+  // of diffusion or e^{−σt r} of single scattering, is down by e^{−40} (at most 10⁴ mean
+  // free paths: without absorption the profile falls as r^−3 only, and 10⁻⁴ of Rd lies
+  // beyond).
+  const double ell = 1 / m.spt;
+  const double decay = std::min(m.sigma_tr, ss + sa);
+  double r_hi = decay > 0 ? 40 / decay : 1e4 * ell;
+  r_hi = std::clamp(r_hi, 10 * ell, 1e4 * ell);
+  r0_ = 1e-3 * ell;
+  const int n = static_cast<int>(std::ceil(std::log(r_hi / r0_) / kLogStep));
+  log_q_ = std::log(r_hi / r0_) / n;
+  std::vector<double> sp(static_cast<size_t>(n + 1));
+  int last = -1;
+  for (int k = 0; k <= n; ++k) {
+    const double r = r0_ * std::exp(k * log_q_);
+    const double v = m.multiple(r, nq) + m.single(r, nq);
+    if (!(v > 1e-300) || !std::isfinite(v)) break;
+    sp[static_cast<size_t>(k)] = v;
+    last = k;
+  }
+  if (last < 1) return;
+  log_sp_.resize(static_cast<size_t>(last + 1));
+  slope_.resize(static_cast<size_t>(last + 1));
+  for (int k = 0; k <= last; ++k) log_sp_[static_cast<size_t>(k)] = std::log(sp[static_cast<size_t>(k)]);
+  for (int k = 0; k < last; ++k)
+    slope_[static_cast<size_t>(k)] = (log_sp_[static_cast<size_t>(k) + 1] - log_sp_[static_cast<size_t>(k)]) / log_q_;
+  slope_[static_cast<size_t>(last)] = 0;  // unused: Sp is 0 beyond the last node
+  // The first slope continues below r0, kept integrable.
+  const double b0 = std::max(slope_[0], kMaxSlopeNear0);
+  cdf_.assign(static_cast<size_t>(last + 1), 0);
+  cdf_[0] = kTwoPi * sp[0] * r0_ * r0_ / (b0 + 2);
+  for (int k = 0; k < last; ++k) {
+    const double rk = r0_ * std::exp(k * log_q_);
+    cdf_[static_cast<size_t>(k) + 1] =
+        cdf_[static_cast<size_t>(k)] + kTwoPi * sp[static_cast<size_t>(k)] * rk * rk * segment_mass(slope_[static_cast<size_t>(k)], log_q_);
+  }
+  const double total = cdf_.back();
+  rd_ = static_cast<Float>(total);
+  n_max_ = last;
+  for (int k = 0; k <= last; ++k)
+    if (cdf_[static_cast<size_t>(k)] >= kRmaxFraction * total) {
+      n_max_ = k;
+      break;
+    }
+  n_max_ = std::max(n_max_, 1);
+  r_max_ = static_cast<Float>(r0_ * std::exp(n_max_ * log_q_));
+  norm_ = 1 / cdf_[static_cast<size_t>(n_max_)];
+}
+
+Float RadialProfile::Sp(Float r) const {
+  if (log_sp_.empty() || !(r >= 0)) return 0;
+  const double rr = std::max(double(r), 1e-6 * r0_);
+  const double x = std::log(rr / r0_) / log_q_;
+  const int last = static_cast<int>(log_sp_.size()) - 1;
+  if (x < 0) {
+    const double b0 = std::max(slope_[0], kMaxSlopeNear0);
+    return static_cast<Float>(std::exp(log_sp_[0] + b0 * x * log_q_));
+  }
+  if (x > last) return 0;
+  const int k = std::min(static_cast<int>(x), last);
+  const double v = std::exp(log_sp_[static_cast<size_t>(k)] + slope_[static_cast<size_t>(k)] * (x - k) * log_q_);
+  return std::isfinite(v) ? static_cast<Float>(v) : Float(0);
+}
+
+Float RadialProfile::pdf_r(Float r) const {
+  if (!(norm_ > 0) || !(r <= r_max_)) return 0;
+  return static_cast<Float>(Sp(r) * norm_);
+}
+
+Float RadialProfile::sample_r(Float u) const {
+  if (!(norm_ > 0)) return 0;
+  const double target = std::clamp(double(u), 0.0, 1.0) * cdf_[static_cast<size_t>(n_max_)];
+  // First node whose cumulative mass exceeds the target: the segment ends there.
+  const auto begin = cdf_.begin(), end = cdf_.begin() + n_max_ + 1;
+  const int j = static_cast<int>(std::upper_bound(begin, end, target) - begin);
+  double r;
+  if (j == 0) {
+    const double b0 = std::max(slope_[0], kMaxSlopeNear0);
+    const double v = target / cdf_[0];
+    r = r0_ * std::pow(v, 1 / (b0 + 2));
+  } else {
+    const int k = std::min(j, n_max_) - 1;  // segment [r_k, r_k+1]
+    const double lo = cdf_[static_cast<size_t>(k)], hi = cdf_[static_cast<size_t>(k) + 1];
+    const double v = hi > lo ? std::clamp((target - lo) / (hi - lo), 0.0, 1.0) : 0.0;
+    r = r0_ * std::exp(k * log_q_) * segment_invert(slope_[static_cast<size_t>(k)], log_q_, v);
+  }
+  return std::min(static_cast<Float>(r), r_max_);
+}
+
+template <typename C>
+DiffusionProfileT<C>::DiffusionProfileT(const MediumT<C>& medium, Float eta, int quadrature_points) : eta_(eta) {
+  for (int c = 0; c < C::size(); ++c) {
+    ch_[static_cast<size_t>(c)] = RadialProfile(medium.sigma_s[c], medium.sigma_a[c], medium.g, eta, quadrature_points);
+    rd_[c] = ch_[static_cast<size_t>(c)].Rd();
+  }
+}
+
+template <typename C>
+C DiffusionProfileT<C>::Sp(Float r) const {
+  C v;
+  for (int c = 0; c < C::size(); ++c) v[c] = ch_[static_cast<size_t>(c)].Sp(r);
+  return v;
+}
+
+template class DiffusionProfileT<Color>;
+template class DiffusionProfileT<SampledSpectrum>;
+
+SlabResult slab_diffusion(const Subsurface& material) {
+  const DiffusionProfile profile(material.medium, material.eta);
+  // The quadrature's error: the same table at half the depths per radius.
+  const DiffusionProfile coarse(material.medium, material.eta, 512);
+  const Float entry = 1 - fresnel_dielectric(Float(1), material.eta);  // 1 − F(0)
+  SlabResult out;
+  out.Rd = profile.Rd() * entry;
+  for (int c = 0; c < Color::size(); ++c) out.stderr_[c] = std::abs(profile.Rd()[c] - coarse.Rd()[c]) * entry;
+  for (Float r : slab_profile_radii(material.medium)) out.profile.push_back({r, profile.Sp(r) * entry});
+  return out;
+}
+
+}  // namespace gonio
