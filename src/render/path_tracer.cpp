@@ -241,7 +241,12 @@ typename Shading::C PathTracer::trace(Ray ray, Pcg32& rng, PathStats& stats, Sha
         const auto exit = sample_probe_exit(accel_, hit, frame, *material.profile, rng);
         if (!exit) break;
         ++stats.probe_exits;
-        beta *= exit->weight;
+        // The radiance of the entry's refraction was scaled by 1/η²; the light leaves
+        // again through the boundary, which scales it back (pbrt-v3's
+        // SeparableBSSRDFAdapter multiplies Sw by η² for the same reason).
+        const Float eta2 = material.subsurface->eta * material.subsurface->eta;
+        beta *= exit->weight * eta2;
+        eta_scale /= eta2;
         if (!(beta.max_component() > 0)) break;
         const SurfaceHit& xo = exit->hit;
         const Frame exit_frame = Frame::from_normal_tangent(xo.ng, xo.tangent);

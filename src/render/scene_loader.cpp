@@ -177,7 +177,7 @@ struct Loader {
       m.subsurface = subsurface_from_json(desc.value(), desc.where(), base_dir);
       m.bxdf = m.subsurface->boundary;
       if (m.subsurface->method == SubsurfaceMethod::Diffusion)
-        m.profile = std::make_shared<const DiffusionProfile>(*m.subsurface);
+        m.profile = std::make_shared<const DiffusionProfile>(m.subsurface->medium, m.subsurface->eta);
       scene.materials.push_back(std::move(m));
     } else if (has_texture(desc.value())) {
       Material m = textured_material(desc);

@@ -9,6 +9,7 @@
 
 #include "../unit/test_scale.h"
 #include "gonio/error.h"
+#include "gonio/material.h"
 #include "gonio/render/accel.h"
 #include "gonio/render/path_tracer.h"
 #include "gonio/render/renderer.h"
@@ -70,22 +71,31 @@ std::string furnace_scene(const std::string& material, int spp) {
              "environment": {"radiance": 1}})";
 }
 
-void expect_furnace(const std::string& material, int spp) {
-  const Image img = test::render_text(furnace_scene(material, spp));
+void expect_furnace(const Scene& scene, const std::string& what) {
+  const Image img = render(scene, {});
   for (int c = 0; c < 3; ++c) {
     const MeanErr m = image_mean(img, c);
-    EXPECT_NEAR(m.mean, 1.0, 4 * m.err + 1e-3) << material << " channel " << c << " ± " << m.err;
+    EXPECT_NEAR(m.mean, 1.0, 4 * m.err + 1e-3) << what << " channel " << c << " ± " << m.err;
   }
 }
 
 TEST(SubsurfaceRender, FurnaceRandomWalkSmoothBoundary) {
-  expect_furnace(R"({"type": "subsurface", "eta": 1.33, "sigma_s": [1, 3, 8], "sigma_a": 0, "g": 0.3})",
-                 static_cast<int>(scaled(64, 16)));
+  const std::string material = R"({"type": "subsurface", "eta": 1.33, "sigma_s": [1, 3, 8], "sigma_a": 0, "g": 0.3})";
+  expect_furnace(parse_scene(furnace_scene(material, static_cast<int>(scaled(64, 16))), "furnace.json", ""), material);
 }
 
+// A rough boundary: next-event estimation through it, from outside and from inside. The
+// single-scattering microfacet dielectric loses the energy of its facets' interreflection
+// (a rough glass sphere alone renders about 0.85 here at α = 0.3), so the boundary is
+// replaced by the energy-conserving one of Kulla & Conty 2017 (`multiscatter`): the loss
+// is the boundary model's, not the walk's, and the furnace must give 1.
 TEST(SubsurfaceRender, FurnaceRandomWalkRoughBoundary) {
-  expect_furnace(R"({"type": "subsurface", "eta": 1.5, "alpha": 0.3, "sigma_s": [2, 2, 5], "sigma_a": 0})",
-                 static_cast<int>(scaled(64, 16)));
+  const std::string material = R"({"type": "subsurface", "eta": 1.5, "alpha": 0.3, "sigma_s": [2, 2, 5], "sigma_a": 0})";
+  Scene scene = parse_scene(furnace_scene(material, static_cast<int>(scaled(64, 16))), "furnace.json", "");
+  ASSERT_TRUE(scene.materials[0].subsurface);
+  const BxDF boundary = parse_material(R"({"type": "roughdielectric", "eta": 1.5, "alpha": 0.3, "multiscatter": true})");
+  scene.materials[0].bxdf = scene.materials[0].subsurface->boundary = boundary;
+  expect_furnace(scene, material + " with a multiple-scattering boundary");
 }
 
 // A slab 1 unit thick that only absorbs (σs = 0), lit from below by a uniform area light

@@ -16,11 +16,8 @@
 #include "gonio/render/camera.h"
 #include "gonio/render/lights.h"
 #include "gonio/render/texture.h"
+#include "gonio/subsurface/diffusion.h"
 #include "gonio/subsurface/subsurface.h"
-
-namespace gonio {
-struct DiffusionProfile;  // gonio/subsurface/diffusion.h
-}
 
 namespace gonio::render {
 
