@@ -250,7 +250,7 @@ typename Shading::C PathTracer::trace(Ray ray, Pcg32& rng, PathStats& stats, Sha
         if (!(beta.max_component() > 0)) break;
         const SurfaceHit& xo = exit->hit;
         const Frame exit_frame = Frame::from_normal_tangent(xo.ng, xo.tangent);
-        const SwBxDF sw(material.subsurface->eta);
+        const SwBxDF& sw = material.exit_lobe;
         const Vec3 sw_wo{0, 0, 1};  // Sw does not depend on wo
         L += beta * direct_light(xo, exit_frame, sw, sw_wo, xo.ng, rng, stats, shading);
         const Float v_lobe = rng.next_float(), v1 = rng.next_float(), v2 = rng.next_float();

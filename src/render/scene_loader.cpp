@@ -176,8 +176,10 @@ struct Loader {
       m.name = name;
       m.subsurface = subsurface_from_json(desc.value(), desc.where(), base_dir);
       m.bxdf = m.subsurface->boundary;
-      if (m.subsurface->method == SubsurfaceMethod::Diffusion)
+      if (m.subsurface->method == SubsurfaceMethod::Diffusion) {
         m.profile = std::make_shared<const DiffusionProfile>(m.subsurface->medium, m.subsurface->eta);
+        m.exit_lobe = SwBxDF(m.subsurface->eta);
+      }
       scene.materials.push_back(std::move(m));
     } else if (has_texture(desc.value())) {
       Material m = textured_material(desc);
@@ -185,7 +187,7 @@ struct Loader {
       scene.materials.push_back(std::move(m));
     } else {
       MaterialWithSpectra parsed = material_with_spectra_from_json(desc.value(), desc.where(), base_dir);
-      scene.materials.push_back({name, std::move(parsed.bxdf), {}, std::move(parsed.spectra), 0, {}, {}});
+      scene.materials.push_back({name, std::move(parsed.bxdf), {}, std::move(parsed.spectra), 0, {}, {}, {}});
     }
     return static_cast<int>(scene.materials.size()) - 1;
   }
@@ -425,7 +427,7 @@ struct Loader {
     // The largest values: a rough conductor then keeps its multiple-scattering lobe
     // unless every roughness is smooth (with_params).
     MaterialWithSpectra parsed = material_with_spectra_from_json(corner[1], desc.where(), base_dir);
-    Material m{"", std::move(parsed.bxdf), {}, std::move(parsed.spectra), 0, {}, {}};
+    Material m{"", std::move(parsed.bxdf), {}, std::move(parsed.spectra), 0, {}, {}, {}};
     for (const Slot& s : slots) {
       m.textures.push_back({s.param, s.texture});
       if (int(s.param) < kColourParams) m.textured_colours |= TexturedColours(1) << unsigned(s.param);
@@ -595,7 +597,7 @@ struct Loader {
   int emitter_material() {
     for (size_t i = 0; i < scene.materials.size(); ++i)
       if (scene.materials[i].name == "<emitter>") return static_cast<int>(i);
-    scene.materials.push_back({"<emitter>", DiffuseBxDF{Color(0)}, {}, {}, 0, {}, {}});
+    scene.materials.push_back({"<emitter>", DiffuseBxDF{Color(0)}, {}, {}, 0, {}, {}, {}});
     return static_cast<int>(scene.materials.size()) - 1;
   }
 

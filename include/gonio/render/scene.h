@@ -18,6 +18,7 @@
 #include "gonio/render/texture.h"
 #include "gonio/subsurface/diffusion.h"
 #include "gonio/subsurface/subsurface.h"
+#include "gonio/subsurface/sw_bxdf.h"
 
 namespace gonio::render {
 
@@ -36,6 +37,7 @@ struct Material {
   // at load. Empty for every other material.
   std::optional<Subsurface> subsurface;
   std::shared_ptr<const DiffusionProfile> profile;
+  SwBxDF exit_lobe;  // the diffusion method's Sw (its Fresnel moment is a quadrature: made once)
 
   // The model at texture coordinates `uv`: `bxdf` itself for a uniform material (no
   // copy), else `bxdf` with the textured parameters looked up, built in `scratch`.
