@@ -71,8 +71,9 @@ PathTracer::PathTracer(const Scene& scene, const Accel& accel) : scene_(scene), 
   if (scene.settings.spectral)
     for (const Material& m : scene.materials)
       if (m.subsurface)
-        throw InputError("material" + (m.name.empty() ? std::string() : " \"" + m.name + "\"") +
-                         ": subsurface materials render in RGB only (spectral transport of the medium is not implemented)");
+        throw InputError("spectral rendering: material" + (m.name.empty() ? std::string() : " \"" + m.name + "\"") +
+                         " is a subsurface material, which renders in RGB only (its medium is not carried per "
+                         "wavelength yet); render without --spectral and \"spectral\": true");
   sampled_lights_ = static_cast<int>(scene.area_lights.size()) + (scene.environment.is_black() ? 0 : 1);
   light_select_pdf_ = sampled_lights_ > 0 ? 1 / Float(sampled_lights_) : Float(0);
 }
