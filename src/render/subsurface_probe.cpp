@@ -34,11 +34,16 @@ Float probe_exit_pdf(const SurfaceHit& entry, const Frame& frame, const Diffusio
   const std::array<Float, 3> r_proj = {std::sqrt(d.y * d.y + d.z * d.z), std::sqrt(d.x * d.x + d.z * d.z),
                                        std::sqrt(d.x * d.x + d.y * d.y)};
   const std::array<Float, 3> cosine = {std::abs(n.x), std::abs(n.y), std::abs(n.z)};
+  // A channel's probes are chords of its own sphere of radius r_max: a point farther than
+  // that from the entry is on none of them, whatever its distance within a disc.
+  const Float dist2 = length_squared(d);
   Float pdf = 0;
-  for (int a = 0; a < 3; ++a)
-    for (int j = 0; j < m; ++j)
-      pdf += kAxisProb[static_cast<size_t>(a)] * profile.pdf_r(which[static_cast<size_t>(j)], r_proj[static_cast<size_t>(a)]) *
-             cosine[static_cast<size_t>(a)];
+  for (int j = 0; j < m; ++j) {
+    const int c = which[static_cast<size_t>(j)];
+    if (dist2 > profile.r_max(c) * profile.r_max(c)) continue;
+    for (int a = 0; a < 3; ++a)
+      pdf += kAxisProb[static_cast<size_t>(a)] * profile.pdf_r(c, r_proj[static_cast<size_t>(a)]) * cosine[static_cast<size_t>(a)];
+  }
   return pdf / static_cast<Float>(m);
 }
 

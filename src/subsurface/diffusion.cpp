@@ -11,6 +11,7 @@
 #include <limits>
 
 #include "gonio/fresnel.h"
+#include "gonio/subsurface/henyey_greenstein.h"
 #include "gonio/subsurface/subsurface.h"
 #include "gonio/subsurface/sw_bxdf.h"
 
@@ -97,9 +98,8 @@ struct PbdMedium {
       const double t = tc + tau;
       const double d2 = r * r + t * t, d = std::sqrt(d2);
       const double mu = t / d;
-      // Henyey & Greenstein 1941, eq. 3, at cos = −μo (g > 0 scatters forward, down).
-      const double hg_den = 1 + g * g + 2 * g * mu;
-      const double phase = kInv4Pi * (1 - g * g) / (hg_den * std::sqrt(hg_den));
+      // Henyey–Greenstein between the beam (down) and the way up to r: cos = −μo.
+      const double phase = hg_phase(static_cast<Float>(-mu), static_cast<Float>(g));
       const double tr = 1 - fresnel_dielectric(-mu, eta);
       sum += sigma_s * std::exp(-st * (t + d)) * phase * tr * mu / d2 * tau;  // dt = τ ds
     }
@@ -169,6 +169,12 @@ RadialProfile::RadialProfile(Float sigma_s, Float sigma_a, Float g, Float eta, i
     cdf_[static_cast<size_t>(k) + 1] =
         cdf_[static_cast<size_t>(k)] + kTwoPi * sp[static_cast<size_t>(k)] * rk * rk * segment_mass(slope_[static_cast<size_t>(k)], log_q_);
   }
+  log_sp_f_.assign(log_sp_.begin(), log_sp_.end());
+  step_f_.resize(log_sp_.size());
+  for (size_t k = 0; k < slope_.size(); ++k) step_f_[k] = static_cast<float>(slope_[k] * log_q_);
+  inv_r0_ = static_cast<float>(1 / r0_);
+  inv_log_q_ = static_cast<float>(1 / log_q_);
+  b0_ = static_cast<float>(b0 * log_q_);
   const double total = cdf_.back();
   rd_ = static_cast<Float>(total);
   n_max_ = last;
@@ -183,18 +189,14 @@ RadialProfile::RadialProfile(Float sigma_s, Float sigma_a, Float g, Float eta, i
 }
 
 Float RadialProfile::Sp(Float r) const {
-  if (log_sp_.empty() || !(r >= 0)) return 0;
-  const double rr = std::max(double(r), 1e-6 * r0_);
-  const double x = std::log(rr / r0_) / log_q_;
-  const int last = static_cast<int>(log_sp_.size()) - 1;
-  if (x < 0) {
-    const double b0 = std::max(slope_[0], kMaxSlopeNear0);
-    return static_cast<Float>(std::exp(log_sp_[0] + b0 * x * log_q_));
-  }
-  if (x > last) return 0;
+  if (log_sp_f_.empty() || !(r >= 0)) return 0;
+  // x = ln(r / r0) / ln q: node k = ⌊x⌋, r ≥ 10⁻⁶ r0 so that Sp(0) stays finite.
+  const float x = std::log(std::max(r * inv_r0_, 1e-6f)) * inv_log_q_;
+  const int last = static_cast<int>(log_sp_f_.size()) - 1;
+  if (x < 0) return std::exp(log_sp_f_[0] + b0_ * x);
+  if (!(x <= static_cast<float>(last))) return 0;
   const int k = std::min(static_cast<int>(x), last);
-  const double v = std::exp(log_sp_[static_cast<size_t>(k)] + slope_[static_cast<size_t>(k)] * (x - k) * log_q_);
-  return std::isfinite(v) ? static_cast<Float>(v) : Float(0);
+  return std::exp(log_sp_f_[static_cast<size_t>(k)] + step_f_[static_cast<size_t>(k)] * (x - static_cast<float>(k)));
 }
 
 Float RadialProfile::pdf_r(Float r) const {
@@ -204,7 +206,8 @@ Float RadialProfile::pdf_r(Float r) const {
 
 Float RadialProfile::sample_r(Float u) const {
   if (!(norm_ > 0)) return 0;
-  const double target = std::clamp(double(u), 0.0, 1.0) * cdf_[static_cast<size_t>(n_max_)];
+  const double uu = u >= 0 ? std::min(double(u), 1.0) : 0.0;  // NaN → 0
+  const double target = uu * cdf_[static_cast<size_t>(n_max_)];
   // First node whose cumulative mass exceeds the target: the segment ends there.
   const auto begin = cdf_.begin(), end = cdf_.begin() + n_max_ + 1;
   const int j = static_cast<int>(std::upper_bound(begin, end, target) - begin);

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 #include <functional>
+#include <limits>
 #include <vector>
 
 #include "gonio/bxdf/custom.h"
@@ -86,8 +87,8 @@ struct ReferencePbd {
       return ss * std::exp(-st * (t + d)) * hg * (1 - fresnel_test(mu, 1 / eta)) * mu / (d * d);
     };
     const double l1 = 1 / spt, l2 = 1 / st;
-    double v = integrate(ms, 0, std::min(r, l1), 1e-10) + integrate(ms, std::min(r, l1), 80 * l1, 1e-10);
-    v += integrate(single, tc, tc + std::min(r, l2), 1e-10) + integrate(single, tc + std::min(r, l2), tc + 80 * l2, 1e-10);
+    double v = integrate(ms, 0, std::min(r, l1), 1e-9) + integrate(ms, std::min(r, l1), 80 * l1, 1e-9);
+    v += integrate(single, tc, tc + std::min(r, l2), 1e-9) + integrate(single, tc + std::min(r, l2), tc + 80 * l2, 1e-9);
     return v;
   }
 };
@@ -194,6 +195,32 @@ TEST(SubsurfaceDiffusion, SampleRMatchesPdfR) {
   }
 }
 
+// sample_r is the inverse of the CDF of pdf_r locally too: between the radii of u and
+// u + δ lies a mass δ of 2π r pdf_r (Simpson on the short interval). This sees errors
+// inside one table segment, which the histogram's bins are too coarse for.
+TEST(SubsurfaceDiffusion, SampleRInvertsTheCdfLocally) {
+  const DiffusionProfile& p = shared_profile();
+  Pcg32 rng(9);
+  constexpr double kDelta = 1e-3;
+  for (int c = 0; c < 3; ++c) {
+    double worst = 0;
+    for (int i = 0; i < 300; ++i) {
+      const double u = 0.001 + 0.98 * rng.next_double();
+      const double r1 = p.sample_r(c, Float(u)), r2 = p.sample_r(c, Float(u + kDelta));
+      ASSERT_LT(r1, r2);
+      constexpr int m = 32;  // Simpson panels
+      double mass = 0;
+      for (int j = 0; j <= m; ++j) {
+        const double r = r1 + (r2 - r1) * j / m;
+        mass += (j == 0 || j == m ? 1 : (j % 2 ? 4 : 2)) * 2 * kPiT * r * p.pdf_r(c, Float(r));
+      }
+      mass *= (r2 - r1) / (3 * m);
+      worst = std::max(worst, std::abs(mass / kDelta - 1));
+    }
+    EXPECT_LT(worst, 3e-3) << "channel " << c;
+  }
+}
+
 TEST(SubsurfaceDiffusion, NoScatteringGivesAnEmptyProfile) {
   Medium m;
   m.sigma_s = Color(0.0f, 1.0f, 0.0f);
@@ -215,6 +242,9 @@ TEST(SubsurfaceDiffusion, NoScatteringGivesAnEmptyProfile) {
   }
   EXPECT_TRUE(std::isfinite(p.sample_r(1, 0.0f)));
   EXPECT_TRUE(std::isfinite(p.sample_r(1, kOneMinusEpsilon)));
+  EXPECT_TRUE(std::isfinite(p.sample_r(1, std::numeric_limits<Float>::quiet_NaN())));
+  EXPECT_EQ(p.Sp(std::numeric_limits<Float>::quiet_NaN())[1], 0);
+  EXPECT_EQ(p.pdf_r(1, std::numeric_limits<Float>::quiet_NaN()), 0);
 }
 
 // Index-matched, isotropic: the exact half-space albedo 1 − H(1)√(1 − ϖ) (Chandrasekhar,

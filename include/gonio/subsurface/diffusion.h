@@ -48,6 +48,10 @@ class RadialProfile {
   // Node k at r_k = r0 q^k; Sp(r) = exp(log_sp[k] + slope[k] ln(r / r_k)) on [r_k, r_k+1]
   // and the first slope continued below r0 (Sp ~ 1/r there from single scattering).
   std::vector<double> log_sp_, slope_;
+  // The same per node in float for Sp(): ln Sp and slope × ln q (Sp is evaluated per
+  // sample; float logarithms and exponentials halve its cost, 1e-5 relative).
+  std::vector<float> log_sp_f_, step_f_;
+  float inv_r0_ = 1, inv_log_q_ = 1, b0_ = 0;
   std::vector<double> cdf_;  // 2π ∫0^r_k Sp r dr, k = 0 … n (cdf_[0] covers [0, r0])
   double r0_ = 1, log_q_ = 1;
   int n_max_ = 0;            // r_max = r0 q^n_max (a node)
