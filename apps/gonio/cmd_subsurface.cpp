@@ -2,6 +2,7 @@
 // collimated beam at normal incidence; issue 14. Prints Rd, its standard error and the
 // radial profile, by the material's own method.
 
+#include <chrono>
 #include <cstdint>
 #include <iostream>
 #include <memory>
@@ -12,6 +13,7 @@
 #include "cli_io.h"
 #include "commands.h"
 #include "gonio/json_text.h"
+#include "gonio/subsurface/diffusion.h"
 #include "gonio/subsurface/slab_walk.h"
 #include "gonio/subsurface/subsurface.h"
 
@@ -27,6 +29,7 @@ struct SubsurfaceArgs {
   std::string bsdf;
   std::int64_t samples = kDefaultSubsurfaceSamples;
   std::int64_t seed = 1;
+  bool stats = false;
 };
 
 Subsurface load_subsurface(const std::string& arg) {
@@ -46,26 +49,44 @@ Subsurface load_subsurface(const std::string& arg) {
   return subsurface_from_json(j, source);
 }
 
-std::string result_line(const SlabResult& r) {
+// --stats (an addition): what the run cost, appended to the line.
+struct RunStats {
+  double parse_seconds = 0, walk_seconds = 0, steps_per_path = 0;
+};
+
+std::string result_line(const SlabResult& r, const RunStats* stats) {
   std::string out = "{\"Rd\":" + json_color(r.Rd) + ",\"stderr\":" + json_color(r.stderr_) + ",\"profile\":[";
   for (size_t i = 0; i < r.profile.size(); ++i) {
     if (i) out += ",";
     out += "[" + json_number(r.profile[i].r) + "," + json_color(r.profile[i].value) + "]";
   }
-  return out + "]}\n";
+  out += "]";
+  if (stats)
+    out += ",\"parse_seconds\":" + json_number(stats->parse_seconds) + ",\"walk_seconds\":" +
+           json_number(stats->walk_seconds) + ",\"steps_per_path\":" + json_number(stats->steps_per_path);
+  return out + "}\n";
 }
 
 void run_subsurface(const SubsurfaceArgs& a) {
+  using Clock = std::chrono::steady_clock;
+  const auto t0 = Clock::now();
   const Subsurface s = load_subsurface(a.bsdf);
+  const auto t1 = Clock::now();
   SlabResult r;
+  std::uint64_t steps = 0;
   if (s.method == SubsurfaceMethod::Diffusion) {
-    // TODO(issue 14, ssdiffusion): r = slab_diffusion(s) from gonio/subsurface/diffusion.h
-    // once that branch is merged.
-    throw InputError("diffusion: not built yet");
+    r = slab_diffusion(s);  // the profile's closed form: stderr 0, no paths
   } else {
-    r = slab_random_walk(s, std::uint64_t(a.samples), std::uint64_t(a.seed));
+    SlabWalkOptions o;
+    o.steps = &steps;
+    r = slab_random_walk(s, std::uint64_t(a.samples), std::uint64_t(a.seed), o);
   }
-  std::cout << result_line(r);
+  const auto t2 = Clock::now();
+  RunStats st;
+  st.parse_seconds = std::chrono::duration<double>(t1 - t0).count();
+  st.walk_seconds = std::chrono::duration<double>(t2 - t1).count();
+  st.steps_per_path = double(steps) / double(a.samples);
+  std::cout << result_line(r, a.stats ? &st : nullptr);
 }
 
 }  // namespace
@@ -82,6 +103,9 @@ void register_subsurface(CLI::App& app) {
                   "random-walk paths, 1 to 10^12 (default " + std::to_string(kDefaultSubsurfaceSamples) + ")")
       ->transform(decimal_in_range(1, kMaxSamples));
   cmd->add_option("--seed", args->seed, "random seed, 0 to 2147483647 (default 1)")->transform(decimal_in_range(0, kMaxSeed));
+  cmd->add_flag("--stats", args->stats,
+                "also print parse_seconds (reading the material, with its albedo table), walk_seconds and "
+                "steps_per_path (mean scattering events of a path; an addition to SPEC's output)");
   cmd->callback([args] { run_subsurface(*args); });
 }
 

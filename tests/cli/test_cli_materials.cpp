@@ -44,7 +44,7 @@ TEST(CliMaterials, DocsMaterialsMdIsTheGeneratedReference) {
 // taken from the registry).
 const std::vector<std::string> kImplemented = {"diffuse", "mirror",     "conductor", "dielectric", "roughconductor",
                                                "roughdielectric", "orennayar", "phong", "blinnphong", "ward",
-                                               "ashikhminshirley", "plastic", "blend", "measured"};
+                                               "ashikhminshirley", "plastic", "blend", "measured", "subsurface"};
 
 TEST(CliMaterials, ListsEveryTypeOnOneLine) {
   const RunResult r = run_gonio({"materials"});
@@ -122,6 +122,7 @@ const std::map<std::string, nlohmann::json> kMinimal = {
     {"plastic", {{"type", "plastic"}}},
     {"blend", {{"type", "blend"}, {"weight", 0.5}, {"bsdfs", {{{"type", "diffuse"}}, {{"type", "mirror"}}}}}},
     {"measured", {{"type", "measured"}, {"file", gonio_test_merl::lambert_table()}}},
+    {"subsurface", {{"type", "subsurface"}, {"sigma_s", 1}, {"sigma_a", 0.1}}},
 };
 
 bool parses(const nlohmann::json& j, std::string* error = nullptr) {
@@ -149,6 +150,11 @@ TEST(CliMaterials, ParserFollowsTheReference) {
       const std::string key(p.name);
       nlohmann::json base = kMinimal.at(type);
       if (type == "plastic" && key == "distribution") base["alpha"] = 0.3;  // a rough coat
+      if (type == "subsurface") {  // each key within its form of the medium
+        if (key == "distribution") base["alpha"] = 0.3;  // a rough boundary
+        if (key == "albedo" || key == "mfp") base = {{"type", "subsurface"}, {"albedo", 0.5}, {"mfp", 1}};
+        if (key == "medium" || key == "scale") base = {{"type", "subsurface"}, {"medium", "marble"}};
+      }
       // The base with `key` set to v (f0 needs Schlick and no index).
       auto with = [&](const nlohmann::json& v) {
         nlohmann::json j = base;

@@ -218,6 +218,10 @@ TEST(ReferenceValues, EveryMaterialTypeHasRecords) {
     // A measured material is its table: test_measured.cpp reads tables written byte by
     // byte by the tests and compares with closed forms there.
     if (type == "measured") continue;
+    // A subsurface material's BSDF is its boundary: test_subsurface_material.cpp checks
+    // that it evaluates and samples exactly as the dielectric or roughdielectric with the
+    // same parameters, whose records are here.
+    if (type == "subsurface") continue;
     EXPECT_TRUE(covered.count(std::string(type))) << "material type \"" << type
                                                   << "\" has no record in " << data_dir();
   }

@@ -4,7 +4,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "gonio/bxdf/dielectric.h"
@@ -93,14 +96,155 @@ Subsurface grey_medium(double albedo, double eta, double g = 0) {
 }
 
 // η = 1, g = 0: the albedo of a half-space for light incident along μ0 is
-// 1 − H(μ0) √(1 − ϖ) (Chandrasekhar 1960, §47; the sum rule for isotropic scattering).
+// 1 − H(μ0) √(1 − ϖ) (Chandrasekhar 1960, ch. V; the plane albedo). One chromatic medium
+// holds the three albedos, each channel with its own σt, so the spectral MIS of the walk
+// (distances drawn with one channel's σt, weighted for all) is tested too: Rd does not
+// depend on σt, only on ϖ.
 TEST(SubsurfaceWalk, IndexMatchedHalfSpaceMatchesHFunction) {
-  for (double albedo : {0.5, 0.9, 0.99}) {
-    const double expected = 1 - chandrasekhar_h(albedo, 1.0) * std::sqrt(1 - albedo);
-    const SlabResult r = slab_random_walk(grey_medium(albedo, 1.0), test::scaled(200000, 20000), 7, 2);
+  const double albedo[3] = {0.5, 0.9, 0.99}, sigma_t[3] = {1, 2, 0.5};
+  Subsurface s = grey_medium(0.5, 1.0);
+  for (int c = 0; c < 3; ++c) {
+    s.medium.sigma_s[c] = Float(albedo[c] * sigma_t[c]);
+    s.medium.sigma_a[c] = Float((1 - albedo[c]) * sigma_t[c]);
+  }
+  const SlabResult r = slab_random_walk(s, test::scaled(200000, 20000), 7, 2);
+  for (int c = 0; c < 3; ++c) {
+    const double expected = 1 - chandrasekhar_h(albedo[c], 1.0) * std::sqrt(1 - albedo[c]);
+    EXPECT_GT(r.stderr_[c], 0);
+    EXPECT_NEAR(r.Rd[c], expected, 3 * r.stderr_[c]) << "albedo " << albedo[c];
+  }
+}
+
+// --- An analog Monte Carlo written here from the papers --------------------------------
+// Photons in double precision: exponential free flights (σt = 1), absorption with
+// probability 1 − ϖ at each collision, HG directions by rejection from the phase
+// function itself (Henyey & Greenstein 1941, eq. 3: no inverse CDF), and at the surface
+// the Fresnel reflectance in its angle form (Hecht, Optics, eqs. 4.42–4.43:
+// Rs = sin²(θi − θt)/sin²(θi + θt), Rp = tan²(θi − θt)/tan²(θi + θt)) deciding reflection.
+
+struct D3 {
+  double x, y, z;
+};
+
+double fresnel_angle_form(double cos_i, double n_i, double n_t) {
+  const double sin_i = std::sqrt(std::max(0.0, 1 - cos_i * cos_i));
+  const double sin_t = n_i / n_t * sin_i;
+  if (sin_t >= 1) return 1;
+  if (sin_i < 1e-9) return std::pow((n_i - n_t) / (n_i + n_t), 2);  // normal incidence
+  const double ti = std::asin(sin_i), tt = std::asin(sin_t);
+  const double rs = std::pow(std::sin(ti - tt) / std::sin(ti + tt), 2);
+  const double rp = std::pow(std::tan(ti - tt) / std::tan(ti + tt), 2);
+  return (rs + rp) / 2;
+}
+
+// A direction at angle acos(mu) from d, azimuth phi (any perpendicular pair).
+D3 rotate(const D3& d, double mu, double phi) {
+  const D3 a = std::abs(d.x) < 0.9 ? D3{1, 0, 0} : D3{0, 1, 0};
+  D3 u{a.y * d.z - a.z * d.y, a.z * d.x - a.x * d.z, a.x * d.y - a.y * d.x};
+  const double lu = std::sqrt(u.x * u.x + u.y * u.y + u.z * u.z);
+  u = {u.x / lu, u.y / lu, u.z / lu};
+  const D3 v{d.y * u.z - d.z * u.y, d.z * u.x - d.x * u.z, d.x * u.y - d.y * u.x};
+  const double st = std::sqrt(std::max(0.0, 1 - mu * mu));
+  return {st * (std::cos(phi) * u.x + std::sin(phi) * v.x) + mu * d.x,
+          st * (std::cos(phi) * u.y + std::sin(phi) * v.y) + mu * d.y,
+          st * (std::cos(phi) * u.z + std::sin(phi) * v.z) + mu * d.z};
+}
+
+// Rd of the half-space for normal incidence: fraction of incident photons that leave.
+std::pair<double, double> analog_slab_rd(double albedo, double g, double eta, std::uint64_t n, std::uint64_t seed) {
+  Pcg32 rng(seed, 99);
+  const double pmax = (1 - g * g) / (2 * std::pow(1 - std::abs(g), 3));  // p(μ) at μ = ±1
+  double sum = 0;
+  for (std::uint64_t i = 0; i < n; ++i) {
+    if (rng.next_double() < fresnel_angle_form(1, 1, eta)) continue;  // first-surface reflection
+    D3 p{0, 0, 0}, d{0, 0, -1};
+    for (int events = 0; events < 100000; ++events) {
+      const double t = -std::log(1 - rng.next_double());
+      if (d.z > 0 && p.z + t * d.z >= 0) {  // reaches the surface
+        const double s = -p.z / d.z;
+        p = {p.x + s * d.x, p.y + s * d.y, 0};
+        if (rng.next_double() >= fresnel_angle_form(d.z, eta, 1)) {
+          sum += 1;
+          break;
+        }
+        d.z = -d.z;  // mirror reflection back inside
+        continue;
+      }
+      p = {p.x + t * d.x, p.y + t * d.y, p.z + t * d.z};
+      if (rng.next_double() >= albedo) break;  // absorbed
+      double mu = 0;
+      for (;;) {
+        mu = 2 * rng.next_double() - 1;
+        const double pdf = (1 - g * g) / (2 * std::pow(1 + g * g - 2 * g * mu, 1.5));
+        if (rng.next_double() * pmax < pdf) break;
+      }
+      d = rotate(d, mu, 2 * kPiD * rng.next_double());
+    }
+  }
+  const double mean = sum / double(n);
+  return {mean, std::sqrt(mean * (1 - mean) / double(n - 1))};
+}
+
+// g ≠ 0 and η = 1.33 (Fresnel entry loss, internal and total internal reflection).
+TEST(SubsurfaceWalk, AnisotropicMismatchedSlabMatchesAnalogMonteCarlo) {
+  struct Case {
+    double albedo, g, eta;
+  };
+  for (const Case c : {Case{0.9, 0.5, 1.33}, Case{0.95, -0.3, 1.0}, Case{0.8, 0.0, 1.5}}) {
+    const std::uint64_t n = test::scaled(60000, 8000);
+    const auto [ref, ref_se] = analog_slab_rd(c.albedo, c.g, c.eta, n, 11);
+    const SlabResult r = slab_random_walk(grey_medium(c.albedo, c.eta, c.g), n, 5, 2);
+    const double tol = 3 * std::sqrt(ref_se * ref_se + double(r.stderr_[0]) * r.stderr_[0]);
+    EXPECT_NEAR(r.Rd[0], ref, tol) << "albedo " << c.albedo << " g " << c.g << " eta " << c.eta;
+  }
+}
+
+// σs = 0: what crosses a slab of thickness L along cos θ is e^{−σa L / cos θ} per
+// channel (Beer–Lambert), through walk_to_boundary with a two-plane boundary.
+struct TwoPlanes {
+  struct Hit {
+    Float t = 0;
+    bool bottom = false;
+  };
+  Float depth = 1;  // the slab is −depth ≤ z ≤ 0
+  bool nearest(const Vec3& o, const Vec3& d, Hit& hit) const {
+    if (d.z > 0) {
+      hit = {-o.z / d.z, false};
+      return true;
+    }
+    if (d.z < 0) {
+      hit = {(-depth - o.z) / d.z, true};
+      return true;
+    }
+    return false;
+  }
+};
+
+TEST(SubsurfaceWalk, AbsorbingSlabFollowsBeerLambert) {
+  Medium m;
+  m.sigma_s = Color(0);
+  m.sigma_a = Color(0.5f, 1.0f, 2.0f);
+  const TwoPlanes slab{1.5f};
+  for (double cos_theta : {1.0, 0.6}) {
+    const Vec3 d = normalize(Vec3{Float(std::sqrt(1 - cos_theta * cos_theta)), 0, Float(-cos_theta)});
+    Pcg32 rng(3, 4);
+    const std::uint64_t n = test::scaled(100000, 10000);
+    double sum[3] = {0, 0, 0}, sum2[3] = {0, 0, 0};
+    for (std::uint64_t i = 0; i < n; ++i) {
+      Color beta(1);
+      TwoPlanes::Hit hit;
+      if (!walk_to_boundary(m, slab, Vec3{0, 0, 0}, d, beta, rng, hit)) continue;
+      ASSERT_TRUE(hit.bottom);
+      ASSERT_NEAR(hit.t, 1.5 / cos_theta, 1e-5);
+      for (int c = 0; c < 3; ++c) {
+        sum[c] += beta[c];
+        sum2[c] += double(beta[c]) * beta[c];
+      }
+    }
     for (int c = 0; c < 3; ++c) {
-      EXPECT_GT(r.stderr_[c], 0);
-      EXPECT_NEAR(r.Rd[c], expected, 3 * r.stderr_[c] + 1e-4) << "albedo " << albedo;
+      const double mean = sum[c] / double(n), se = std::sqrt((sum2[c] / double(n) - mean * mean) / double(n - 1));
+      const double expected = std::exp(-double(m.sigma_a[c]) * 1.5 / cos_theta);
+      EXPECT_NEAR(mean, expected, 3 * se + 1e-6) << "channel " << c << " cos " << cos_theta;
     }
   }
 }
