@@ -544,22 +544,25 @@ struct Loader {
 
   // A random walk needs a medium it cannot leave except through its boundary: the mesh
   // must be closed (every edge shared by exactly two triangles; spheres always are) and
-  // consistently wound. A mesh wound clockwise seen from outside is turned around, so
-  // that its geometric normals point out, as the boundary's BSDF expects (SPEC §1: the
-  // normal is on the side of the first medium).
+  // consistently wound. A closed mesh wound clockwise seen from outside is turned around,
+  // for either method, so that its geometric normals point out, as the boundary's BSDF
+  // and the path tracer's test for "into the medium" expect (SPEC §1: the normal is on
+  // the side of the first medium).
   void check_walkable(const Node& shape, Mesh& m, const std::string& what) {
     const Material& mat = scene.materials[static_cast<size_t>(m.material)];
-    if (!mat.subsurface || mat.subsurface->method != SubsurfaceMethod::RandomWalk) return;
+    if (!mat.subsurface) return;
     const MeshClosure c = mesh_closure(m);
-    const std::string who = "material" + (mat.name.empty() ? std::string() : " \"" + mat.name + "\"") +
-                            " (subsurface, random walk) needs a closed mesh: ";
-    if (!c.closed())
-      shape.fail(who + what + " has " + std::to_string(c.open_edges) + " open edge" + (c.open_edges == 1 ? "" : "s") + " of " +
-                 std::to_string(c.edges) + " (an edge must be shared by exactly two triangles)");
-    if (c.inconsistent_edges > 0)
-      shape.fail(who + what + " is closed but wound inconsistently (" + std::to_string(c.inconsistent_edges) +
-                 " edges run the same way by both their triangles)");
-    if (c.volume < 0 && m.normals.empty())
+    if (mat.subsurface->method == SubsurfaceMethod::RandomWalk) {
+      const std::string who = "material" + (mat.name.empty() ? std::string() : " \"" + mat.name + "\"") +
+                              " (subsurface, random walk) needs a closed mesh: ";
+      if (!c.closed())
+        shape.fail(who + what + " has " + std::to_string(c.open_edges) + " open edge" + (c.open_edges == 1 ? "" : "s") +
+                   " of " + std::to_string(c.edges) + " (an edge must be shared by exactly two triangles)");
+      if (c.inconsistent_edges > 0)
+        shape.fail(who + what + " is closed but wound inconsistently (" + std::to_string(c.inconsistent_edges) +
+                   " edges run the same way by both their triangles)");
+    }
+    if (c.closed() && c.inconsistent_edges == 0 && c.volume < 0 && m.normals.empty())
       for (size_t t = 0; t + 2 < m.indices.size(); t += 3) std::swap(m.indices[t + 1], m.indices[t + 2]);
   }
 

@@ -208,6 +208,10 @@ TEST(SubsurfaceRender, ClosedMeshesAreAcceptedAndTurnedOutward) {
   EXPECT_EQ(c.open_edges, 0u);
   EXPECT_EQ(c.inconsistent_edges, 0u);
   EXPECT_NEAR(c.volume, 6.0, 1e-5);  // wound inward in the file, outward after loading
+  // The same for the diffusion method, whose exits and entries need outward normals too.
+  const Scene diffusion = load_scene_file(dir.file("in-diffusion.json", R"({"shapes": [
+    {"type": "mesh", "file": "in.obj", "material": {"type": "subsurface", "method": "diffusion", "sigma_s": 1, "sigma_a": 0.1}}]})"));
+  EXPECT_NEAR(mesh_closure(diffusion.meshes[0]).volume, 6.0, 1e-5);
 
   // The lecture's bunny (data/meshes/bunny.obj) is closed and wound outward as shipped.
   const Scene bunny = parse_scene(R"({"shapes": [{"type": "mesh", "file": "data/meshes/bunny.obj",
