@@ -5,6 +5,15 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
+#include <type_traits>
+
+#include "gonio/error.h"
+#include "gonio/render/subsurface_probe.h"
+#include "gonio/render/subsurface_walk.h"
+#include "gonio/subsurface/diffusion.h"
+#include "gonio/subsurface/random_walk.h"
+#include "gonio/subsurface/sw_bxdf.h"
 
 namespace gonio::render {
 namespace {
@@ -57,6 +66,14 @@ struct SpectralShading {
 }  // namespace
 
 PathTracer::PathTracer(const Scene& scene, const Accel& accel) : scene_(scene), accel_(accel) {
+  // The media are RGB (σs, σa per channel); carrying them at a path's wavelengths is not
+  // done yet, and rendering them grey or wrong would not say so.
+  if (scene.settings.spectral)
+    for (const Material& m : scene.materials)
+      if (m.subsurface)
+        throw InputError("spectral rendering: material" + (m.name.empty() ? std::string() : " \"" + m.name + "\"") +
+                         " is a subsurface material, which renders in RGB only (its medium is not carried per "
+                         "wavelength yet); render without --spectral and \"spectral\": true");
   sampled_lights_ = static_cast<int>(scene.area_lights.size()) + (scene.environment.is_black() ? 0 : 1);
   light_select_pdf_ = sampled_lights_ > 0 ? 1 / Float(sampled_lights_) : Float(0);
 }
@@ -130,33 +147,46 @@ typename Shading::C PathTracer::trace(Ray ray, Pcg32& rng, PathStats& stats, Sha
   Vec3 prev_p = ray.o;
   Float eta_scale = 1;   // undoes the (n_wo/n_wi)² of refraction for Russian roulette
   const int max_depth = scene_.settings.max_depth;
+  // The boundary point a random walk reached: the next vertex, found without a ray.
+  SceneBoundary::Hit walked;
+  bool have_walked = false;
   for (int depth = 0;; ++depth) {
     SurfaceHit hit;
-    ++stats.rays;
-    if (!accel_.intersect(ray, hit)) {
-      if (!scene_.environment.is_black()) {
-        const Color rgb = scene_.environment.radiance(ray.d);
-        const Float w = specular ? 1 : power_heuristic(prev_pdf, light_select_pdf_ * scene_.environment.pdf(ray.d));
-        if (!rgb.is_black()) L += beta * shading.environment(scene_.environment, ray.d, rgb) * w;
+    Vec3 wo_world;
+    if (have_walked) {
+      // Inside the medium there is nothing to collect: light enters only through the
+      // boundary, whose vertex this is.
+      have_walked = false;
+      hit = walked.surface;
+      wo_world = -walked.d;
+    } else {
+      ++stats.rays;
+      if (!accel_.intersect(ray, hit)) {
+        if (!scene_.environment.is_black()) {
+          const Color rgb = scene_.environment.radiance(ray.d);
+          const Float w = specular ? 1 : power_heuristic(prev_pdf, light_select_pdf_ * scene_.environment.pdf(ray.d));
+          if (!rgb.is_black()) L += beta * shading.environment(scene_.environment, ray.d, rgb) * w;
+        }
+        break;
       }
-      break;
-    }
-    if (hit.area_light >= 0) {
-      // Emitters are black bodies apart from their emission: the path ends here.
-      const AreaLight& light = scene_.area_lights[static_cast<size_t>(hit.area_light)];
-      const auto* quad = std::get_if<QuadLight>(&light);
-      const Vec3 n = quad ? quad->normal() : hit.ng;
-      const Color rgb = area_light_radiance(light, n, -ray.d);
-      if (!rgb.is_black()) {
-        const Float w = specular ? 1 : power_heuristic(prev_pdf, light_select_pdf_ * area_light_pdf(light, prev_p, hit.p, n));
-        L += beta * shading.area(light, rgb) * w;
+      if (hit.area_light >= 0) {
+        // Emitters are black bodies apart from their emission: the path ends here.
+        const AreaLight& light = scene_.area_lights[static_cast<size_t>(hit.area_light)];
+        const auto* quad = std::get_if<QuadLight>(&light);
+        const Vec3 n = quad ? quad->normal() : hit.ng;
+        const Color rgb = area_light_radiance(light, n, -ray.d);
+        if (!rgb.is_black()) {
+          const Float w = specular ? 1 : power_heuristic(prev_pdf, light_select_pdf_ * area_light_pdf(light, prev_p, hit.p, n));
+          L += beta * shading.area(light, rgb) * w;
+        }
+        break;
       }
-      break;
+      wo_world = -ray.d;
     }
     if (depth >= max_depth) break;
 
-    const auto& bxdf = shading.bxdf(scene_.materials[static_cast<size_t>(hit.material)], hit.uv);
-    const Vec3 wo_world = -ray.d;
+    const Material& material = scene_.materials[static_cast<size_t>(hit.material)];
+    const auto& bxdf = shading.bxdf(material, hit.uv);
     // Where the shading and geometric normals disagree about the side of wo, shading
     // with the interpolated normal would give black or leak: fall back to the geometric.
     const bool consistent = dot(wo_world, hit.ns) * dot(wo_world, hit.ng) > 0;
@@ -168,7 +198,7 @@ typename Shading::C PathTracer::trace(Ray ray, Pcg32& rng, PathStats& stats, Sha
     const Float u_lobe = rng.next_float(), u1 = rng.next_float(), u2 = rng.next_float();
     const auto s = bxdf.sample(wo, u_lobe, u1, u2);
     if (!s) break;
-    const Vec3 wi_world = normalize(frame.to_world(s->wi));
+    Vec3 wi_world = normalize(frame.to_world(s->wi));
     if (!sides_agree(wo_world, wi_world, hit.ng, wo, s->wi)) break;
     beta *= s->weight;
     if (!(beta.max_component() > 0)) break;
@@ -182,6 +212,62 @@ typename Shading::C PathTracer::trace(Ray ray, Pcg32& rng, PathStats& stats, Sha
       const Float q = std::min(Float(0.95), beta.max_component() * eta_scale);
       if (rng.next_float() >= q) break;
       beta /= q;
+    }
+
+    // Into the medium of a subsurface material: the geometric normal points out of the
+    // shape (spheres; meshes wound or turned so at load), so wi is inside when it is on
+    // the normal's back side — after a refraction from outside or a reflection inside.
+    if (material.subsurface && dot(wi_world, hit.ng) < 0) {
+      if constexpr (std::is_same_v<C, Color>) {
+        if (material.subsurface->method == SubsurfaceMethod::RandomWalk) {
+          // Start just inside the surface, so that the walk's first query does not find
+          // the surface it starts on.
+          const Vec3 start = offset_ray_origin(hit.p, hit.ng, wi_world);
+          const SceneBoundary boundary(accel_, stats.rays);
+          WalkStats ws;
+          ++stats.walks;
+          const bool reached =
+              walk_to_boundary(material.subsurface->medium, boundary, start, wi_world, beta, rng, walked, &ws);
+          stats.walk_steps += ws.steps;
+          if (!reached || !(beta.max_component() > 0)) break;
+          have_walked = true;
+          continue;
+        }
+        // Diffusion (pbrt-v3 §15.4.1 and §16.1, SubsurfaceMaterial): the boundary
+        // sample's transmission carried the entry factor 1 − Fr(cos θo); the profile
+        // gives the exit point and the weight Sp / pdf; the exit is then a vertex of its
+        // own, shaded with the exit lobe Sw.
+        if (depth + 1 >= max_depth) break;
+        ++depth;
+        const auto exit = sample_probe_exit(accel_, hit, frame, *material.profile, rng);
+        if (!exit) break;
+        ++stats.probe_exits;
+        // The radiance of the entry's refraction was scaled by 1/η²; the light leaves
+        // again through the boundary, which scales it back (pbrt-v3's
+        // SeparableBSSRDFAdapter multiplies Sw by η² for the same reason).
+        const Float eta2 = material.subsurface->eta * material.subsurface->eta;
+        beta *= exit->weight * eta2;
+        eta_scale /= eta2;
+        if (!(beta.max_component() > 0)) break;
+        const SurfaceHit& xo = exit->hit;
+        const Frame exit_frame = Frame::from_normal_tangent(xo.ng, xo.tangent);
+        const SwBxDF& sw = material.exit_lobe;
+        const Vec3 sw_wo{0, 0, 1};  // Sw does not depend on wo
+        L += beta * direct_light(xo, exit_frame, sw, sw_wo, xo.ng, rng, stats, shading);
+        const Float v_lobe = rng.next_float(), v1 = rng.next_float(), v2 = rng.next_float();
+        const auto so = sw.sample(sw_wo, v_lobe, v1, v2);
+        if (!so) break;
+        wi_world = normalize(exit_frame.to_world(so->wi));
+        beta *= so->weight;
+        if (!(beta.max_component() > 0)) break;
+        specular = false;
+        prev_pdf = so->pdf;
+        prev_p = xo.p;
+        ray = Ray{offset_ray_origin(xo.p, xo.ng, wi_world), wi_world};
+        continue;
+      } else {
+        break;  // unreachable: the constructor rejects spectral subsurface scenes
+      }
     }
     ray = Ray{offset_ray_origin(hit.p, hit.ng, wi_world), wi_world};
   }

@@ -57,7 +57,7 @@ Image render(const Scene& scene_in, const RenderOptions& options, RenderStats* s
       (kSamplesPerPass + std::int64_t(pixels) - 1) / std::int64_t(std::max<size_t>(pixels, 1)), 1, std::max(spp, 1)));
 
   tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);
-  std::atomic<std::uint64_t> rays{0}, samples_done{0};
+  std::atomic<std::uint64_t> rays{0}, samples_done{0}, walks{0}, walk_steps{0}, probe_exits{0};
   std::mutex progress_mutex;
   const int tiles_x = (w + kTile - 1) / kTile, tiles_y = (h + kTile - 1) / kTile;
   const int tiles = tiles_x * tiles_y;
@@ -113,6 +113,9 @@ Image render(const Scene& scene_in, const RenderOptions& options, RenderStats* s
           }
         }
         rays += local.rays;
+        walks += local.walks;
+        walk_steps += local.walk_steps;
+        probe_exits += local.probe_exits;
       });
       // A pass cut short leaves some pixels with more samples than others: drop it.
       if (dropped.load()) break;
@@ -129,6 +132,9 @@ Image render(const Scene& scene_in, const RenderOptions& options, RenderStats* s
     stats->seconds = std::chrono::duration<double>(clock::now() - t0).count() - setup;
     stats->samples = std::uint64_t(pixels) * static_cast<std::uint64_t>(completed);
     stats->rays = rays.load();
+    stats->walks = walks.load();
+    stats->walk_steps = walk_steps.load();
+    stats->probe_exits = probe_exits.load();
     stats->spp = completed;
     stats->stopped = completed < spp;
   }

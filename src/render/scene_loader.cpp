@@ -21,6 +21,8 @@
 #include "gonio/spectral_material.h"
 #include "gonio/spectrum/rgb_to_spectrum.h"
 #include "gonio/render/mesh_loader.h"
+#include "gonio/render/subsurface_walk.h"
+#include "gonio/subsurface/diffusion.h"
 #include "gonio/render/texture.h"
 #include "gonio/spectrum/spectrum_json.h"
 #include "gonio/spectrum/spectrum_to_rgb.h"
@@ -162,14 +164,30 @@ struct Loader {
     return p.is_absolute() || base_dir.empty() ? file : (std::filesystem::path(base_dir) / p).string();
   }
 
+  static bool is_subsurface(const json& desc) {
+    return desc.is_object() && desc.contains("type") && desc["type"] == "subsurface";
+  }
+
   int add_material(const std::string& name, const Node& desc) {
-    if (has_texture(desc.value())) {
+    if (is_subsurface(desc.value())) {
+      // The boundary is the BSDF; the medium stays beside it for the path tracer.
+      if (const auto t = find_texture(desc)) t->fail("a subsurface material cannot have textures");
+      Material m;
+      m.name = name;
+      m.subsurface = subsurface_from_json(desc.value(), desc.where(), base_dir);
+      m.bxdf = m.subsurface->boundary;
+      if (m.subsurface->method == SubsurfaceMethod::Diffusion) {
+        m.profile = std::make_shared<const DiffusionProfile>(m.subsurface->medium, m.subsurface->eta);
+        m.exit_lobe = SwBxDF(m.subsurface->eta);
+      }
+      scene.materials.push_back(std::move(m));
+    } else if (has_texture(desc.value())) {
       Material m = textured_material(desc);
       m.name = name;
       scene.materials.push_back(std::move(m));
     } else {
       MaterialWithSpectra parsed = material_with_spectra_from_json(desc.value(), desc.where(), base_dir);
-      scene.materials.push_back({name, std::move(parsed.bxdf), {}, std::move(parsed.spectra)});
+      scene.materials.push_back({name, std::move(parsed.bxdf), {}, std::move(parsed.spectra), 0, {}, {}, {}});
     }
     return static_cast<int>(scene.materials.size()) - 1;
   }
@@ -409,7 +427,7 @@ struct Loader {
     // The largest values: a rough conductor then keeps its multiple-scattering lobe
     // unless every roughness is smooth (with_params).
     MaterialWithSpectra parsed = material_with_spectra_from_json(corner[1], desc.where(), base_dir);
-    Material m{"", std::move(parsed.bxdf), {}, std::move(parsed.spectra)};
+    Material m{"", std::move(parsed.bxdf), {}, std::move(parsed.spectra), 0, {}, {}, {}};
     for (const Slot& s : slots) {
       m.textures.push_back({s.param, s.texture});
       if (int(s.param) < kColourParams) m.textured_colours |= TexturedColours(1) << unsigned(s.param);
@@ -493,6 +511,7 @@ struct Loader {
       Vec3 c, e1, e2;
       quad_geometry(n, c, e1, e2);
       add_quad_mesh(c, e1, e2, material_of(n), -1);
+      check_walkable(n, scene.meshes.back(), "a quad");
     } else if (type == "mesh") {
       n.object({"type", "file", "material", "translate", "scale", "rotate"});
       const Node file = n.required("file");
@@ -516,10 +535,35 @@ struct Loader {
       }
       Mesh m = load_obj_mesh(resolve(file.string()), t, file.where());
       m.material = material_of(n);
+      check_walkable(n, m, "mesh " + file.string());
       scene.meshes.push_back(std::move(m));
     } else {
       n.at("type").fail("unknown shape type \"" + type + "\" (known: sphere, quad, mesh)");
     }
+  }
+
+  // A random walk needs a medium it cannot leave except through its boundary: the mesh
+  // must be closed (every edge shared by exactly two triangles; spheres always are) and
+  // consistently wound. A closed mesh wound clockwise seen from outside is turned around,
+  // for either method, so that its geometric normals point out, as the boundary's BSDF
+  // and the path tracer's test for "into the medium" expect (SPEC §1: the normal is on
+  // the side of the first medium).
+  void check_walkable(const Node& shape, Mesh& m, const std::string& what) {
+    const Material& mat = scene.materials[static_cast<size_t>(m.material)];
+    if (!mat.subsurface) return;
+    const MeshClosure c = mesh_closure(m);
+    if (mat.subsurface->method == SubsurfaceMethod::RandomWalk) {
+      const std::string who = "material" + (mat.name.empty() ? std::string() : " \"" + mat.name + "\"") +
+                              " (subsurface, random walk) needs a closed mesh: ";
+      if (!c.closed())
+        shape.fail(who + what + " has " + std::to_string(c.open_edges) + " open edge" + (c.open_edges == 1 ? "" : "s") +
+                   " of " + std::to_string(c.edges) + " (an edge must be shared by exactly two triangles)");
+      if (c.inconsistent_edges > 0)
+        shape.fail(who + what + " is closed but wound inconsistently (" + std::to_string(c.inconsistent_edges) +
+                   " edges run the same way by both their triangles)");
+    }
+    if (c.closed() && c.inconsistent_edges == 0 && c.volume < 0 && m.normals.empty())
+      for (size_t t = 0; t + 2 < m.indices.size(); t += 3) std::swap(m.indices[t + 1], m.indices[t + 2]);
   }
 
   void light(const Node& n) {
@@ -556,7 +600,7 @@ struct Loader {
   int emitter_material() {
     for (size_t i = 0; i < scene.materials.size(); ++i)
       if (scene.materials[i].name == "<emitter>") return static_cast<int>(i);
-    scene.materials.push_back({"<emitter>", DiffuseBxDF{Color(0)}, {}, {}, 0});
+    scene.materials.push_back({"<emitter>", DiffuseBxDF{Color(0)}, {}, {}, 0, {}, {}, {}});
     return static_cast<int>(scene.materials.size()) - 1;
   }
 

@@ -4,6 +4,18 @@
 // the power heuristic (Veach & Guibas 1995; Veach 1997, ch. 9), and Russian roulette.
 // Point lights are summed over exactly at every non-specular vertex (lecture eq. 2);
 // area lights and the environment are sampled as the integral of eq. 1.
+//
+// Subsurface materials (issue 14): the boundary is an ordinary vertex, shaded with the
+// boundary's BSDF. A direction sampled into the medium of a random-walk material starts
+// a random walk (walk_to_boundary) instead of a ray; the boundary point where it ends is
+// the next vertex, with wo inside: its BSDF sample reflects (another walk) or transmits
+// (the path leaves). For a diffusion material the direction into the medium is replaced
+// by an exit point sampled from the profile (sample_probe_exit), shaded with the exit
+// lobe Sw (next-event estimation and the next direction), as pbrt-v3 §15.4 does.
+// max_depth counts vertices: every boundary interaction and every diffusion exit is one;
+// the steps of a walk are not (the walk ends by absorption, Russian roulette or its own
+// step limit). RGB only for now: the constructor rejects a spectral render of a scene
+// with a subsurface material.
 
 #include <cstdint>
 
@@ -16,7 +28,11 @@
 namespace gonio::render {
 
 struct PathStats {
-  std::uint64_t rays = 0;  // closest-hit and shadow rays
+  std::uint64_t rays = 0;  // closest-hit and shadow rays (a walk's boundary queries included)
+  // Subsurface scattering (issue 14): random walks started inside a medium, their steps
+  // (free flights, each ending in a scattering event or at the boundary), and the exits
+  // sampled by the diffusion method.
+  std::uint64_t walks = 0, walk_steps = 0, probe_exits = 0;
 };
 
 class PathTracer {

@@ -31,6 +31,8 @@ struct RenderStats {
   double setup_seconds = 0;  // building the acceleration structure
   std::uint64_t samples = 0; // camera samples in the image returned
   std::uint64_t rays = 0;    // closest-hit and shadow rays, the dropped pass's included
+  // Subsurface scattering (PathStats): random walks and their steps, diffusion exits.
+  std::uint64_t walks = 0, walk_steps = 0, probe_exits = 0;
   int spp = 0;               // samples per pixel of the image returned (0: stopped before any)
   bool stopped = false;      // true when `stop` cut the render short of the scene's spp
 };

@@ -5,6 +5,7 @@
 
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -15,6 +16,9 @@
 #include "gonio/render/camera.h"
 #include "gonio/render/lights.h"
 #include "gonio/render/texture.h"
+#include "gonio/subsurface/diffusion.h"
+#include "gonio/subsurface/subsurface.h"
+#include "gonio/subsurface/sw_bxdf.h"
 
 namespace gonio::render {
 
@@ -28,6 +32,12 @@ struct Material {
   // from textures (upsampled from the texture's RGB at each shading point).
   MaterialSpectra spectra;
   TexturedColours textured_colours = 0;
+  // A `subsurface` material (issue 14): `bxdf` is its boundary, and the medium inside
+  // the shape is walked (random walk) or replaced by its diffusion profile, made once
+  // at load. Empty for every other material.
+  std::optional<Subsurface> subsurface;
+  std::shared_ptr<const DiffusionProfile> profile;
+  SwBxDF exit_lobe;  // the diffusion method's Sw (its Fresnel moment is a quadrature: made once)
 
   // The model at texture coordinates `uv`: `bxdf` itself for a uniform material (no
   // copy), else `bxdf` with the textured parameters looked up, built in `scratch`.
