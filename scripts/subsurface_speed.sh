@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Speed of the marble scenes (docs/subsurface-rendering.md, "Speed"): samples/s with the
+# Speed of the marble scenes (docs/subsurface.md, "Speed"): samples/s with the
 # opaque BRDF, the random walk and the diffusion method at equal spp, and the walk's mean
 # number of steps. Usage: scripts/subsurface_speed.sh [BUILD_DIR] [SPP] (defaults: build, 8).
 set -euo pipefail

@@ -111,6 +111,8 @@ constexpr ParamSpec kSubsurface[] = {
      "Roughness of the boundary (a roughdielectric); absent: a smooth dielectric."},
     {"distribution", K::Choice, "\"ggx\"", {}, "", "ggx|beckmann", false,
      "Microfacet distribution of a rough boundary; needs alpha."},
+    {"multiscatter", K::Boolean, "false", {}, "", "", false,
+     "Kulla-Conty energy compensation of a rough boundary (as roughdielectric; isotropic alpha, eta in [0.25, 4])."},
     {"sigma_s", K::Colour, "", kCoefficient, "1/unit", "", false,
      "Scattering coefficient per scene unit (with sigma_a); a spectrum gives its values at 650, 550, 450 nm."},
     {"sigma_a", K::Colour, "", kCoefficient, "1/unit", "", false,

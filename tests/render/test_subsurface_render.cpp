@@ -86,16 +86,15 @@ TEST(SubsurfaceRender, FurnaceRandomWalkSmoothBoundary) {
 
 // A rough boundary: next-event estimation through it, from outside and from inside. The
 // single-scattering microfacet dielectric loses the energy of its facets' interreflection
-// (a rough glass sphere alone renders about 0.85 here at α = 0.3), so the boundary is
-// replaced by the energy-conserving one of Kulla & Conty 2017 (`multiscatter`): the loss
-// is the boundary model's, not the walk's, and the furnace must give 1.
+// (a rough glass sphere alone renders about 0.85 here at α = 0.3), so the material asks
+// for the energy-conserving boundary of Kulla & Conty 2017 (`"multiscatter": true`): the
+// loss is the boundary model's, not the walk's, and the furnace must give 1.
 TEST(SubsurfaceRender, FurnaceRandomWalkRoughBoundary) {
-  const std::string material = R"({"type": "subsurface", "eta": 1.5, "alpha": 0.3, "sigma_s": [2, 2, 5], "sigma_a": 0})";
+  const std::string material =
+      R"({"type": "subsurface", "eta": 1.5, "alpha": 0.3, "multiscatter": true, "sigma_s": [2, 2, 5], "sigma_a": 0})";
   Scene scene = parse_scene(furnace_scene(material, static_cast<int>(scaled(64, 16))), "furnace.json", "");
   ASSERT_TRUE(scene.materials[0].subsurface);
-  const BxDF boundary = parse_material(R"({"type": "roughdielectric", "eta": 1.5, "alpha": 0.3, "multiscatter": true})");
-  scene.materials[0].bxdf = scene.materials[0].subsurface->boundary = boundary;
-  expect_furnace(scene, material + " with a multiple-scattering boundary");
+  expect_furnace(scene, material);
 }
 
 // A slab 1 unit thick that only absorbs (σs = 0), lit from below by a uniform area light

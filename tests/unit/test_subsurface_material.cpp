@@ -32,6 +32,8 @@ TEST(SubsurfaceMaterial, BsdfIsTheBoundary) {
       {R"({"type":"subsurface","medium":"skin1"})", R"({"type":"dielectric","eta":1.3})"},
       {R"({"type":"subsurface","eta":1.5,"alpha":0.3,"distribution":"beckmann","albedo":0.5,"mfp":2})",
        R"({"type":"roughdielectric","eta":1.5,"alpha":0.3,"distribution":"beckmann"})"},
+      {R"({"type":"subsurface","eta":1.5,"alpha":0.3,"multiscatter":true,"sigma_s":1,"sigma_a":0})",
+       R"({"type":"roughdielectric","eta":1.5,"alpha":0.3,"multiscatter":true})"},
   };
   const Vec3 dirs[] = {normalize(Vec3{0.3f, 0.1f, 1}), normalize(Vec3{-0.2f, 0.4f, -1}), normalize(Vec3{0.7f, 0, 0.2f})};
   for (const auto& [ss, ref] : cases) {
@@ -119,6 +121,7 @@ TEST(SubsurfaceMaterial, BadMediaNameFieldAndValue) {
   expect_error(R"({"type":"subsurface","sigma_s":-1,"sigma_a":0})", {"sigma_s", "-1"});
   expect_error(R"({"type":"subsurface","sigma_s":1,"sigma_a":[0,-0.5,0]})", {"sigma_a", "-0.5"});
   expect_error(R"({"type":"subsurface","sigma_s":1,"sigma_a":0,"g":1})", {"g", "1"});
+  expect_error(R"({"type":"subsurface","sigma_s":1,"sigma_a":0,"multiscatter":true})", {"multiscatter", "alpha"});
   expect_error(R"({"type":"subsurface","sigma_s":1,"sigma_a":0,"g":-1.5})", {"g", "-1.5"});
   expect_error(R"({"type":"subsurface","sigma_s":1,"sigma_a":0,"g":0.999999999})", {"g", "0.999999999"});
   expect_error(R"({"type":"subsurface","albedo":1,"mfp":1})", {"albedo", "1"});
