@@ -1,7 +1,10 @@
 // The MERL table mode of include/gonio/measure/table.h.
 #include "gonio/measure/table.h"
 
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 #include "gonio/math/constants.h"
@@ -12,6 +15,9 @@ namespace gonio::measure {
 namespace {
 
 constexpr int kBands = 90;
+// A θh slab: the entries of one θh index, contiguous in MerlTable::index.
+constexpr std::size_t kSlabEntries = std::size_t(MerlTable::kThetaD) * MerlTable::kPhiD;
+constexpr int kSlabs = MerlTable::kThetaH;
 
 struct Score {
   std::uint32_t entry;
@@ -20,7 +26,9 @@ struct Score {
 
 struct BlockResult {
   RayCounts counts;
-  std::vector<Score> scores;
+  std::vector<Score> scores;  // in ray order while tracing
+  std::vector<Score> sorted;  // the same grouped by θh slab, ray order kept within a slab
+  std::array<std::uint32_t, kSlabs + 1> slab_start;  // slab s is sorted[slab_start[s] .. slab_start[s+1])
   std::vector<double> band;  // per band: rays, Σw (3), Σw² (3)
 };
 
@@ -36,6 +44,7 @@ TableReading measure_table(const Microsurface& surface, const RunOptions& option
   std::vector<double> sum(3 * MerlTable::kEntries, 0.0), sum2(3 * MerlTable::kEntries, 0.0);
   std::vector<std::uint32_t> count(MerlTable::kEntries, 0);
   std::vector<double> band(7 * kBands, 0.0);
+  std::vector<const BlockResult*> batch;  // the current batch's results, merged at its end
 
   detail::run_blocks<BlockResult>(
       blocks, options.threads, options.progress,
@@ -72,17 +81,36 @@ TableReading measure_table(const Microsurface& surface, const RunOptions& option
           for (int c = 0; c < 3; ++c) s.value[c] = double(t.weight[c]) * scale;
           r.scores.push_back(s);
         }
+        // Group the scores by θh slab (a stable counting sort), so that the merge can give
+        // each slab to its own thread and walk memory that fits in the caches.
+        std::array<std::uint32_t, kSlabs + 1> start{};
+        for (const Score& s : r.scores) ++start[s.entry / kSlabEntries + 1];
+        for (int b = 0; b < kSlabs; ++b) start[b + 1] += start[b];
+        r.slab_start = start;
+        r.sorted.resize(r.scores.size());
+        for (const Score& s : r.scores) r.sorted[start[s.entry / kSlabEntries]++] = s;
       },
-      [&](std::uint64_t, const BlockResult& r) {
+      [&](std::uint64_t block, const BlockResult& r) {
         out.counts += r.counts;
-        for (const Score& s : r.scores) {
-          for (int c = 0; c < 3; ++c) {
-            sum[3 * std::size_t(s.entry) + c] += s.value[c];
-            sum2[3 * std::size_t(s.entry) + c] += s.value[c] * s.value[c];
-          }
-          ++count[s.entry];
-        }
         for (std::size_t k = 0; k < band.size(); ++k) band[k] += r.band[k];
+        // run_blocks hands over a batch's blocks in order and keeps them until the batch
+        // ends; the batch's scores are summed then, the slabs in parallel and each slab's
+        // blocks in block order, so every entry adds its scores in the order of the rays
+        // (blocks in order, rays in order within a block) whatever the thread count.
+        batch.push_back(&r);
+        if ((block + 1) % detail::kBatchBlocks != 0 && block + 1 != blocks) return;
+        tbb::parallel_for(0, kSlabs, [&](int slab) {
+          for (const BlockResult* b : batch)
+            for (std::uint32_t q = b->slab_start[slab]; q < b->slab_start[slab + 1]; ++q) {
+              const Score& s = b->sorted[q];
+              for (int c = 0; c < 3; ++c) {
+                sum[3 * std::size_t(s.entry) + c] += s.value[c];
+                sum2[3 * std::size_t(s.entry) + c] += s.value[c] * s.value[c];
+              }
+              ++count[s.entry];
+            }
+        });
+        batch.clear();
       });
 
   out.stderr_f.assign(3 * MerlTable::kEntries, 0.0f);
