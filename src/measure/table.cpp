@@ -108,8 +108,7 @@ TableReading measure_table(const Microsurface& surface, const RunOptions& option
           for (int c = 0; c < 3; ++c) bd[1 + c] += t.weight[c], bd[4 + c] += double(t.weight[c]) * t.weight[c];
           const Vec3& wo = t.direction;
           if (!(wo.z > 0)) continue;
-          const HalfDiff hd = half_diff(wo, wi);
-          const MerlBin bin = merl_bin(hd.theta_h, hd.theta_d, hd.phi_d);
+          const MerlBin bin = merl_bin_of(wo, wi);  // float angles (merl_bins.h)
           const double scale = inv_p / wo.z;
           Score s;
           s.entry = std::uint32_t(MerlTable::index(bin.i, bin.j, bin.k));
