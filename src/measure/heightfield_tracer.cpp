@@ -203,7 +203,6 @@ HeightFieldTracer::Hit HeightFieldTracer::intersect(const double o[3], const dou
     while (start_level < kMaxStartLevel && reach >= double(4 << (start_level + 1)) - 4) ++start_level;
   }
   int level = std::min({top, start_level, kMaxStartLevel});
-  double t = 0;
   double z_t = org[2];  // the ray's height at t
   const bool rising = dir[2] > 0;
   const double inv_step = 1 / z_step_;
@@ -267,7 +266,6 @@ HeightFieldTracer::Hit HeightFieldTracer::intersect(const double o[3], const dou
     else if (step_x) ix = std::clamp(std::int64_t(std::floor(org[0] + dir[0] * ty)), x0, x0 + s - 1);
     if (ty <= tx) iy = step_y > 0 ? y0 + s : y0 - 1;
     else if (step_y) iy = std::clamp(std::int64_t(std::floor(org[1] + dir[1] * tx)), y0, y0 + s - 1);
-    t = t1;
     z_t = zb;
     // Periodic wrapping: a new tile is only a new origin for the indices modulo n.
     if (ix - bx >= n) bx += n, ++wraps;

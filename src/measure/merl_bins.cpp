@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "gonio/math/constants.h"
+#include "gonio/math/fast_atan.h"
 #include "gonio/merl.h"
 
 namespace gonio::measure {
@@ -86,6 +87,23 @@ MerlBin merl_bin(double theta_h, double theta_d, double phi_d) {
   const int i = std::clamp(int(std::sqrt(std::max(0.0, theta_h) / kHalfPi) * MerlTable::kThetaH), 0, MerlTable::kThetaH - 1);
   const int j = std::clamp(int(theta_d / kHalfPi * MerlTable::kThetaD), 0, MerlTable::kThetaD - 1);
   const int k = std::clamp(int(phi_d / kPiD * MerlTable::kPhiD), 0, MerlTable::kPhiD - 1);
+  return {i, j, k};
+}
+
+}  // namespace gonio::measure
+
+namespace gonio::measure {
+
+MerlBin merl_bin_of(const Vec3& wo, const Vec3& wi) {
+  Float th, td, pd;
+  half_diff_angles<Float>(wo, wi, [](Float y, Float x) { return fast_atan2(y, x); }, th, td, pd);
+  // Indices as merl_bin (merl.h's index formulas), φd folded by reciprocity into [0, π).
+  constexpr Float kToH = Float(1 / (kPiD / 2)), kToD = Float(MerlTable::kThetaD / (kPiD / 2)),
+                  kToP = Float(MerlTable::kPhiD / kPiD);
+  if (pd < 0) pd += kPi;
+  const int i = std::clamp(int(std::sqrt(std::max(Float(0), th) * kToH) * MerlTable::kThetaH), 0, MerlTable::kThetaH - 1);
+  const int j = std::clamp(int(td * kToD), 0, MerlTable::kThetaD - 1);
+  const int k = std::clamp(int(pd * kToP), 0, MerlTable::kPhiD - 1);
   return {i, j, k};
 }
 

@@ -24,6 +24,8 @@
 
 #include <vector>
 
+#include "gonio/math/vec3.h"
+
 namespace gonio::measure {
 
 // M(i, j, k) in sr², for every entry of MerlTable (index MerlTable::index(i, j, k)).
@@ -36,5 +38,11 @@ struct MerlBin {
   int i, j, k;
 };
 MerlBin merl_bin(double theta_h, double theta_d, double phi_d);
+// The same from the pair of directions (both z > 0), in float with the polynomial atan2
+// (math/fast_atan.h) for the table mode's hot loop: the angles differ from merl.h's double
+// half_diff by float rounding, so a pair within ~1e-6 rad of a bin edge may fall in the
+// neighbouring bin (6 of 400,000 pairs, tests/measure/test_table_binning.cpp) — far
+// below the noise of any table, and a pair's bin is still a fixed function of the pair.
+MerlBin merl_bin_of(const Vec3& wo, const Vec3& wi);
 
 }  // namespace gonio::measure
