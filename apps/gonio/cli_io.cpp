@@ -13,6 +13,7 @@
 #include <unistd.h>
 #include <stdexcept>
 
+#include "gonio/batch.h"
 #include "gonio/json_text.h"
 #include "gonio/material.h"
 
@@ -154,15 +155,10 @@ std::vector<std::array<double, 6>> read_numbers(std::istream& in, size_t n, cons
 }
 
 Vec3 unit_vector(double x, double y, double z, size_t line, const char* name) {
-  // Scale first so that very large or very small components neither overflow nor vanish.
-  const double m = std::max({std::abs(x), std::abs(y), std::abs(z)});
-  if (!(m > 0))
-    throw InputError("stdin line " + std::to_string(line) + ": " + name + " is a zero vector");
-  x /= m;
-  y /= m;
-  z /= m;
-  const double inv = 1 / std::sqrt(x * x + y * y + z * z);
-  return {Float(x * inv), Float(y * inv), Float(z * inv)};
+  // batch.h's normalisation, shared with the Python module; the input is finite here.
+  const std::optional<Vec3> w = unit_direction(x, y, z);
+  if (!w) throw InputError("stdin line " + std::to_string(line) + ": " + name + " is a zero vector");
+  return *w;
 }
 
 std::vector<double> angle_range(const std::vector<double>& v, const char* option, double lo, double hi) {

@@ -7,6 +7,7 @@
 
 #include "cli_io.h"
 #include "commands.h"
+#include "gonio/batch.h"
 
 namespace gonio::cli {
 
@@ -21,15 +22,19 @@ struct EvalArgs {
 // The output lines for an RGB model or a spectral one at a single wavelength.
 template <typename C>
 std::string eval_lines(const BxDFT<C>& bxdf, TransportMode mode, const std::vector<std::array<double, 6>>& rows) {
-  std::string out;
-  out.reserve(rows.size() * 64);
+  std::vector<Vec3> wo(rows.size()), wi(rows.size());
   for (size_t i = 0; i < rows.size(); ++i) {
     const auto& r = rows[i];
-    const Vec3 wo = unit_vector(r[0], r[1], r[2], i + 1, "wo");
-    const Vec3 wi = unit_vector(r[3], r[4], r[5], i + 1, "wi");
-    const auto e = bxdf.eval(wo, wi, mode);
-    out += "{\"f\":" + json_color(e.f) + ",\"pdf\":" + json_number(e.pdf) + "}\n";
+    wo[i] = unit_vector(r[0], r[1], r[2], i + 1, "wo");
+    wi[i] = unit_vector(r[3], r[4], r[5], i + 1, "wi");
   }
+  std::vector<C> f(rows.size());
+  std::vector<Float> pdf(rows.size());
+  eval_batch<C>(bxdf, wo, wi, mode, f, pdf);  // batch.h: the loop the Python module runs too
+  std::string out;
+  out.reserve(rows.size() * 64);
+  for (size_t i = 0; i < rows.size(); ++i)
+    out += "{\"f\":" + json_color(f[i]) + ",\"pdf\":" + json_number(pdf[i]) + "}\n";
   return out;
 }
 

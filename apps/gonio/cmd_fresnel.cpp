@@ -12,10 +12,7 @@
 #include "cli_io.h"
 #include "commands.h"
 #include "gonio/fresnel.h"
-#include "gonio/metals.h"
-#include "gonio/spectrum/glasses.h"
-#include "gonio/spectrum/metal_spectra.h"
-#include "gonio/spectrum/spectrum_to_rgb.h"  // kRgbIndexWavelengths
+#include "gonio/named_index.h"
 
 namespace gonio::cli {
 
@@ -37,14 +34,11 @@ struct FresnelLine {
 FresnelLine fresnel_at(double eta, double k, double theta_deg) {
   const double cos_i = theta_deg == 90 ? 0.0 : std::cos(theta_deg * kPiD / 180);
   const bool conductor = k > 0;
-  FresnelTerms<double> t;
-  if (conductor) t = fresnel_conductor_terms(cos_i, eta, k);
-  else t = fresnel_dielectric_terms(cos_i, eta);
+  const FresnelTerms<double> t = fresnel_terms(cos_i, eta, k);
   const double r = t.r();
-  FresnelLine l{json_number(t.rs), json_number(t.rp), json_number(r), json_number(1 - r),
-                (conductor || t.tir) ? std::string("null") : json_number(t.cos_t), ""};
-  l.schlick = json_number(conductor ? fresnel_schlick(fresnel_f0(eta, k), cos_i) : fresnel_schlick_dielectric(cos_i, eta));
-  return l;
+  return {json_number(t.rs), json_number(t.rp), json_number(r), json_number(1 - r),
+          (conductor || t.tir) ? std::string("null") : json_number(t.cos_t),
+          json_number(fresnel_schlick_terms(cos_i, eta, k))};
 }
 
 // `index`: with --wavelength, the "eta" and "k" used (SPEC §3), appended.
@@ -64,34 +58,13 @@ std::string object(const std::vector<FresnelLine>& channels, bool schlick, const
 }
 
 void run_fresnel(const FresnelArgs& a) {
-  const std::string index_range = "[" + format_number(kMinIndex) + ", " + format_number(kMaxIndex) + "]";
   // (eta, k) per channel.
   std::vector<std::pair<double, double>> index;
   const std::optional<Float> nm = a.spectral ? std::optional<Float>(parse_wavelength(a.wavelength)) : std::nullopt;
   if (!a.material.empty()) {
-    if (nm) {
-      // The measured index at that one wavelength, linearly interpolated in the tables
-      // of data/metals/ and data/glasses/ (metal_spectra.h, glasses.h).
-      if (const auto metal = named_metal_spectra(a.material))
-        index.emplace_back(metal->eta.eval(*nm), metal->k.eval(*nm));
-      else if (const auto glass = named_glass(a.material))
-        index.emplace_back(glass->eval(*nm), 0.0);
-    } else if (const auto metal = named_metal(a.material)) {
-      for (int c = 0; c < 3; ++c) index.emplace_back(metal->eta[c], metal->k[c]);
-    } else if (const auto glass = named_glass(a.material)) {
-      for (Float lambda : kRgbIndexWavelengths) index.emplace_back(glass->eval(lambda), 0.0);
-    }
-    if (index.empty()) {
-      std::string known;
-      for (auto n : named_metal_names()) known += (known.empty() ? "" : ", ") + std::string(n);
-      for (auto n : named_glass_names()) known += ", " + std::string(n);
-      throw InputError("--material: unknown material \"" + a.material + "\" (known: " + known + ")");
-    }
+    index = named_index(a.material, nm);
   } else {
-    if (!(a.eta >= kMinIndex && a.eta <= kMaxIndex))
-      throw InputError("--eta must be in " + index_range + ", got " + format_number(a.eta));
-    if (!(a.k >= 0 && a.k <= kMaxIndex))
-      throw InputError("--k must be in [0, " + format_number(kMaxIndex) + "], got " + format_number(a.k));
+    check_fresnel_index(a.eta, a.k);
     index.emplace_back(a.eta, a.k);
   }
   // With --wavelength: one channel, and the index used.

@@ -5,6 +5,11 @@
 #include <memory>
 #include <string>
 
+#include <algorithm>
+#include <span>
+#include <vector>
+
+#include "gonio/batch.h"
 #include "gonio/rng.h"
 
 #include "cli_io.h"
@@ -33,25 +38,45 @@ Float unit_interval(double u, size_t line, const char* name) {
   return std::min(Float(u), kOneMinusEpsilon);
 }
 
+// Samples drawn per batch call (batch.h), the buffers reused from one call to the next.
+constexpr size_t kChunk = 4096;
+
 template <typename C>
-void append_sample(std::string& out, const BxDFT<C>& bxdf, const Vec3& wo, Float u0, Float u1, Float u2,
-                   TransportMode mode) {
-  const auto s = bxdf.sample(wo, u0, u1, u2, mode);
-  if (!s) {
-    out += "{\"wi\":null}\n";
-    return;
+struct SampleBuffers {
+  std::vector<Vec3> wi = std::vector<Vec3>(kChunk);
+  std::vector<C> weight = std::vector<C>(kChunk);
+  std::vector<Float> pdf = std::vector<Float>(kChunk);
+  std::vector<std::uint8_t> delta = std::vector<std::uint8_t>(kChunk);
+  std::vector<BatchLobe> lobe = std::vector<BatchLobe>(kChunk);
+};
+
+// Samples wo[i] with u[i] for every i (at most kChunk) and appends their lines.
+template <typename C>
+void append_samples(std::string& out, const BxDFT<C>& bxdf, std::span<const Vec3> wo,
+                    std::span<const SampleUniforms> u, TransportMode mode, SampleBuffers<C>& b) {
+  const size_t n = wo.size();
+  sample_batch<C>(bxdf, wo, u, mode,
+                  {std::span(b.wi).first(n), std::span(b.weight).first(n), std::span(b.pdf).first(n),
+                   std::span(b.delta).first(n), std::span(b.lobe).first(n)});
+  for (size_t i = 0; i < n; ++i) {
+    if (b.lobe[i] == BatchLobe::None) {
+      out += "{\"wi\":null}\n";
+      continue;
+    }
+    const bool delta = b.delta[i] != 0;
+    out += "{\"wi\":[" + json_number(b.wi[i].x) + "," + json_number(b.wi[i].y) + "," + json_number(b.wi[i].z) +
+           "],\"weight\":" + json_color(b.weight[i]) +
+           ",\"pdf\":" + (delta ? std::string("null") : json_number(b.pdf[i])) +
+           ",\"delta\":" + (delta ? "true" : "false") + ",\"lobe\":\"" +
+           (b.lobe[i] == BatchLobe::Reflection ? "reflection" : "transmission") + "\"}\n";
   }
-  out += "{\"wi\":[" + json_number(s->wi.x) + "," + json_number(s->wi.y) + "," + json_number(s->wi.z) +
-         "],\"weight\":" + json_color(s->weight) +
-         ",\"pdf\":" + (s->delta ? std::string("null") : json_number(s->pdf)) +
-         ",\"delta\":" + (s->delta ? "true" : "false") + ",\"lobe\":\"" +
-         (s->lobe == Lobe::Reflection ? "reflection" : "transmission") + "\"}\n";
 }
 
 // The samples of an RGB model or of a spectral one at a single wavelength.
 template <typename C>
 void run_sample_with(const SampleArgs& a, const BxDFT<C>& bxdf) {
   const TransportMode mode = parse_mode(a.mode);
+  SampleBuffers<C> buffers;
   if (a.count > 0) {
     // Lines 'wo' only; line i draws its u's from PCG32 stream i of the seed, so a line's
     // samples do not depend on the lines before it. All input is checked first.
@@ -59,11 +84,20 @@ void run_sample_with(const SampleArgs& a, const BxDFT<C>& bxdf) {
     std::vector<Vec3> wos;
     for (size_t i = 0; i < rows.size(); ++i) wos.push_back(unit_vector(rows[i][0], rows[i][1], rows[i][2], i + 1, "wo"));
     std::string out;
+    std::vector<Vec3> wo_chunk(kChunk);
+    std::vector<SampleUniforms> u_chunk(kChunk);
     for (size_t i = 0; i < wos.size(); ++i) {
       Pcg32 rng(std::uint64_t(a.seed), std::uint64_t(i));
-      for (std::int64_t n = 0; n < a.count; ++n) {
-        const Float u0 = rng.next_float(), u1 = rng.next_float(), u2 = rng.next_float();
-        append_sample(out, bxdf, wos[i], u0, u1, u2, mode);
+      std::fill(wo_chunk.begin(), wo_chunk.end(), wos[i]);
+      for (std::int64_t done = 0; done < a.count;) {
+        const size_t n = size_t(std::min<std::int64_t>(a.count - done, std::int64_t(kChunk)));
+        for (size_t j = 0; j < n; ++j) {
+          const Float u0 = rng.next_float(), u1 = rng.next_float(), u2 = rng.next_float();
+          u_chunk[j] = {u0, u1, u2};
+        }
+        append_samples(out, bxdf, std::span<const Vec3>(wo_chunk).first(n), std::span<const SampleUniforms>(u_chunk).first(n),
+                       mode, buffers);
+        done += std::int64_t(n);
         if (out.size() > (1 << 20)) {
           std::cout << out;
           out.clear();
@@ -74,15 +108,19 @@ void run_sample_with(const SampleArgs& a, const BxDFT<C>& bxdf) {
     return;
   }
   const auto rows = read_six_numbers(std::cin);
-  std::string out;
-  out.reserve(rows.size() * 128);
+  std::vector<Vec3> wos(rows.size());
+  std::vector<SampleUniforms> us(rows.size());
   for (size_t i = 0; i < rows.size(); ++i) {
     const auto& r = rows[i];
-    const Vec3 wo = unit_vector(r[0], r[1], r[2], i + 1, "wo");
-    const Float u0 = unit_interval(r[3], i + 1, "u0");
-    const Float u1 = unit_interval(r[4], i + 1, "u1");
-    const Float u2 = unit_interval(r[5], i + 1, "u2");
-    append_sample(out, bxdf, wo, u0, u1, u2, mode);
+    wos[i] = unit_vector(r[0], r[1], r[2], i + 1, "wo");
+    us[i] = {unit_interval(r[3], i + 1, "u0"), unit_interval(r[4], i + 1, "u1"), unit_interval(r[5], i + 1, "u2")};
+  }
+  std::string out;
+  out.reserve(rows.size() * 128);
+  for (size_t i = 0; i < rows.size(); i += kChunk) {
+    const size_t n = std::min(kChunk, rows.size() - i);
+    append_samples(out, bxdf, std::span<const Vec3>(wos).subspan(i, n), std::span<const SampleUniforms>(us).subspan(i, n),
+                   mode, buffers);
   }
   std::cout << out;
 }

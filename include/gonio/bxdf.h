@@ -50,12 +50,7 @@ class BxDFT {
     return std::visit([&](const auto& m) { return m.pdf(wo, wi, mode); }, m_);
   }
   BSDFEvalT<C> eval(const Vec3& wo, const Vec3& wi, TransportMode mode = TransportMode::Radiance) const {
-    return std::visit(
-        [&](const auto& m) -> BSDFEvalT<C> {
-          if constexpr (requires { m.eval(wo, wi, mode); }) return m.eval(wo, wi, mode);
-          else return {m.f(wo, wi, mode), m.pdf(wo, wi, mode)};
-        },
-        m_);
+    return std::visit([&](const auto& m) -> BSDFEvalT<C> { return model_eval(m, wo, wi, mode); }, m_);
   }
   std::optional<BSDFSampleT<C>> sample(const Vec3& wo, Float u_lobe, Float u1, Float u2,
                                    TransportMode mode = TransportMode::Radiance) const {

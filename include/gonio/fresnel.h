@@ -202,6 +202,19 @@ inline T fresnel_schlick_dielectric(T cos_i, T eta) {
   return fresnel_schlick(f0, std::sqrt(1 - sin2_t));
 }
 
+// The terms `gonio fresnel` and the Python module report for light from the outside at
+// cos_i onto eta + i k: a conductor's (Born & Wolf) when k > 0, else a dielectric's
+// (Hecht), and Schlick's approximation of the same interface (SPEC §3: the rule of
+// fresnel_schlick_dielectric for k = 0, F0 = fresnel_f0(eta, k) for a conductor).
+template <typename T>
+inline FresnelTerms<T> fresnel_terms(T cos_i, T eta, T k) {
+  return k > 0 ? fresnel_conductor_terms(cos_i, eta, k) : fresnel_dielectric_terms(cos_i, eta);
+}
+template <typename T>
+inline T fresnel_schlick_terms(T cos_i, T eta, T k) {
+  return k > 0 ? fresnel_schlick(fresnel_f0(eta, k), std::abs(cos_i)) : fresnel_schlick_dielectric(cos_i, eta);
+}
+
 // Mirror reflection about n (lecture §5.2: R = I − 2(I·N)N for I pointing at the surface;
 // here wo points away from it, so the result is −wo + 2(wo·n)n).
 inline Vec3 reflect(const Vec3& wo, const Vec3& n) { return -wo + n * (2 * dot(wo, n)); }

@@ -102,6 +102,15 @@ concept BxDFModel = requires(const M& m, Vec3 w, Float u, TransportMode mode) {
   { m.flags() } -> std::same_as<BxDFFlags>;
 };
 
+// f and pdf of one model together: its own eval() where it has one (sharing the work of
+// the two), else f() and pdf(). BxDFT::eval and the batch loops (batch.h) both call this.
+template <BxDFModel M>
+[[gnu::always_inline]] inline BSDFEvalT<typename M::color_type> model_eval(const M& m, const Vec3& wo, const Vec3& wi,
+                                                                           TransportMode mode) {
+  if constexpr (requires { m.eval(wo, wi, mode); }) return m.eval(wo, wi, mode);
+  else return {m.f(wo, wi, mode), m.pdf(wo, wi, mode)};
+}
+
 // The factor (n_wo / n_wi)² by which a refraction scales radiance (lecture eq. 27;
 // SPEC §1); `eta_crossed` = n_wi / n_wo. Importance transport carries no such factor.
 inline Float transmission_scale(Float eta_crossed, TransportMode mode) {
