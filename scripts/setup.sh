@@ -13,6 +13,8 @@ packages=(
   clang libclang-rt-14-dev  # libFuzzer and the sanitizer runtimes of the fuzz pass
   binutils                  # strings: the consumer test checks the installed files for build paths
   dpkg-dev file             # cpack -G DEB: dpkg-shlibdeps computes Depends, file finds the ELF files
+  pybind11-dev python3-dev python3-numpy  # the Python module (python/, docs/python.md)
+  python3-matplotlib python3-pytest       # gonio.plot and the module's tests
 )
 
 missing=()

@@ -1,0 +1,109 @@
+"""Bad input raises ValueError; a bad material's message is the one the CLI prints after
+"gonio: " for the same description."""
+
+import numpy as np
+import pytest
+
+import gonio
+from conftest import run_gonio
+
+BAD_MATERIALS = [
+    '{"type":"conductor","eta":-1}',
+    '{"type":"nosuchmodel"}',
+    '{"type":"roughconductor","material":"Au"}',  # alpha missing
+    '{"type":"diffuse","reflectance":[0.5,0.5]}',
+    '{"type":"diffuse","colour":0.5}',
+    '{"type":"diffuse",',  # malformed JSON
+    '{"type":"dielectric","eta":1.5,"eta":2}',  # a key twice
+    '[1,2,3]',
+    '{"type":"blend","weight":2,"bsdfs":[{"type":"mirror"},{"type":"mirror"}]}',
+]
+
+
+def cli_message(text):
+    status, out, err = run_gonio(["eval", "--bsdf", text], "")
+    assert status == 2 and out == ""
+    assert err.startswith("gonio: ") and err.endswith("\n") and err.count("\n") == 1
+    return err[len("gonio: "):-1]
+
+
+@pytest.mark.parametrize("text", BAD_MATERIALS)
+def test_bad_material_raises_the_cli_message(text):
+    with pytest.raises(ValueError) as e:
+        gonio.Material(text)
+    assert str(e.value) == cli_message(text)
+
+
+def test_bad_dict_raises_the_cli_message():
+    d = {"type": "roughconductor", "material": "Au", "alpha": 0}
+    with pytest.raises(ValueError) as e:
+        gonio.Material(d)
+    assert str(e.value) == cli_message('{"type": "roughconductor", "material": "Au", "alpha": 0}')
+
+
+def test_a_good_dict_is_the_same_material_as_its_text():
+    d = {"type": "plastic", "reflectance": [0.3, 0.4, 0.5], "alpha": 0.1}
+    wo = gonio.direction([10, 40, 70], 0)
+    wi = gonio.direction([20, 50, 80], 180)
+    np.testing.assert_array_equal(gonio.Material(d).eval(wo, wi)[0],
+                                  gonio.Material('{"type":"plastic","reflectance":[0.3,0.4,0.5],"alpha":0.1}')
+                                  .eval(wo, wi)[0])
+
+
+def test_wrong_description_type():
+    with pytest.raises(ValueError, match="expected JSON text"):
+        gonio.Material(3)
+
+
+m = gonio.Material('{"type":"diffuse"}')
+
+
+@pytest.mark.parametrize("wo, wi, message", [
+    (np.zeros((2, 3)), np.ones((2, 3)), r"^wo\[0\] is a zero vector$"),
+    (np.ones((3, 3)), np.array([[1, 1, 1], [0, 0, 1], [np.nan, 0, 1]]), r"^wi\[2\] is not a finite vector$"),
+    (np.ones((2, 2)), np.ones((2, 3)), r"^wo must have shape \(N, 3\) or \(3,\), got \(2, 2\)$"),
+    (np.ones((2, 3)), np.ones((3, 3)), "different lengths"),
+])
+def test_bad_directions(wo, wi, message):
+    with pytest.raises(ValueError, match=message):
+        m.eval(wo, wi)
+
+
+def test_the_first_bad_row_is_named_whatever_the_threads():
+    wo = np.ones((100000, 3))
+    wo[[70000, 99999]] = 0
+    for threads in (1, 2):
+        with pytest.raises(ValueError, match=r"^wo\[70000\] is a zero vector$"):
+            m.eval(wo, wo, threads=threads)
+
+
+def test_bad_mode_and_u():
+    with pytest.raises(ValueError, match="mode must be"):
+        m.eval([0, 0, 1], [0, 0, 1], mode="backwards")
+    with pytest.raises(ValueError, match=r"u\[1, 2\] must be in \[0, 1\), got 1"):
+        m.sample(np.ones((2, 3)), np.array([[0.1, 0.2, 0.3], [0.1, 0.2, 1.0]]))
+
+
+@pytest.mark.parametrize("kwargs, args", [
+    ({"eta": -2}, ["--eta", "-2"]),
+    ({"eta": 1.5, "k": -1}, ["--eta", "1.5", "--k", "-1"]),
+    ({"material": "Unobtainium"}, ["--material", "Unobtainium"]),
+])
+def test_fresnel_errors_are_the_cli_messages(kwargs, args):
+    status, _, err = run_gonio(["fresnel", "--theta", "10"] + args)
+    assert status == 2
+    with pytest.raises(ValueError) as e:
+        gonio.fresnel(10.0, **kwargs)
+    assert str(e.value) == err[len("gonio: "):-1]
+
+
+def test_other_errors():
+    with pytest.raises(ValueError, match=r"theta must be in \[0, 90\] degrees, got 91"):
+        m.albedo(91)
+    with pytest.raises(ValueError, match="wavelength must be"):
+        gonio.Material('{"type":"diffuse"}', wavelength=1000)
+    with pytest.raises(ValueError, match='subsurface needs a material of type "subsurface"'):
+        gonio.subsurface('{"type":"diffuse"}')
+    if hasattr(gonio, "render"):
+        with pytest.raises(ValueError):
+            gonio.render("/nonexistent/scene.json")
