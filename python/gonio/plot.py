@@ -62,18 +62,31 @@ def lobe(bsdf, thetas=(0, 30, 60), samples=720, surface3d=False):
 
     wi is the direction towards the light at each θi (on the φ = 180° side); wo sweeps the
     whole circle, so a transmission lobe shows below the surface. The value is the mean
-    over the colour channels. Delta lobes (f is a Dirac) are drawn as spikes of length
-    weight, their sampled directions.
+    over the colour channels. Delta lobes (f is a Dirac) are drawn as spikes along their
+    sampled directions, as long as the fraction of the incident power each carries
+    (sample weight times the lobe's probability, importance mode).
     """
     m = _material(bsdf)
     if surface3d:
         return _lobe3d(m, thetas[0])
     fig = plt.figure(figsize=(7, 5.6))
     ax = fig.add_subplot(projection="polar")
+    draw_lobe(ax, m, thetas, samples)
+    ax.set_xlabel("θo (degrees from the normal; light from the left, dotted)")
+    ax.set_ylabel("f · |cos θo|  (1/sr)", labelpad=28)
+    ax.legend(loc="lower right", bbox_to_anchor=(1.2, -0.1), fontsize=8)
+    ax.set_title("lobe, plane of incidence: " + material_title(m), fontsize=9)
+    fig.tight_layout()
+    return fig
+
+
+def draw_lobe(ax, m, thetas=(0, 30, 60), samples=720):
+    """lobe()'s curves, into a polar Axes `ax` (for figures of several panels)."""
     ax.set_theta_zero_location("N")  # the normal points up
     ax.set_theta_direction(-1)
     # Angles of wo from the normal: positive on the φ = 0 side.
     ang = np.linspace(-180, 180, samples, endpoint=False) + 180.0 / samples
+    lights = []
     wo = np.stack([np.sin(np.radians(ang)), np.zeros_like(ang), np.cos(np.radians(ang))], axis=1)
     for n, ti in enumerate(thetas):
         colour = "C%d" % n
@@ -82,32 +95,31 @@ def lobe(bsdf, thetas=(0, 30, 60), samples=720, surface3d=False):
         r = f.mean(axis=1) * np.abs(wo[:, 2])
         label = "θi = %g°" % ti
         if np.any(r > 0):
-            ax.plot(np.radians(np.append(ang, ang[0])), np.append(r, r[0]), color=colour, label=label)
+            ax.plot(np.radians(np.append(ang, ang[0]) % 360), np.append(r, r[0]), color=colour, label=label)
             label = None
         # Delta lobes: sample from wi (importance mode: light arriving along wi).
         u = np.array([[(k + 0.5) / 64, 0.5, 0.5] for k in range(64)])
-        wis, weight, _, delta, _ = m.sample(np.broadcast_to(wi, (64, 3)), u, mode="importance")
+        wis, weight, prob, delta, _ = m.sample(np.broadcast_to(wi, (64, 3)), u, mode="importance")
         if np.any(delta):
             seen = set()
-            for w, wt in zip(wis[delta], weight[delta].mean(axis=1)):
+            # weight · (the lobe's probability) = the fraction of the power it carries.
+            for w, wt in zip(wis[delta], weight[delta].mean(axis=1) * prob[delta]):
                 key = tuple(np.round(w, 4))
                 if key in seen:
                     continue
                 seen.add(key)
-                a = math.atan2(w[0], w[2])
+                a = math.atan2(w[0], w[2]) % (2 * math.pi)
                 ax.annotate("", xy=(a, float(wt)), xytext=(a, 0),
                             arrowprops=dict(arrowstyle="-|>", color=colour, lw=1.8))
-            ax.plot([], [], color=colour, lw=1.8, label=(label or "θi = %g°" % ti) + " (delta: weight)")
+            ax.plot([], [], color=colour, lw=1.8, label=(label or "θi = %g°" % ti) + " (delta lobe: its share of the power)")
         # The light's direction, a dotted ray.
-        ax.plot([math.radians(-ti)] * 2, [0, ax.get_ylim()[1] or 1], ":", color=colour, lw=0.8)
-    ax.plot(np.radians([-90, 90]), [ax.get_ylim()[1]] * 2, alpha=0)  # keep the limits
-    ax.set_thetagrids(range(-180, 180, 30), ["%d°" % abs(t) for t in range(-180, 180, 30)])
-    ax.set_xlabel("θo (degrees from the normal; light from the left, dotted)")
-    ax.set_ylabel("f · |cos θo|  (1/sr)", labelpad=28)
-    ax.legend(loc="lower left", bbox_to_anchor=(-0.15, -0.12), fontsize=8)
-    ax.set_title("lobe, plane of incidence: " + material_title(m), fontsize=9)
-    fig.tight_layout()
-    return fig
+        lights.append((math.radians(-ti) % (2 * math.pi), colour))
+    top = ax.get_ylim()[1] or 1
+    for a, colour in lights:
+        ax.plot([a, a], [0, top], ":", color=colour, lw=0.8)
+    ax.plot(np.radians([90, 270]), [top, top], color="0.3", lw=1.2, label="the surface")
+    ax.set_thetalim(0, 2 * np.pi)
+    ax.set_thetagrids(range(0, 360, 30), ["%d°" % min(t, 360 - t) for t in range(0, 360, 30)])
 
 
 def _lobe3d(m, ti):

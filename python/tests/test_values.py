@@ -146,12 +146,13 @@ def test_spectral_eval_equals_cli():
     np.testing.assert_array_equal(pdf, pdf_cli)
 
 
-def test_albedo_equals_cli():
+@pytest.mark.parametrize("inside", [False, True])
+def test_albedo_equals_cli(inside):
     text = EXAMPLES["roughdielectric"]
     samples = str(max(1000, int(20000 * SCALE)))
     lines = cli_lines(["albedo", "--bsdf", text, "--theta-range", "0", "80", "5", "--samples", samples,
-                       "--seed", "3"])
-    d = gonio.Material(text).albedo(np.linspace(0, 80, 5), samples=int(samples), seed=3)
+                       "--seed", "3"] + (["--inside"] if inside else []))
+    d = gonio.Material(text).albedo(np.linspace(0, 80, 5), samples=int(samples), seed=3, inside=inside)
     for key in ("reflectance", "transmittance", "albedo", "stderr"):
         np.testing.assert_array_equal(d[key], np.array([l[key] for l in lines], dtype=np.float32))
     assert list(d["exact"]) == [l["exact"] for l in lines]
