@@ -1,0 +1,103 @@
+// gonio/batch.h: the batch loops give what one call per element gives, and user
+// directions are normalised without overflow, underflow or NaN.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <vector>
+
+#include "gonio/batch.h"
+#include "gonio/material.h"
+#include "gonio/rng.h"
+
+namespace {
+
+using namespace gonio;
+
+TEST(Batch, UnitDirectionScalesExtremeComponents) {
+  // (3, 4, 0)/5 at every scale: the squares of 3e300 overflow and those of 3e-320 vanish.
+  for (double s : {1.0, 3e300, 1e-300, 1e-310, 1.7e308}) {
+    const auto w = unit_direction(0.6 * s, 0.8 * s, 0);
+    ASSERT_TRUE(w) << s;
+    EXPECT_FLOAT_EQ(w->x, 0.6f) << s;
+    EXPECT_FLOAT_EQ(w->y, 0.8f) << s;
+    EXPECT_EQ(w->z, 0.0f) << s;
+  }
+  EXPECT_FALSE(unit_direction(0, 0, 0));
+  EXPECT_FALSE(unit_direction(0, -0.0, 0));
+  EXPECT_FALSE(unit_direction(std::numeric_limits<double>::infinity(), 0, 1));
+  EXPECT_FALSE(unit_direction(std::nan(""), 0, 1));
+}
+
+TEST(Batch, PairEqualsTwoSingles) {
+  Pcg32 rng(5, 0);
+  for (int i = 0; i < 20000; ++i) {
+    // Components over 40 decades, some rows far from unit length.
+    auto c = [&] { return (rng.next_float() - 0.5) * std::pow(10.0, 40 * (rng.next_float() - 0.5)); };
+    const double a[3] = {c(), c(), c()}, b[3] = {c(), c(), c()};
+    Vec3 wa, wb;
+    ASSERT_TRUE(unit_direction_pair(a, b, wa, wb));
+    EXPECT_EQ(wa, *unit_direction(a[0], a[1], a[2]));
+    EXPECT_EQ(wb, *unit_direction(b[0], b[1], b[2]));
+  }
+  const double zero[3] = {0, 0, 0}, one[3] = {0, 0, 1};
+  Vec3 wa, wb;
+  EXPECT_FALSE(unit_direction_pair(zero, one, wa, wb));
+  EXPECT_FALSE(unit_direction_pair(one, zero, wa, wb));
+}
+
+TEST(Batch, EvalPdfSampleEqualOneCallPerElement) {
+  for (const char* text : {R"({"type":"diffuse","reflectance":[0.2,0.5,0.8]})",
+                           R"({"type":"roughdielectric","eta":1.5,"alpha":0.3})",
+                           R"({"type":"blend","weight":0.4,"bsdfs":[{"type":"dielectric"},{"type":"plastic","alpha":0.2}]})"}) {
+    const BxDF bxdf = parse_material(text);
+    Pcg32 rng(9, 1);
+    const size_t n = 3000;
+    std::vector<Vec3> wo(n), wi(n);
+    std::vector<SampleUniforms> u(n);
+    for (size_t i = 0; i < n; ++i) {
+      wo[i] = *unit_direction(rng.next_float() - 0.5, rng.next_float() - 0.5, rng.next_float() - 0.3);
+      wi[i] = *unit_direction(rng.next_float() - 0.5, rng.next_float() - 0.5, rng.next_float() - 0.5);
+      u[i] = {rng.next_float(), rng.next_float(), rng.next_float()};
+    }
+    for (auto mode : {TransportMode::Radiance, TransportMode::Importance}) {
+      std::vector<Color> f(n), weight(n);
+      std::vector<Float> pdf(n), pdf2(n), spdf(n);
+      std::vector<Vec3> swi(n);
+      std::vector<std::uint8_t> delta(n);
+      std::vector<BatchLobe> lobe(n);
+      eval_batch<Color>(bxdf, wo, wi, mode, f, pdf);
+      pdf_batch<Color>(bxdf, wo, wi, mode, pdf2);
+      sample_batch<Color>(bxdf, wo, u, mode, {swi, weight, spdf, delta, lobe});
+      for (size_t i = 0; i < n; ++i) {
+        const BSDFEval e = bxdf.eval(wo[i], wi[i], mode);
+        ASSERT_EQ(f[i], e.f) << text << " " << i;
+        ASSERT_EQ(pdf[i], e.pdf) << text << " " << i;
+        ASSERT_EQ(pdf2[i], bxdf.pdf(wo[i], wi[i], mode)) << text << " " << i;
+        const auto s = bxdf.sample(wo[i], u[i].lobe, u[i].u1, u[i].u2, mode);
+        ASSERT_EQ(lobe[i] != BatchLobe::None, bool(s)) << text << " " << i;
+        if (!s) {
+          EXPECT_EQ(swi[i], Vec3{});
+          EXPECT_TRUE(weight[i].is_black());
+          continue;
+        }
+        ASSERT_EQ(swi[i], s->wi);
+        ASSERT_EQ(weight[i], s->weight);
+        ASSERT_EQ(spdf[i], s->pdf);
+        ASSERT_EQ(delta[i] != 0, s->delta);
+        ASSERT_EQ(lobe[i], s->lobe == Lobe::Reflection ? BatchLobe::Reflection : BatchLobe::Transmission);
+      }
+    }
+  }
+}
+
+TEST(Batch, MismatchedLengthsThrow) {
+  const BxDF bxdf = parse_material(R"({"type":"diffuse"})");
+  std::vector<Vec3> wo(3), wi(2);
+  std::vector<Color> f(3);
+  std::vector<Float> pdf(3);
+  EXPECT_THROW(eval_batch<Color>(bxdf, wo, wi, TransportMode::Radiance, f, pdf), std::invalid_argument);
+}
+
+}  // namespace
