@@ -2,10 +2,13 @@
 
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "cli_io.h"
+#include "cli_mueller.h"
+#include "gonio/polarization/polarized_bxdf.h"
 #include "commands.h"
 
 namespace gonio::cli {
@@ -16,11 +19,14 @@ struct EvalArgs {
   std::string mode = "radiance";
   std::string wavelength;
   bool spectral = false;  // --wavelength given
+  bool polarized = false;  // --polarized: add "mueller"
 };
 
 // The output lines for an RGB model or a spectral one at a single wavelength.
 template <typename C>
-std::string eval_lines(const BxDFT<C>& bxdf, TransportMode mode, const std::vector<std::array<double, 6>>& rows) {
+std::string eval_lines(const BxDFT<C>& bxdf, TransportMode mode, const std::vector<std::array<double, 6>>& rows,
+                       bool polarized = false) {
+  const std::optional<PolarizedBxDFT<C>> pol = polarized ? std::optional<PolarizedBxDFT<C>>(bxdf) : std::nullopt;
   std::string out;
   out.reserve(rows.size() * 64);
   for (size_t i = 0; i < rows.size(); ++i) {
@@ -28,7 +34,9 @@ std::string eval_lines(const BxDFT<C>& bxdf, TransportMode mode, const std::vect
     const Vec3 wo = unit_vector(r[0], r[1], r[2], i + 1, "wo");
     const Vec3 wi = unit_vector(r[3], r[4], r[5], i + 1, "wi");
     const auto e = bxdf.eval(wo, wi, mode);
-    out += "{\"f\":" + json_color(e.f) + ",\"pdf\":" + json_number(e.pdf) + "}\n";
+    out += "{\"f\":" + json_color(e.f) + ",\"pdf\":" + json_number(e.pdf);
+    if (pol) out += ",\"mueller\":" + json_mueller_channels(pol->eval(wo, wi, mode).f);  // SPEC §3
+    out += "}\n";
   }
   return out;
 }
@@ -38,11 +46,11 @@ void run_eval(const EvalArgs& a) {
   if (a.spectral) {
     const Float nm = parse_wavelength(a.wavelength);
     const auto m = load_bsdf_at_wavelength(a.bsdf, nm);
-    std::cout << eval_lines(m->bxdf, mode, read_six_numbers(std::cin));
+    std::cout << eval_lines(m->bxdf, mode, read_six_numbers(std::cin), a.polarized);
     return;
   }
   const BxDF bxdf = load_bsdf(a.bsdf);
-  std::cout << eval_lines(bxdf, mode, read_six_numbers(std::cin));
+  std::cout << eval_lines(bxdf, mode, read_six_numbers(std::cin), a.polarized);
 }
 }  // namespace
 
@@ -55,6 +63,8 @@ void register_eval(CLI::App& app) {
   cmd->add_option("--bsdf", args->bsdf, "material JSON text, or @path to a file holding it")->required();
   add_mode_option(*cmd, args->mode);
   auto* wavelength = add_wavelength_option(*cmd, args->wavelength);
+  cmd->add_flag("--polarized", args->polarized,
+                "also print \"mueller\": one 4x4 Mueller matrix per colour channel, M00 = f (docs/polarization.md)");
   cmd->callback([args, wavelength] {
     args->spectral = wavelength->count() > 0;
     run_eval(*args);

@@ -3,11 +3,14 @@
 
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "gonio/rng.h"
 
 #include "cli_io.h"
+#include "cli_mueller.h"
+#include "gonio/polarization/polarized_bxdf.h"
 #include "commands.h"
 
 namespace gonio::cli {
@@ -20,6 +23,7 @@ struct SampleArgs {
   std::int64_t seed = 1;
   std::string wavelength;
   bool spectral = false;  // --wavelength given
+  bool polarized = false;  // --polarized: add "mueller" (of the weight)
 };
 
 // Largest --count: samples drawn per input line.
@@ -35,7 +39,7 @@ Float unit_interval(double u, size_t line, const char* name) {
 
 template <typename C>
 void append_sample(std::string& out, const BxDFT<C>& bxdf, const Vec3& wo, Float u0, Float u1, Float u2,
-                   TransportMode mode) {
+                   TransportMode mode, const PolarizedBxDFT<C>* pol = nullptr) {
   const auto s = bxdf.sample(wo, u0, u1, u2, mode);
   if (!s) {
     out += "{\"wi\":null}\n";
@@ -45,13 +49,20 @@ void append_sample(std::string& out, const BxDFT<C>& bxdf, const Vec3& wo, Float
          "],\"weight\":" + json_color(s->weight) +
          ",\"pdf\":" + (s->delta ? std::string("null") : json_number(s->pdf)) +
          ",\"delta\":" + (s->delta ? "true" : "false") + ",\"lobe\":\"" +
-         (s->lobe == Lobe::Reflection ? "reflection" : "transmission") + "\"}\n";
+         (s->lobe == Lobe::Reflection ? "reflection" : "transmission") + "\"";
+  // The same sample in polarized mode (the same wi; M00 = weight).
+  if (pol)
+    if (const auto p = pol->sample(wo, u0, u1, u2, mode)) out += ",\"mueller\":" + json_mueller_channels(p->weight);
+  out += "}\n";
 }
 
 // The samples of an RGB model or of a spectral one at a single wavelength.
 template <typename C>
 void run_sample_with(const SampleArgs& a, const BxDFT<C>& bxdf) {
   const TransportMode mode = parse_mode(a.mode);
+  const std::optional<PolarizedBxDFT<C>> polarized =
+      a.polarized ? std::optional<PolarizedBxDFT<C>>(bxdf) : std::nullopt;
+  const PolarizedBxDFT<C>* pol = polarized ? &*polarized : nullptr;
   if (a.count > 0) {
     // Lines 'wo' only; line i draws its u's from PCG32 stream i of the seed, so a line's
     // samples do not depend on the lines before it. All input is checked first.
@@ -63,7 +74,7 @@ void run_sample_with(const SampleArgs& a, const BxDFT<C>& bxdf) {
       Pcg32 rng(std::uint64_t(a.seed), std::uint64_t(i));
       for (std::int64_t n = 0; n < a.count; ++n) {
         const Float u0 = rng.next_float(), u1 = rng.next_float(), u2 = rng.next_float();
-        append_sample(out, bxdf, wos[i], u0, u1, u2, mode);
+        append_sample(out, bxdf, wos[i], u0, u1, u2, mode, pol);
         if (out.size() > (1 << 20)) {
           std::cout << out;
           out.clear();
@@ -82,7 +93,7 @@ void run_sample_with(const SampleArgs& a, const BxDFT<C>& bxdf) {
     const Float u0 = unit_interval(r[3], i + 1, "u0");
     const Float u1 = unit_interval(r[4], i + 1, "u1");
     const Float u2 = unit_interval(r[5], i + 1, "u2");
-    append_sample(out, bxdf, wo, u0, u1, u2, mode);
+    append_sample(out, bxdf, wo, u0, u1, u2, mode, pol);
   }
   std::cout << out;
 }
@@ -113,6 +124,8 @@ void register_sample(CLI::App& app) {
       ->transform(decimal_in_range(0, kMaxSeed))
       ->needs(count);
   auto* wavelength = add_wavelength_option(*cmd, args->wavelength);
+  cmd->add_flag("--polarized", args->polarized,
+                "also print \"mueller\": the weight as one 4x4 Mueller matrix per colour channel (docs/polarization.md)");
   cmd->callback([args, wavelength] {
     args->spectral = wavelength->count() > 0;
     run_sample(*args);
