@@ -28,6 +28,9 @@ struct FresnelAmplitudes {
   std::complex<T> rs, rp;  // reflected / incident amplitude, s and p
   std::complex<T> ts, tp;  // transmitted / incident amplitude (0 for a conductor)
   T Rs = 0, Rp = 0, R = 0;  // |r_s|², |r_p|² and (|r_s|² + |r_p|²)/2 from fresnel.h's scalar code
+  // Dielectric transmittances 1 − R_s, 1 − R_p, 1 − R without cancellation where R → 1
+  // (4 e c ct / b², 4 e c ct / d², DielectricFresnelParts::t()); 0 for a conductor.
+  T Ts = 0, Tp = 0, T_ = 0;
   // Power transmission factor Re(w) / cos θi = n_t cos θt / (n_i cos θi): T_s = factor |t_s|²
   // (0 under total internal reflection and for a conductor, whose T is absorbed).
   T t_factor = 0;
@@ -57,6 +60,9 @@ inline FresnelAmplitudes<T> fresnel_dielectric_amplitudes(T cos_i, T eta) {
     out.Rs = parts.rs();
     out.Rp = parts.rp();
     out.R = parts.r();
+    out.Ts = 4 * parts.ecct / (parts.b * parts.b);
+    out.Tp = 4 * parts.ecct / (parts.d * parts.d);
+    out.T_ = parts.t();
     out.t_factor = c > 0 ? eta * ct / c : T(0);
     return out;
   }

@@ -8,8 +8,10 @@
 //                 (Born & Wolf §1.5.2 and §1.4.2; e.g. Collett, Field Guide to
 //                 Polarization, 2005, "Mueller matrices for reflection and transmission").
 //   Transmission: the transmitted power fractions, Jones diag(t_s, t_p) times the factor
-//                 n_t cos θt / (n_i cos θi): M00 = 1 − R, M01 = M10 = (T_s − T_p)/2 with
-//                 T_s = 1 − R_s, T_p = 1 − R_p, M22 = M33 = factor Re(t_s t_p*) (t real
+//                 n_t cos θt / (n_i cos θi): M00 = T = 1 − R, M01 = M10 = (T_s − T_p)/2 with
+//                 T_s = 1 − R_s, T_p = 1 − R_p (each in fresnel.h's cancellation-free form,
+//                 which keeps the matrix realizable at grazing incidence, where 1 − R
+//                 rounded lost the digits that M22 has), M22 = M33 = factor Re(t_s t_p*) (t real
 //                 outside total internal reflection, which transmits nothing).
 
 #include "gonio/fresnel_amplitudes.h"
@@ -31,8 +33,8 @@ MuellerT<T> mueller_transmission(const FresnelAmplitudes<T>& a) {
   MuellerT<T> m = mueller_diagonal_jones(a.ts, a.tp);
   for (int r = 2; r < 4; ++r)
     for (int c = 2; c < 4; ++c) m(r, c) *= a.t_factor;
-  m(0, 0) = m(1, 1) = 1 - a.R;
-  m(0, 1) = m(1, 0) = (a.Rp - a.Rs) / 2;
+  m(0, 0) = m(1, 1) = a.T_;
+  m(0, 1) = m(1, 0) = (a.Ts - a.Tp) / 2;
   return m;
 }
 
