@@ -102,9 +102,9 @@ template <typename C, typename V, typename Shape>
 // A depolarizing reflector seen through a polarizing coat (the plastic's base): the light
 // entering at wi is weighed by the coat's transmission of its polarization, the base
 // depolarizes it, and it leaves at wo partially polarized by the coat again:
-// M = value [1, τi, 0, 0]ᵀ-row ⊗ column: M = value (1, τo, 0, 0)ᵀ (1, τi, 0, 0), with
+// M = value (1, τo, 0, 0)ᵀ (1, τi, 0, 0), with
 // τ = (T_s − T_p)/(T_s + T_p) of the coat at each direction, in the frame of that direction
-// (whose plane of incidence is the coat's). Unpolarized C: C(value).
+// (whose plane of incidence is the coat's); `taus()`, called in polarized mode only, gives (τo, τi). Unpolarized C: C(value).
 template <typename C, typename U, typename Tau>
 [[gnu::always_inline]] inline C depolarized_through(const U& value, Tau&& taus) {
   if constexpr (!kPolarized<C>) {
