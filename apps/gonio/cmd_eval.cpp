@@ -2,10 +2,13 @@
 
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "cli_io.h"
+#include "cli_mueller.h"
+#include "gonio/polarization/polarized_bxdf.h"
 #include "commands.h"
 #include "gonio/batch.h"
 
@@ -17,11 +20,13 @@ struct EvalArgs {
   std::string mode = "radiance";
   std::string wavelength;
   bool spectral = false;  // --wavelength given
+  bool polarized = false;  // --polarized: add "mueller"
 };
 
 // The output lines for an RGB model or a spectral one at a single wavelength.
 template <typename C>
-std::string eval_lines(const BxDFT<C>& bxdf, TransportMode mode, const std::vector<std::array<double, 6>>& rows) {
+std::string eval_lines(const BxDFT<C>& bxdf, TransportMode mode, const std::vector<std::array<double, 6>>& rows,
+                       bool polarized = false) {
   std::vector<Vec3> wo(rows.size()), wi(rows.size());
   for (size_t i = 0; i < rows.size(); ++i) {
     const auto& r = rows[i];
@@ -33,8 +38,12 @@ std::string eval_lines(const BxDFT<C>& bxdf, TransportMode mode, const std::vect
   eval_batch<C>(bxdf, wo, wi, mode, f, pdf);  // batch.h: the loop the Python module runs too
   std::string out;
   out.reserve(rows.size() * 64);
-  for (size_t i = 0; i < rows.size(); ++i)
-    out += "{\"f\":" + json_color(f[i]) + ",\"pdf\":" + json_number(pdf[i]) + "}\n";
+  const std::optional<PolarizedBxDFT<C>> pol = polarized ? std::optional<PolarizedBxDFT<C>>(bxdf) : std::nullopt;
+  for (size_t i = 0; i < rows.size(); ++i) {
+    out += "{\"f\":" + json_color(f[i]) + ",\"pdf\":" + json_number(pdf[i]);
+    if (pol) out += ",\"mueller\":" + json_mueller_channels(pol->eval(wo[i], wi[i], mode).f);  // SPEC §3
+    out += "}\n";
+  }
   return out;
 }
 
@@ -43,11 +52,11 @@ void run_eval(const EvalArgs& a) {
   if (a.spectral) {
     const Float nm = parse_wavelength(a.wavelength);
     const auto m = load_bsdf_at_wavelength(a.bsdf, nm);
-    std::cout << eval_lines(m->bxdf, mode, read_six_numbers(std::cin));
+    std::cout << eval_lines(m->bxdf, mode, read_six_numbers(std::cin), a.polarized);
     return;
   }
   const BxDF bxdf = load_bsdf(a.bsdf);
-  std::cout << eval_lines(bxdf, mode, read_six_numbers(std::cin));
+  std::cout << eval_lines(bxdf, mode, read_six_numbers(std::cin), a.polarized);
 }
 }  // namespace
 
@@ -60,6 +69,8 @@ void register_eval(CLI::App& app) {
   cmd->add_option("--bsdf", args->bsdf, "material JSON text, or @path to a file holding it")->required();
   add_mode_option(*cmd, args->mode);
   auto* wavelength = add_wavelength_option(*cmd, args->wavelength);
+  cmd->add_flag("--polarized", args->polarized,
+                "also print \"mueller\": one 4x4 Mueller matrix per colour channel, M00 = f (docs/polarization.md)");
   cmd->callback([args, wavelength] {
     args->spectral = wavelength->count() > 0;
     run_eval(*args);

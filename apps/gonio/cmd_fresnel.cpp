@@ -10,9 +10,11 @@
 #include <vector>
 
 #include "cli_io.h"
+#include "cli_mueller.h"
 #include "commands.h"
 #include "gonio/fresnel.h"
 #include "gonio/named_index.h"
+#include "gonio/polarization/interface.h"
 
 namespace gonio::cli {
 
@@ -22,6 +24,7 @@ struct FresnelArgs {
   std::vector<double> theta_range;
   std::string material;
   bool schlick = false;
+  bool mueller = false;  // --mueller
   std::string wavelength;
   bool spectral = false;  // --wavelength given
 };
@@ -29,6 +32,7 @@ struct FresnelArgs {
 // One channel's results, formatted.
 struct FresnelLine {
   std::string rs, rp, r, t, cos_t, schlick;
+  std::string mueller_r, mueller_t;  // --mueller; mueller_t empty for a conductor
 };
 
 FresnelLine fresnel_at(double eta, double k, double theta_deg) {
@@ -36,13 +40,24 @@ FresnelLine fresnel_at(double eta, double k, double theta_deg) {
   const bool conductor = k > 0;
   const FresnelTerms<double> t = fresnel_terms(cos_i, eta, k);
   const double r = t.r();
-  return {json_number(t.rs), json_number(t.rp), json_number(r), json_number(1 - r),
-          (conductor || t.tir) ? std::string("null") : json_number(t.cos_t),
-          json_number(fresnel_schlick_terms(cos_i, eta, k))};
+  FresnelLine l{json_number(t.rs), json_number(t.rp), json_number(r), json_number(1 - r),
+                (conductor || t.tir) ? std::string("null") : json_number(t.cos_t),
+                json_number(fresnel_schlick_terms(cos_i, eta, k)), "", ""};
+  // The Mueller matrices of polarization/interface.h, their M00 the R and T printed.
+  const auto amp = conductor ? fresnel_conductor_amplitudes(cos_i, eta, k) : fresnel_dielectric_amplitudes(cos_i, eta);
+  Mueller mr = mueller_reflection(amp);
+  mr(0, 0) = mr(1, 1) = r;
+  l.mueller_r = json_mueller(mr);
+  if (!conductor) {
+    Mueller mt = mueller_transmission(amp);
+    if (!t.tir) mt(0, 0) = mt(1, 1) = 1 - r;
+    l.mueller_t = json_mueller(mt);
+  }
+  return l;
 }
 
 // `index`: with --wavelength, the "eta" and "k" used (SPEC §3), appended.
-std::string object(const std::vector<FresnelLine>& channels, bool schlick, const std::string& index = "") {
+std::string object(const std::vector<FresnelLine>& channels, bool schlick, bool mueller, const std::string& index = "") {
   // One channel: numbers (SPEC §3); three (a named material in RGB mode): arrays.
   auto field = [&](std::string FresnelLine::*member) {
     if (channels.size() == 1) return channels[0].*member;
@@ -54,6 +69,10 @@ std::string object(const std::vector<FresnelLine>& channels, bool schlick, const
                     ",\"R\":" + field(&FresnelLine::r) + ",\"T\":" + field(&FresnelLine::t) +
                     ",\"cos_t\":" + field(&FresnelLine::cos_t);
   if (schlick) out += ",\"schlick\":" + field(&FresnelLine::schlick);
+  if (mueller) {
+    out += ",\"mueller_r\":" + field(&FresnelLine::mueller_r);
+    if (!channels[0].mueller_t.empty()) out += ",\"mueller_t\":" + field(&FresnelLine::mueller_t);
+  }
   return out + index + "}\n";
 }
 
@@ -85,7 +104,7 @@ void run_fresnel(const FresnelArgs& a) {
   for (double theta : thetas) {
     std::vector<FresnelLine> channels;
     for (const auto& [eta, k] : index) channels.push_back(fresnel_at(eta, k, theta));
-    out += object(channels, a.schlick, used);
+    out += object(channels, a.schlick, a.mueller, used);
   }
   std::cout << out;
 }
@@ -111,6 +130,9 @@ void register_fresnel(CLI::App& app) {
                     ->expected(3);
   range->excludes(theta);
   cmd->add_flag("--schlick", args->schlick, "also print Schlick's approximation");
+  cmd->add_flag("--mueller", args->mueller,
+                "also print the Mueller matrices \"mueller_r\" (reflection) and, for a dielectric, \"mueller_t\" "
+                "(transmitted power), 4x4 row-major in the s/p basis, Q = I_s - I_p (docs/polarization.md)");
   auto* wavelength = cmd->add_option(
       "--wavelength", args->wavelength,
       "NM: the index at this one wavelength in nm, [360, 830] (a named --material's measured n, k there); "

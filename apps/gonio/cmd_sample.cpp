@@ -3,6 +3,7 @@
 
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include <algorithm>
@@ -13,6 +14,8 @@
 #include "gonio/rng.h"
 
 #include "cli_io.h"
+#include "cli_mueller.h"
+#include "gonio/polarization/polarized_bxdf.h"
 #include "commands.h"
 
 namespace gonio::cli {
@@ -25,6 +28,7 @@ struct SampleArgs {
   std::int64_t seed = 1;
   std::string wavelength;
   bool spectral = false;  // --wavelength given
+  bool polarized = false;  // --polarized: add "mueller" (of the weight)
 };
 
 // Largest --count: samples drawn per input line.
@@ -53,7 +57,8 @@ struct SampleBuffers {
 // Samples wo[i] with u[i] for every i (at most kChunk) and appends their lines.
 template <typename C>
 void append_samples(std::string& out, const BxDFT<C>& bxdf, std::span<const Vec3> wo,
-                    std::span<const SampleUniforms> u, TransportMode mode, SampleBuffers<C>& b) {
+                    std::span<const SampleUniforms> u, TransportMode mode, SampleBuffers<C>& b,
+                    const PolarizedBxDFT<C>* pol) {
   const size_t n = wo.size();
   sample_batch<C>(bxdf, wo, u, mode,
                   {std::span(b.wi).first(n), std::span(b.weight).first(n), std::span(b.pdf).first(n),
@@ -68,7 +73,12 @@ void append_samples(std::string& out, const BxDFT<C>& bxdf, std::span<const Vec3
            "],\"weight\":" + json_color(b.weight[i]) +
            ",\"pdf\":" + (delta ? std::string("null") : json_number(b.pdf[i])) +
            ",\"delta\":" + (delta ? "true" : "false") + ",\"lobe\":\"" +
-           (b.lobe[i] == BatchLobe::Reflection ? "reflection" : "transmission") + "\"}\n";
+           (b.lobe[i] == BatchLobe::Reflection ? "reflection" : "transmission") + "\"";
+    // The same sample in polarized mode (the same wi; M00 = weight).
+    if (pol)
+      if (const auto p = pol->sample(wo[i], u[i].lobe, u[i].u1, u[i].u2, mode))
+        out += ",\"mueller\":" + json_mueller_channels(p->weight);
+    out += "}\n";
   }
 }
 
@@ -77,6 +87,9 @@ template <typename C>
 void run_sample_with(const SampleArgs& a, const BxDFT<C>& bxdf) {
   const TransportMode mode = parse_mode(a.mode);
   SampleBuffers<C> buffers;
+  const std::optional<PolarizedBxDFT<C>> polarized =
+      a.polarized ? std::optional<PolarizedBxDFT<C>>(bxdf) : std::nullopt;
+  const PolarizedBxDFT<C>* pol = polarized ? &*polarized : nullptr;
   if (a.count > 0) {
     // Lines 'wo' only; line i draws its u's from PCG32 stream i of the seed, so a line's
     // samples do not depend on the lines before it. All input is checked first.
@@ -96,7 +109,7 @@ void run_sample_with(const SampleArgs& a, const BxDFT<C>& bxdf) {
           u_chunk[j] = {u0, u1, u2};
         }
         append_samples(out, bxdf, std::span<const Vec3>(wo_chunk).first(n), std::span<const SampleUniforms>(u_chunk).first(n),
-                       mode, buffers);
+                       mode, buffers, pol);
         done += std::int64_t(n);
         if (out.size() > (1 << 20)) {
           std::cout << out;
@@ -120,7 +133,7 @@ void run_sample_with(const SampleArgs& a, const BxDFT<C>& bxdf) {
   for (size_t i = 0; i < rows.size(); i += kChunk) {
     const size_t n = std::min(kChunk, rows.size() - i);
     append_samples(out, bxdf, std::span<const Vec3>(wos).subspan(i, n), std::span<const SampleUniforms>(us).subspan(i, n),
-                   mode, buffers);
+                   mode, buffers, pol);
   }
   std::cout << out;
 }
@@ -151,6 +164,8 @@ void register_sample(CLI::App& app) {
       ->transform(decimal_in_range(0, kMaxSeed))
       ->needs(count);
   auto* wavelength = add_wavelength_option(*cmd, args->wavelength);
+  cmd->add_flag("--polarized", args->polarized,
+                "also print \"mueller\": the weight as one 4x4 Mueller matrix per colour channel (docs/polarization.md)");
   cmd->callback([args, wavelength] {
     args->spectral = wavelength->count() > 0;
     run_sample(*args);

@@ -131,21 +131,32 @@ template <typename V>
 // r_p = (η² cos θi − w)/(η² cos θi + w). c = |cos θi| ≤ 1, sin2 = 1 − c². Written once for
 // a scalar V (float, double) and for a GCC/Clang vector of floats (one channel per lane,
 // conductor.h): only arithmetic, comparisons and ?: selections, which mean the same in both.
+//
+// w = sqrt(η² − sin²θi) = η cos θt for η² = a + i b: the principal branch (Re w ≥ 0, Im w of
+// the sign of b), which for a real η < sin θi (total internal reflection) is
+// w = i sqrt(sin²θi − η²), the evanescent wave that decays away from the interface under the
+// e^{−iωt} time convention of Born & Wolf (fresnel_amplitudes.h uses it for the phases).
 template <typename V>
-[[gnu::always_inline]] inline void fresnel_conductor_core(V c, V sin2, V eta, V k, V& rs, V& rp) {
-  const V zero{}, one = zero + 1;
+[[gnu::always_inline]] inline void conductor_w(V sin2, V a, V b, V& wr, V& wi) {
+  const V zero{};
   const auto max0 = [zero](V x) { return x > zero ? x : zero; };
-  // η² = (n² − k²) + i 2nk
-  const V a = eta * eta - k * k;
-  const V b = 2 * eta * k;
-  // w = sqrt((a − sin²θ) + i b), principal branch (Re w ≥ 0, Im w of the sign of b).
   const V zr = a - sin2;
   // |η² − sin²θ|; a plain sqrt, not std::hypot (which guards against overflow at a
   // large cost): indices are bounded to 10⁴, so the squares stay far inside range.
   const V mod = lane_sqrt(zr * zr + b * b);
-  const V wr = lane_sqrt(max0((mod + zr) / 2));
+  wr = lane_sqrt(max0((mod + zr) / 2));
   const V wi_abs = lane_sqrt(max0((mod - zr) / 2));
-  const V wi = b < zero ? -wi_abs : wi_abs;
+  wi = b < zero ? -wi_abs : wi_abs;
+}
+
+template <typename V>
+[[gnu::always_inline]] inline void fresnel_conductor_core(V c, V sin2, V eta, V k, V& rs, V& rp) {
+  const V zero{}, one = zero + 1;
+  // η² = (n² − k²) + i 2nk
+  const V a = eta * eta - k * k;
+  const V b = 2 * eta * k;
+  V wr, wi;
+  conductor_w(sin2, a, b, wr, wi);
   const V s_den = (c + wr) * (c + wr) + wi * wi;
   const V s_num = (c - wr) * (c - wr) + wi * wi;
   const V pr = a * c, pi = b * c;  // η² cos θi

@@ -8,6 +8,8 @@
 //                 the mirror of wo, normal incidence, critical angles; both sides, both modes.
 //   reciprocity   f(wo, wi) = f(wi, wo) for reflection (lecture §3.4); for transmission
 //                 in radiance mode f(wo, wi)/n_wo² = f(wi, wo)/n_wi² (Veach 1997, §5.2).
+//                 A polarizing model (polarization/polarized_bxdf.h) must also obey it
+//                 in Mueller form, M(wo, wi)/n_wo² = Q M(wi, wo)ᵀ Q / n_wi², Q = diag(1, 1, −1, 1).
 //   energy        ρ_dh ≤ 1 + 3σ + 2·10⁻³ over a sweep of θ (and φ when anisotropic), in
 //                 importance mode: light arriving from any direction (lecture §3.4, §4).
 //   chi2          Pearson χ² of sample() against pdf() on a (cos θ, φ) grid of the sphere.

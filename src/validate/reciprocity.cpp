@@ -1,6 +1,8 @@
-// Property "reciprocity" (lecture §3.4; Veach 1997, §5.2 for transmission).
+// Property "reciprocity" (lecture §3.4; Veach 1997, §5.2 for transmission); for a
+// polarizing model also in Mueller form (issue 15).
 
 #include "common.h"
+#include "gonio/polarization/polarized_bxdf.h"
 
 namespace gonio {
 
@@ -12,9 +14,34 @@ PropertyResult check_reciprocity(const BxDF& bxdf, const ValidationOptions& opt)
   const Float eta = bxdf.relative_eta();
   Pcg32 rng = rng_for(opt, 2);
   double worst = 0;
+  const PolarizedBxDF pol(bxdf);
+  // M(wo, wi)/n_wo² = Q M(wi, wo)ᵀ Q / n_wi², Q = diag(1, 1, −1, 1): reciprocity of the
+  // scattering amplitudes in the frames of polarization/fresnel_factor.h (the Stokes
+  // frames of the reversed path mirror U; e.g. Sekera 1966, J. Opt. Soc. Am. 56, 1732).
+  // Entries are compared relative to M00 (the largest entry of a realizable matrix).
+  auto check_mueller = [&](const Vec3& wo, const Vec3& wi, Float no, Float ni) {
+    const MuellerT<Color> a = pol.f(wo, wi, TransportMode::Radiance);
+    const MuellerT<Color> b = pol.f(wi, wo, TransportMode::Radiance);
+    for (int ch = 0; ch < Color::size(); ++ch) {
+      const double m00 = double(a(0, 0)[ch]) / (no * no);
+      const double floor = 1e-5 * std::max(1.0, m00);
+      for (int x = 0; x < 4; ++x)
+        for (int y = 0; y < 4; ++y) {
+          const double q = (x == 2) != (y == 2) ? -1 : 1;
+          const double d = std::abs(double(a(x, y)[ch]) / (no * no) - q * double(b(y, x)[ch]) / (ni * ni));
+          const double e = d / std::max(std::abs(m00), floor);
+          if (e > worst && d > floor) {
+            worst = e;
+            r.detail = "Mueller form, entry (" + std::to_string(x) + "," + std::to_string(y) + ") at wo " + describe(wo) +
+                       ", wi " + describe(wi);
+          }
+        }
+    }
+  };
   auto check = [&](const Vec3& wo, const Vec3& wi) {
     // Radiance-mode f(wo, wi)/n_wo² = f(wi, wo)/n_wi²; for reflection both n are equal.
     const Float no = index_on_side(wo, eta), ni = index_on_side(wi, eta);
+    if (pol.polarizing()) check_mueller(wo, wi, no, ni);
     const Color a = bxdf.f(wo, wi, TransportMode::Radiance) / (no * no);
     const Color b = bxdf.f(wi, wo, TransportMode::Radiance) / (ni * ni);
     // Values tiny in both directions are round-off, not a failure of the model.

@@ -12,6 +12,8 @@
 #include "gonio/bxdf/contract.h"
 #include "gonio/fresnel.h"
 #include "gonio/hemispherical_average.h"
+#include "gonio/polarization/fresnel_factor.h"
+#include "gonio/polarization/interface.h"
 
 namespace gonio {
 
@@ -59,6 +61,27 @@ struct ConductorFresnelT {
     return out;
   }
 #endif
+
+  // The Mueller matrix of the reflection in the s/p basis (polarization/interface.h), per
+  // channel; fresnel_factor() sets its M00 to operator()'s value. Schlick's approximation
+  // has no phase: it is taken as a non-polarizing reflector, diag(1, 1, −1, −1) (the Jones
+  // matrix diag(−1, 1) of a perfect mirror in this basis) scaled by F.
+  MuellerT<C> mueller(Float cos_i) const {
+    const Float c = std::min(std::abs(cos_i), Float(1));
+    MuellerT<C> m;
+    for (int ch = 0; ch < C::size(); ++ch) {
+      MuellerT<Float> one;
+      if (model == FresnelModel::Schlick) {
+        one(0, 0) = one(1, 1) = 1;
+        one(2, 2) = one(3, 3) = -1;
+      } else {
+        one = mueller_reflection(fresnel_conductor_amplitudes(c, eta[ch], k[ch]));
+      }
+      for (int i = 0; i < 4; ++i)
+        for (int j = 0; j < 4; ++j) m(i, j)[ch] = one(i, j);
+    }
+    return m;
+  }
 };
 
 using ConductorFresnel = ConductorFresnelT<Color>;
@@ -84,7 +107,7 @@ template <typename C>
 struct ConductorBxDFT {
   using color_type = C;
   static constexpr std::string_view kName = "conductor";
-  ConductorFresnelT<C> fresnel;
+  ConductorFresnelT<Unpolarized<C>> fresnel;
 
   static constexpr BxDFFlags flags() { return BxDFFlags::SpecularReflection; }
   C f(const Vec3&, const Vec3&, TransportMode = TransportMode::Radiance) const { return {}; }
@@ -93,7 +116,9 @@ struct ConductorBxDFT {
   std::optional<BSDFSampleT<C>> sample(const Vec3& wo, Float, Float, Float,
                                    TransportMode = TransportMode::Radiance) const {
     if (wo.z == 0) return std::nullopt;
-    return BSDFSampleT<C>{{-wo.x, -wo.y, wo.z}, fresnel(wo.z), 1, true, Lobe::Reflection, 1};
+    const Vec3 wi{-wo.x, -wo.y, wo.z};
+    return BSDFSampleT<C>{wi, fresnel_factor<C>(fresnel(wo.z), [&] { return fresnel.mueller(wo.z); }, wo, wi), 1,
+                          true, Lobe::Reflection, 1};
   }
 
   DirectionalAlbedoT<C> albedo(const Vec3& wo, TransportMode = TransportMode::Radiance) const {

@@ -10,6 +10,8 @@
 
 #include "gonio/bxdf/contract.h"
 #include "gonio/fresnel.h"
+#include "gonio/polarization/fresnel_factor.h"
+#include "gonio/polarization/interface.h"
 
 namespace gonio {
 
@@ -55,7 +57,14 @@ struct DielectricBxDFT {
     const Float tz = std::sqrt(std::max(Float(0), 1 - tx * tx - ty * ty));
     const Vec3 wi = reflect ? Vec3{-wo.x, -wo.y, wo.z} : Vec3{tx, ty, std::copysign(tz, -wo.z)};
     const Float weight = reflect ? Float(1) : transmission_scale(e, mode);
-    return BSDFSampleT<C>{wi, C(weight), reflect ? r : 1 - r, true,
+    const C w = fresnel_factor<C>(
+        weight,
+        [&] {
+          return broadcast<Unpolarized<C>>(reflect ? dielectric_reflection_mueller(cos_o, e)
+                                                   : dielectric_transmission_mueller(cos_o, e));
+        },
+        wo, wi);
+    return BSDFSampleT<C>{wi, w, reflect ? r : 1 - r, true,
                       reflect ? Lobe::Reflection : Lobe::Transmission, reflect ? Float(1) : e};
   }
 

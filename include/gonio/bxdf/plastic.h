@@ -51,6 +51,8 @@
 #include "gonio/hemispherical_average.h"
 #include "gonio/math/warp.h"
 #include "gonio/microfacet.h"
+#include "gonio/polarization/fresnel_factor.h"
+#include "gonio/polarization/interface.h"
 
 namespace gonio {
 
@@ -158,23 +160,24 @@ template <typename C>
 struct PlasticBxDFT : PlasticCoat {
   using color_type = C;
   static constexpr std::string_view kName = "plastic";
-  C reflectance{0.5f};
+  using U = Unpolarized<C>;  // the colour of the parameters
+  U reflectance{0.5f};
 
-  static PlasticBxDFT make(const C& reflectance, Float eta, std::optional<MicrofacetDistribution> coat) {
+  static PlasticBxDFT make(const U& reflectance, Float eta, std::optional<MicrofacetDistribution> coat) {
     PlasticBxDFT m;
     static_cast<PlasticCoat&>(m) = PlasticCoat::make(eta, coat);
     m.reflectance = reflectance;
     return m;
   }
   // The same coat over another base.
-  static PlasticBxDFT make(const PlasticCoat& coat, const C& reflectance) {
+  static PlasticBxDFT make(const PlasticCoat& coat, const U& reflectance) {
     PlasticBxDFT m;
     static_cast<PlasticCoat&>(m) = coat;
     m.reflectance = reflectance;
     return m;
   }
 
-  C base(Float eo, Float ei) const {
+  U base(Float eo, Float ei) const {
     const Float t = (1 - ei) * (1 - eo);
     // ρ / (η² (1 − ρ F_dr)) = ρ / ((1 − ρ) η² + ρ (1 − Ē)).
     return map(reflectance, [&](Float r) { return r / ((1 - r) * eta * eta + r * transmit); }) * (t * kInvPi);
@@ -193,16 +196,31 @@ struct PlasticBxDFT : PlasticCoat {
 
   BSDFEvalT<C> eval(Vec3 wo, Vec3 wi, TransportMode = TransportMode::Radiance) const {
     if (!(wo.z * wi.z > 0)) return {};
-    if (wo.z < 0) {
+    const bool flip = wo.z < 0;
+    if (flip) {
       wo.z = -wo.z;
       wi.z = -wi.z;
     }
-    if (!smooth()) return eval_rough(wo, wi);
+    if (!smooth()) return eval_rough(wo, wi, flip);
     // Smooth coat: the base alone (the mirror lobe is a delta), kept small so that it
     // inlines into the callers' loops.
     const Float eo = fresnel_dielectric(wo.z, eta), ei = fresnel_dielectric(wi.z, eta);
     const Float pc = coat_probability(wo, eo);
-    return {base(eo, ei), (1 - pc) * base_pdf(wi.z, ei)};
+    return {base_through_coat(base(eo, ei), wo, wi), (1 - pc) * base_pdf(wi.z, ei)};
+  }
+  // The base as the colour type: in polarized mode seen through the coat, which polarizes
+  // the light it lets in and out by τ = (T_s − T_p)/(T_s + T_p) = (R_p − R_s)/(2 − R_s − R_p)
+  // at each direction (the smooth coat's Fresnel at the macroscopic angle; for a rough coat
+  // an approximation, docs/polarization.md).
+  C base_through_coat(const U& value, const Vec3& wo, const Vec3& wi) const {
+    return depolarized_through<C>(value, [&] {
+      const auto tau = [&](const Vec3& w) {
+        const FresnelTerms<Float> t = fresnel_dielectric_terms(std::abs(w.z), eta);
+        const Float tt = 2 - t.rs - t.rp;
+        return tt > 0 ? (t.rp - t.rs) / tt : Float(0);
+      };
+      return std::pair<Float, Float>{tau(wo), tau(wi)};
+    });
   }
   C f(const Vec3& wo, const Vec3& wi, TransportMode mode = TransportMode::Radiance) const {
     return eval(wo, wi, mode).f;
@@ -222,7 +240,11 @@ struct PlasticBxDFT : PlasticCoat {
       if (smooth()) {
         // The coat's mirror reflection: weight F / P.
         const Float F = fresnel_dielectric(wo.z, eta);
-        return BSDFSampleT<C>{{-wo.x, -wo.y, flip ? -wo.z : wo.z}, C(F / pc), pc, true, Lobe::Reflection, 1};
+        const Vec3 wi_mirror{-wo.x, -wo.y, flip ? -wo.z : wo.z};
+        const C w = fresnel_factor<C>(
+            F / pc, [&] { return broadcast<U>(dielectric_reflection_mueller(wo.z, eta)); },
+            Vec3{wo.x, wo.y, flip ? -wo.z : wo.z}, wi_mirror);
+        return BSDFSampleT<C>{wi_mirror, w, pc, true, Lobe::Reflection, 1};
       }
       wi = reflect(wo, coat->sample_visible(wo, u1, u2));
       if (grazing(wi)) return std::nullopt;  // the coat lobe is 0 there
@@ -238,9 +260,10 @@ struct PlasticBxDFT : PlasticCoat {
   }
 
   // The rough coat for wo.z, wi.z > 0: base coupled through E_coat, plus the coat's lobe.
-  [[gnu::noinline]] BSDFEvalT<C> eval_rough(const Vec3& wo, const Vec3& wi) const {
+  // flip: the pair was mirrored from below (for the polarization frames).
+  [[gnu::noinline]] BSDFEvalT<C> eval_rough(const Vec3& wo, const Vec3& wi, bool flip) const {
     const Float eo = coat_albedo.E(*coat, wo), ei = coat_albedo.E(*coat, wi);
-    C f = base(eo, ei);
+    C f = base_through_coat(base(eo, ei), wo, wi);
     const Float pc = coat_probability(wo, eo);
     Float pdf = (1 - pc) * base_pdf(wi.z, ei);
     if (!grazing(wo) && !grazing(wi)) {
@@ -251,8 +274,12 @@ struct PlasticBxDFT : PlasticCoat {
       // F at wo·wm = |wo + wi|/2 (symmetric in the pair); with T = smith_t,
       // G2 / (4 cos θo cos θi) = 1 / (2 (cos θi T(wo) + cos θo T(wi))): no product of
       // cosines that could underflow, no Λ that could overflow.
-      const Float F = fresnel_dielectric(std::min(std::sqrt(h2) / 2, Float(1)), eta);
-      f += C(D * F / (2 * (wi.z * to + wo.z * ti)));
+      const Float cos_h = std::min(std::sqrt(h2) / 2, Float(1));
+      const Float F = fresnel_dielectric(cos_h, eta);
+      const Float s = flip ? -1 : 1;
+      f += fresnel_factor<C>(
+          D * F / (2 * (wi.z * to + wo.z * ti)), [&] { return broadcast<U>(dielectric_reflection_mueller(cos_h, eta)); },
+          Vec3{wo.x, wo.y, s * wo.z}, Vec3{wi.x, wi.y, s * wi.z});
       // Visible-normal density times dωm/dωi: D / (4 cos θo (1 + Λo)) = D / (2 (T(wo) + cos θo)).
       pdf += pc * D / (2 * (to + wo.z));
     }

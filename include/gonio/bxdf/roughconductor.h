@@ -21,9 +21,9 @@ struct RoughConductorBxDFT {
   using color_type = C;
   static constexpr std::string_view kName = "roughconductor";
   MicrofacetDistribution distribution;
-  ConductorFresnelT<C> fresnel;
-  // Kulla–Conty energy compensation; absent = single scattering only.
-  std::optional<MultiscatterLobeT<C>> multiscatter;
+  ConductorFresnelT<Unpolarized<C>> fresnel;
+  // Kulla–Conty energy compensation; absent = single scattering only. It depolarizes.
+  std::optional<MultiscatterLobeT<Unpolarized<C>>> multiscatter;
 
   BxDFFlags flags() const {
     return distribution.effectively_smooth() ? BxDFFlags::SpecularReflection : BxDFFlags::GlossyReflection;
@@ -36,6 +36,7 @@ struct RoughConductorBxDFT {
 
   BSDFEvalT<C> eval(Vec3 wo, Vec3 wi, TransportMode = TransportMode::Radiance) const {
     if ((wo.z > 0) != (wi.z > 0) || grazing(wo) || grazing(wi) || distribution.effectively_smooth()) return {};
+    const Vec3 wo_actual = wo, wi_actual = wi;  // for the polarization frames
     if (wo.z < 0) {
       wo.z = -wo.z;
       wi.z = -wi.z;
@@ -49,7 +50,9 @@ struct RoughConductorBxDFT {
     const Float to = distribution.smith_t(wo), ti = distribution.smith_t(wi);
     // wo·wm = wi·wm = |wo + wi|/2 for unit wo, wi: symmetric in the pair, and free of the
     // cancellation in dot(wo, h) = 1 + wo·wi at grazing.
-    const C F = fresnel(std::min(std::sqrt(h2) / 2, Float(1)), std::min(h2 / 4, Float(1)));
+    const Float cos_h = std::min(std::sqrt(h2) / 2, Float(1));
+    const C F = fresnel_factor<C>(fresnel(cos_h, std::min(h2 / 4, Float(1))), [&] { return fresnel.mueller(cos_h); },
+                                  wo_actual, wi_actual);
     // G2 / (4 cos θo cos θi) = 1 / (2 (cos θi T(wo) + cos θo T(wi))) (smith_t).
     C f = F * (D / (2 * (wi.z * to + wo.z * ti)));
     // Visible-normal density of wm, times the Jacobian dωm/dωi = 1/(4 wo·wm):
@@ -84,7 +87,10 @@ struct RoughConductorBxDFT {
     const bool flip = wo.z < 0;
     if (flip) wo.z = -wo.z;
     if (distribution.effectively_smooth()) {
-      return BSDFSampleT<C>{{-wo.x, -wo.y, flip ? -wo.z : wo.z}, fresnel(wo.z), 1, true, Lobe::Reflection, 1};
+      const Vec3 wi{-wo.x, -wo.y, flip ? -wo.z : wo.z};
+      const C F = fresnel_factor<C>(fresnel(wo.z), [&] { return fresnel.mueller(wo.z); },
+                                    Vec3{wo.x, wo.y, wi.z}, wi);
+      return BSDFSampleT<C>{wi, F, 1, true, Lobe::Reflection, 1};
     }
     if (multiscatter) {
       // Mixture of the single-scattering lobe and the multiple-scattering one, the latter
@@ -125,9 +131,12 @@ struct RoughConductorBxDFT {
     // G2/G1 in the T form of smith_t; D cancels, and F is well-conditioned in wo·wm.
     const Float ti = distribution.smith_t<kType>(wi);
     const Float cos2_om = std::max(Float(0), q * om);
-    const C weight =
-        fresnel(std::sqrt(cos2_om), cos2_om) * (wi.z * (to + wo.z) / (wi.z * to + wo.z * ti));
-    return BSDFSampleT<C>{{wi.x, wi.y, flip ? -wi.z : wi.z}, weight, pdf, false, Lobe::Reflection, 1};
+    const Float cos_om = std::sqrt(cos2_om);
+    const Vec3 wi_actual{wi.x, wi.y, flip ? -wi.z : wi.z};
+    const C weight = fresnel_factor<C>(fresnel(cos_om, cos2_om), [&] { return fresnel.mueller(cos_om); },
+                                       Vec3{wo.x, wo.y, flip ? -wo.z : wo.z}, wi_actual) *
+                     (wi.z * (to + wo.z) / (wi.z * to + wo.z * ti));
+    return BSDFSampleT<C>{wi_actual, weight, pdf, false, Lobe::Reflection, 1};
   }
 };
 

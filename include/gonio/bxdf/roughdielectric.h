@@ -17,6 +17,8 @@
 #include "gonio/dielectric_multiscatter.h"
 #include "gonio/fresnel.h"
 #include "gonio/microfacet.h"
+#include "gonio/polarization/fresnel_factor.h"
+#include "gonio/polarization/interface.h"
 
 namespace gonio {
 
@@ -190,9 +192,18 @@ struct RoughDielectricBxDFT {
     if (!(pdf > 0)) return std::nullopt;
     const Float cos_i = std::abs(wi.z);
     const Float g2_den = cos_i * to + cos_o * distribution.smith_t<kType>(wi);
-    if (reflect_lobe) return BSDFSampleT<C>{wi, C(cos_i * to_plus / g2_den), pdf, false, Lobe::Reflection, 1};
+    const Float cos_m = std::min(std::abs(om) * inv_m, Float(1));
+    if (reflect_lobe) {
+      const C w = fresnel_factor<C>(
+          cos_i * to_plus / g2_den, [&] { return broadcast<Unpolarized<C>>(dielectric_reflection_mueller(cos_m, e)); },
+          wo, wi);
+      return BSDFSampleT<C>{wi, w, pdf, false, Lobe::Reflection, 1};
+    }
     const Float scale = mode == TransportMode::Radiance ? e * e : Float(1);  // 1 / transmission_scale
-    return BSDFSampleT<C>{wi, C(cos_i * to_plus / (g2_den * scale)), pdf, false, Lobe::Transmission, e};
+    const C w = fresnel_factor<C>(
+        cos_i * to_plus / (g2_den * scale),
+        [&] { return broadcast<Unpolarized<C>>(dielectric_transmission_mueller(cos_m, e)); }, wo, wi);
+    return BSDFSampleT<C>{wi, w, pdf, false, Lobe::Transmission, e};
   }
 
   // Dielectric Fresnel (fresnel.h) for |cos θ| = c (c2 = c²) on the side from which the
@@ -263,7 +274,11 @@ struct RoughDielectricBxDFT {
       const Float pdf = F * (D / (2 * to_plus));
       if constexpr (!kWithF) return {C{}, pdf};
       // f = D G2 F / (4 |cos θo| |cos θi|) (eq. 20)
-      return {C(F * (D * g2_over_cos() / 4)), pdf};
+      return {fresnel_factor<C>(
+                  F * (D * g2_over_cos() / 4),
+                  [&] { return broadcast<Unpolarized<C>>(dielectric_reflection_mueller(c, wo.z < 0 ? 1 / eta : eta)); },
+                  wo, wi),
+              pdf};
     }
     // Transmittance 1 − F of the pair from its two cosines with the facet normal,
     // ca = a·h > 0 outside and cb = −b·h > 0 inside, in the common scale |h| (which Fresnel
@@ -288,7 +303,11 @@ struct RoughDielectricBxDFT {
     const Float base = den > 0 ? num / den * D * (dots * g2_over_cos()) : Float(0);
     const Float eta_crossed = wo.z > 0 ? eta : 1 / eta;  // n_wi / n_wo
     const Float f = base * (wo.z > 0 ? Float(1) : eta * eta) * (mode == TransportMode::Radiance ? Float(1) : eta_crossed * eta_crossed);
-    return {C(f), pdf};
+    // The power transmission of the facet, the same from either side (polarization/interface.h).
+    const auto shape = [&] {
+      return broadcast<Unpolarized<C>>(dielectric_transmission_mueller(std::min(ca / std::sqrt(hv.h2), Float(1)), eta));
+    };
+    return {fresnel_factor<C>(f, shape, wo, wi), pdf};
   }
 };
 
