@@ -141,6 +141,9 @@ TEST(CliPolarization, PolarizedOptionsKeepTheErrorContract) {
   expect_bad_input(run_gonio({"eval", "--bsdf", R"({"type":"diffuse"})", "--polarized"}, "0 0 0 0 0 1\n"), {"wo"});
   expect_bad_input(run_gonio({"sample", "--bsdf", R"({"type":"diffuse"})", "--polarized"}, "0 0 1 2 0 0\n"), {"u0"});
   expect_bad_input(run_gonio({"fresnel", "--eta", "-1", "--theta", "10", "--mueller"}), {"--eta"});
+  // albedo accepts --polarized (SPEC §3) with the same output.
+  const json a0 = run_one({"albedo", "--bsdf", R"({"type":"dielectric"})", "--theta", "30"});
+  EXPECT_EQ(run_one({"albedo", "--bsdf", R"({"type":"dielectric"})", "--theta", "30", "--polarized"}), a0);
   expect_bad_input(run_gonio({"fresnel", "--eta", "1.5", "--theta", "10", "--mueller=maybe"}), {"mueller"});
 }
 
