@@ -30,6 +30,7 @@ struct AlbedoArgs {
   std::int64_t seed = 1;
   std::string wavelength;
   bool spectral = false;  // --wavelength given
+  bool polarized = false;  // --polarized: accepted, no effect (below)
 };
 
 double checked_degrees(double v, double lo, double hi, const char* name) {
@@ -112,7 +113,7 @@ void register_albedo(CLI::App& app) {
   cmd->add_option("--seed", args->seed, "random seed, 0 to 2147483647 (default 1)")->transform(decimal_in_range(0, kMaxSeed));
   auto* wavelength = add_wavelength_option(*cmd, args->wavelength);
   // SPEC §3 lists it for albedo too: the albedo of unpolarized light is M00's, the same.
-  cmd->add_flag("--polarized",
+  cmd->add_flag("--polarized", args->polarized,
                 "accepted as for eval and sample; the albedo of unpolarized light is that of M00, so the output is unchanged");
   cmd->callback([args, theta, range, hemi, wavelength] {
     args->spectral = wavelength->count() > 0;
