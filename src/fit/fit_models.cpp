@@ -99,7 +99,7 @@ void check_keys(const json& j, const std::string& type, std::initializer_list<co
     bad_init(where + "type must be \"" + type + "\" (the fitted model), got " + j["type"].dump());
   for (const auto& [key, value] : j.items()) {
     if (key == "type") continue;
-    if (std::find_if(allowed.begin(), allowed.end(), [&](const char* a) { return key == a; }) == allowed.end()) {
+    if (std::find_if(allowed.begin(), allowed.end(), [&name = key](const char* a) { return name == a; }) == allowed.end()) {
       std::string list;
       for (const char* a : allowed) list += (list.empty() ? "" : ", ") + std::string(a);
       bad_init(where + "unknown or unfitted field '" + key + "' for " + type + " (allowed: " + list + ")");
