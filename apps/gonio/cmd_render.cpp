@@ -17,6 +17,7 @@
 #include <cmath>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <string>
 #include <thread>
 
@@ -26,6 +27,7 @@
 #include "gonio/render/image_output.h"
 #include "gonio/render/renderer.h"
 #include "gonio/render/scene_loader.h"
+#include "gonio/render/stokes_image.h"
 
 namespace gonio::cli {
 
@@ -36,6 +38,9 @@ struct RenderArgs {
   int spp = 0;         // 0: the scene's
   int threads = 0;     // 0: all cores
   bool spectral = false;  // overrides the scene's "render": {"spectral": false}
+  bool polarized = false;  // overrides the scene's "render": {"polarized": false}
+  std::string dop;         // --dop: the false-colour DoLP/AoLP image (PNG)
+  std::optional<double> polarizer;  // --polarizer DEG: overrides the scene's /camera/polarizer
   std::int64_t seed = -1;  // -1: the scene's
 };
 
@@ -77,14 +82,31 @@ void run_render(const RenderArgs& a) {
 
   // From here on a signal only sets the flag, so the temporary file below is always
   // removed or renamed; a signal during loading stops the render before it starts.
+  if (!a.dop.empty() && lower_extension(a.dop) != ".png")
+    throw InputError("--dop " + a.dop + ": the polarization image must end in .png");
   install_stop_handlers();
   render::ImageOutput out(a.output);  // an unwritable location fails here, before any work
+  std::optional<render::ImageOutput> dop_out;
+  if (!a.dop.empty()) dop_out.emplace(a.dop);
   render::Scene scene = a.scene.empty() ? render::parse_scene(render::default_scene_json(), "default scene", "")
                                         : render::load_scene_file(a.scene);
   if (a.spp > 0) scene.settings.spp = a.spp;
   if (a.seed >= 0) scene.settings.seed = static_cast<std::uint64_t>(a.seed);
   if (a.spectral) scene.settings.spectral = true;
-  out.reserve(scene.camera.width, scene.camera.height);  // a full disk fails here
+  if (a.polarized) scene.settings.polarized = true;
+  if (a.polarizer) {
+    if (!(*a.polarizer >= -360 && *a.polarizer <= 360))
+      throw InputError("--polarizer must be in [-360, 360] degrees, got " + format_number(*a.polarizer));
+    scene.camera.polarizer_deg = static_cast<Float>(*a.polarizer);
+  }
+  if (!a.dop.empty() && !scene.settings.polarized)
+    throw InputError("--dop " + a.dop + ": needs a polarized render (--polarized or \"render\": {\"polarized\": true})");
+  if (scene.camera.polarizer_deg && !scene.settings.polarized)
+    throw InputError((a.scene.empty() ? std::string("default scene") : a.scene) +
+                     ": /camera/polarizer needs a polarized render (--polarized or \"render\": {\"polarized\": true})");
+  // A full disk fails here; a polarized EXR holds four layers (S0..S3).
+  out.reserve(scene.camera.width, scene.camera.height, scene.settings.polarized ? 4 : 1);
+  if (dop_out) dop_out->reserve(scene.camera.width, scene.camera.height);
 
   const bool tty = isatty(STDERR_FILENO) == 1;
   render::RenderOptions options;
@@ -107,7 +129,8 @@ void run_render(const RenderArgs& a) {
     std::fflush(stderr);
   };
   render::RenderStats stats;
-  const render::Image image = render::render(scene, options, &stats);
+  render::StokesImages stokes;
+  const render::Image image = render::render(scene, options, &stats, &stokes);
   if (tty && last_step >= 0) std::fprintf(stderr, "\n");
   const int sig = g_signal.load() == SIGTERM ? SIGTERM : SIGINT;
   const char* sig_name = sig == SIGTERM ? "SIGTERM" : "SIGINT";
@@ -120,17 +143,25 @@ void run_render(const RenderArgs& a) {
   render::PngOptions png;
   png.exposure_stops = scene.settings.exposure;
   png.tonemap = scene.settings.filmic ? render::ToneMap::Filmic : render::ToneMap::Clamp;
-  out.write(image, png);
+  if (scene.settings.polarized && ext == ".exr")
+    out.write_exr_layers({{"S0", &stokes[0]}, {"S1", &stokes[1]}, {"S2", &stokes[2]}, {"S3", &stokes[3]}});
+  else
+    out.write(image, png);  // a polarized PNG shows S0, the intensity through the polarizer
+  if (dop_out) dop_out->write_png(render::dop_image(stokes), {0, render::ToneMap::Clamp});
   const unsigned threads = a.threads > 0 ? static_cast<unsigned>(a.threads) : std::max(1u, std::thread::hardware_concurrency());
   if (stats.stopped)
     std::fprintf(stderr, "interrupted by %s: ", sig_name);
   std::fprintf(stderr, "rendered %dx%d at %d spp%s", scene.camera.width, scene.camera.height, stats.spp,
-               scene.settings.spectral ? " (spectral)" : "");
+               scene.settings.spectral && scene.settings.polarized ? " (spectral, polarized)"
+               : scene.settings.spectral                           ? " (spectral)"
+               : scene.settings.polarized                          ? " (polarized)"
+                                                                   : "");
   if (stats.stopped) std::fprintf(stderr, " (of %d)", scene.settings.spp);
   std::fprintf(stderr, " on %u threads in %.2f s (+%.2f s setup): %ssamples/s, %srays/s\n", threads, stats.seconds,
                stats.setup_seconds, si(double(stats.samples) / stats.seconds).c_str(),
                si(double(stats.rays) / stats.seconds).c_str());
   std::cout << a.output << "\n";
+  if (dop_out) std::cout << a.dop << "\n";
 }
 
 }  // namespace
@@ -149,6 +180,15 @@ void register_render(CLI::App& app) {
       ->transform(decimal_in_range(0, kMaxSeed));
   cmd->add_flag("--spectral", args->spectral,
                 "spectral transport: 4 sampled wavelengths per path (also \"render\": {\"spectral\": true})");
+  cmd->add_flag("--polarized", args->polarized,
+                "polarized transport: Stokes vectors along paths; an .exr output holds layers S0..S3 (also \"render\": "
+                "{\"polarized\": true})");
+  cmd->add_option("--polarizer", args->polarizer,
+                  "DEG: a linear polarizer before the film, its axis DEG counter-clockwise from the image's +x, "
+                  "-360 to 360 (needs a polarized render; overrides the scene's camera \"polarizer\")")
+;
+  cmd->add_option("--dop", args->dop,
+                  "with a polarized render, also write PNG: hue the angle, brightness the degree of linear polarization");
   cmd->callback([args] { run_render(*args); });
 }
 

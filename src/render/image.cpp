@@ -145,7 +145,7 @@ class ExrInStream : public Imf::IStream {
   FILE* f_;
 };
 
-Image read_exr(const std::string& path) {
+Image read_exr(const std::string& path, const std::string& layer = "") {
   InFile f(path);
   // The magic number first: a clear "not an OpenEXR file" beats a decoder's complaint.
   const unsigned char kMagic[4] = {0x76, 0x2f, 0x31, 0x01};
@@ -170,17 +170,20 @@ Image read_exr(const std::string& path) {
     if (w <= 0 || h <= 0 || w * h > kMaxPixels)
       fail(path, "unsupported image size " + std::to_string(w) + " x " + std::to_string(h));
 
-    // Which file channel fills R, G, B; null copies R afterwards.
+    // Which file channel fills R, G, B; null copies R afterwards. A layer's channels are
+    // "<layer>.R" and so on (OpenEXR's naming of layers).
     const Imf::ChannelList& channels = file.header().channels();
+    const std::string prefix = layer.empty() ? "" : layer + ".";
+    const std::string names[4] = {prefix + "R", prefix + "G", prefix + "B", prefix + "Y"};
     const char* source[3] = {nullptr, nullptr, nullptr};
-    if (channels.findChannel("R")) {
-      source[0] = "R";
-      if (channels.findChannel("G")) source[1] = "G";
-      if (channels.findChannel("B")) source[2] = "B";
-    } else if (channels.findChannel("Y")) {
-      source[0] = "Y";
+    if (channels.findChannel(names[0])) {
+      source[0] = names[0].c_str();
+      if (channels.findChannel(names[1])) source[1] = names[1].c_str();
+      if (channels.findChannel(names[2])) source[2] = names[2].c_str();
+    } else if (channels.findChannel(names[3])) {
+      source[0] = names[3].c_str();
     } else {
-      fail(path, "no R or Y channel");
+      fail(path, "no " + names[0] + " or " + names[3] + " channel");
     }
     for (const char* name : source) {
       if (!name) continue;
@@ -448,23 +451,31 @@ Float tone_map(Float x, ToneMap op) {
 
 namespace {
 
-uint64_t encode_exr(const Image& img, FILE* f, const std::string& path) {
-  if (img.width() == 0 || img.height() == 0) fail(path, "cannot write an empty image");
+uint64_t encode_exr(const std::vector<ExrLayer>& layers, FILE* f, const std::string& path) {
+  if (layers.empty() || !layers[0].image) fail(path, "cannot write an empty image");
+  const int w = layers[0].image->width(), h = layers[0].image->height();
+  if (w == 0 || h == 0) fail(path, "cannot write an empty image");
+  for (const ExrLayer& l : layers)
+    if (!l.image || l.image->width() != w || l.image->height() != h)
+      fail(path, "layer \"" + l.name + "\" differs in size from the first layer");
   ExrOutStream stream(f, path);
   try {
-    Imf::Header header(img.width(), img.height());
+    Imf::Header header(w, h);
     header.compression() = Imf::ZIP_COMPRESSION;
-    const char* names[3] = {"R", "G", "B"};
-    for (const char* name : names) header.channels().insert(name, Imf::Channel(Imf::FLOAT));
-    // The library only reads through the slices; its interface wants char*.
-    char* base = const_cast<char*>(reinterpret_cast<const char*>(img.pixels().data()));
     Imf::FrameBuffer fb;
-    for (int i = 0; i < 3; ++i)
-      fb.insert(names[i], Imf::Slice(Imf::FLOAT, base + i * sizeof(Float), sizeof(Color),
-                                     sizeof(Color) * size_t(img.width())));
+    for (const ExrLayer& l : layers) {
+      // The library only reads through the slices; its interface wants char*.
+      char* base = const_cast<char*>(reinterpret_cast<const char*>(l.image->pixels().data()));
+      const char* channel[3] = {"R", "G", "B"};
+      for (int i = 0; i < 3; ++i) {
+        const std::string name = l.name.empty() ? std::string(channel[i]) : l.name + "." + channel[i];
+        header.channels().insert(name, Imf::Channel(Imf::FLOAT));
+        fb.insert(name, Imf::Slice(Imf::FLOAT, base + i * sizeof(Float), sizeof(Color), sizeof(Color) * size_t(w)));
+      }
+    }
     Imf::OutputFile file(stream, header);
     file.setFrameBuffer(fb);
-    file.writePixels(img.height());
+    file.writePixels(h);
   } catch (const std::exception& e) {
     if (stream.error() != 0) fail(path, "write failed: " + errno_text(stream.error()));
     fail(path, "cannot write OpenEXR: " + one_line(e.what()));
@@ -565,11 +576,12 @@ ImageOutput::~ImageOutput() {
   if (!committed_ && !temp_.empty()) ::unlink(temp_.c_str());
 }
 
-std::uint64_t ImageOutput::max_exr_bytes(int width, int height) {
+std::uint64_t ImageOutput::max_exr_bytes(int width, int height, int layers) {
   // ZIP blocks of 16 rows are stored raw when compression does not shrink them (OpenEXR
   // file layout: 8 bytes of row number and size per block, 8 per offset-table entry),
   // plus the header, a few hundred bytes.
-  const std::uint64_t raw = std::uint64_t(std::max(width, 0)) * std::uint64_t(std::max(height, 0)) * 12;
+  const std::uint64_t raw =
+      std::uint64_t(std::max(width, 0)) * std::uint64_t(std::max(height, 0)) * 12 * std::uint64_t(std::max(layers, 1));
   return raw + 16 * (std::uint64_t(std::max(height, 0)) / 16 + 1) + 65536;
 }
 
@@ -580,11 +592,12 @@ std::uint64_t ImageOutput::max_png_bytes(int width, int height) {
   return raw + raw / 128 + 65536;
 }
 
-void ImageOutput::reserve(int width, int height) {
+void ImageOutput::reserve(int width, int height, int exr_layers) {
   if (fd_ < 0) return;
-  const std::uint64_t bytes = format_ == Format::Exr ? max_exr_bytes(width, height)
+  const std::uint64_t exr = max_exr_bytes(width, height, exr_layers);
+  const std::uint64_t bytes = format_ == Format::Exr   ? exr
                               : format_ == Format::Png ? max_png_bytes(width, height)
-                                                       : std::max(max_exr_bytes(width, height), max_png_bytes(width, height));
+                                                       : std::max(exr, max_png_bytes(width, height));
   const int e = ::posix_fallocate(fd_, 0, off_t(bytes));
   // A file system that cannot reserve space (EOPNOTSUPP, EINVAL) leaves the check to the
   // write itself, which reports a full disk as well, only later.
@@ -596,11 +609,17 @@ void ImageOutput::reserve(int width, int height) {
 
 void ImageOutput::write(const Image& img, const PngOptions& png) {
   if (format_ == Format::Unknown) fail(path_, "unknown image format (expected .exr or .png)");
-  finish([&](FILE* f) { return format_ == Format::Exr ? encode_exr(img, f, path_) : encode_png(img, f, path_, png); });
+  finish([&](FILE* f) {
+    return format_ == Format::Exr ? encode_exr({{"", &img}}, f, path_) : encode_png(img, f, path_, png);
+  });
 }
 
 void ImageOutput::write_exr(const Image& img) {
-  finish([&](FILE* f) { return encode_exr(img, f, path_); });
+  finish([&](FILE* f) { return encode_exr({{"", &img}}, f, path_); });
+}
+
+void ImageOutput::write_exr_layers(const std::vector<ExrLayer>& layers) {
+  finish([&](FILE* f) { return encode_exr(layers, f, path_); });
 }
 
 void ImageOutput::write_png(const Image& img, const PngOptions& png) {
@@ -646,6 +665,11 @@ void write_png(const Image& img, const std::string& path, const PngOptions& opt)
 
 // ---------------------------------------------------------------------------------------
 // Reading
+
+Image read_exr_layer(const std::string& path, const std::string& layer) {
+  if (lower_extension(path) != ".exr") fail(path, "layers are read from OpenEXR files only (expected .exr)");
+  return read_exr(path, layer);
+}
 
 Image read_image(const std::string& path, bool srgb) {
   const std::string ext = lower_extension(path);

@@ -9,6 +9,8 @@
 #include <type_traits>
 
 #include "gonio/error.h"
+#include "gonio/polarization/fresnel_factor.h"
+#include "gonio/polarization/polarized_bxdf.h"
 #include "gonio/render/subsurface_probe.h"
 #include "gonio/render/subsurface_walk.h"
 #include "gonio/subsurface/diffusion.h"
@@ -34,9 +36,27 @@ bool sides_agree(const Vec3& wo_world, const Vec3& wi_world, const Vec3& ng, con
   return geometric_reflection == shading_reflection;
 }
 
+// What the throughput of a path is, and how it meets a vertex: here a colour (RGB or
+// spectral), which needs no reference frames. PolarizedShading below replaces it by a
+// Mueller matrix per channel.
+template <typename Colour>
+struct ScalarTransport {
+  using Radiance = Colour;
+  static Colour start(const Ray&) { return Colour(1); }
+  static void at_vertex(Colour&, const Frame&, const Vec3& /*wo*/, const Vec3& /*wo_world*/) {}
+  static void leave(const Frame&, const Vec3& /*wi*/) {}
+  static Float magnitude(const Colour& beta) { return beta.max_component(); }
+  // L += beta · x (x: light reaching the vertex, already through its BSDF) and
+  // L += beta · Le · w (emission seen directly).
+  static void add(Colour& L, const Colour& beta, const Colour& x) { L += beta * x; }
+  static void add(Colour& L, const Colour& beta, const Colour& Le, Float w) { L += beta * Le * w; }
+  static bool finite(const Colour& L) { return L.is_finite(); }
+};
+
 // What differs between RGB and spectral transport: the model at a hit and the lights'
-// emission. The estimator below is one template over the two.
-struct RgbShading {
+// emission. The estimator below is one template over the two (and over their polarized
+// forms).
+struct RgbShading : ScalarTransport<Color> {
   using C = Color;
   std::optional<BxDF> textured;  // the model at a textured shading point
   const BxDF& bxdf(const Material& m, const Vec2& uv) { return m.at(uv, textured); }
@@ -45,7 +65,7 @@ struct RgbShading {
   Color environment(const Environment&, const Vec3&, const Color& rgb) const { return rgb; }
 };
 
-struct SpectralShading {
+struct SpectralShading : ScalarTransport<SampledSpectrum> {
   using C = SampledSpectrum;
   SampledWavelengths& w;
   SpectralScratch& scratch;
@@ -63,6 +83,75 @@ struct SpectralShading {
   C environment(const Environment& e, const Vec3& dir, const Color&) const { return e.radiance(dir, w); }
 };
 
+// Polarized transport (issue 15; docs/polarization.md, "Polarized rendering"). The
+// throughput `beta` is the Mueller matrix (per channel) from the light's end of the
+// current segment to the camera's film; it expects the Stokes vector of the light on that
+// segment in the frame whose s axis is `s_seg` (world space, ⊥ the segment; p = d × s for
+// the light's direction of travel d, towards the camera). At a vertex the BSDF gives its
+// matrix in the s/p frames of wo and wi (polarization/fresnel_factor.h): `beta` is turned
+// onto wo's frame first, and the segment before the vertex takes wi's frame. The lights
+// emit unpolarized light, so of the matrix reaching a light only column 0 is needed.
+template <typename Base>
+struct PolarizedShading {
+  using U = typename Base::C;
+  using C = MuellerT<U>;
+  using Radiance = std::array<U, 4>;  // S0..S3, each a colour
+  Base base;
+  // The camera's image x axis and its polarizer (null: none), from Camera.
+  Vec3 image_x;
+  const MuellerT<U>* polarizer;
+  // Untextured RGB materials' polarized models, made once (null: make one per vertex).
+  const std::vector<std::optional<PolarizedBxDF>>* cached;
+  std::optional<PolarizedBxDFT<U>> model;
+  Vec3 s_seg{1, 0, 0};
+
+  const PolarizedBxDFT<U>& bxdf(const Material& m, const Vec2& uv) {
+    if constexpr (std::is_same_v<U, Color>) {
+      const size_t i = static_cast<size_t>(&m - cached_base);
+      if (m.textures.empty() && cached && (*cached)[i]) return *(*cached)[i];
+    }
+    return model.emplace(base.bxdf(m, uv));
+  }
+  const Material* cached_base = nullptr;  // &scene.materials[0], for the cache's index
+
+  U point(const PointLight& l) const { return base.point(l); }
+  U area(const AreaLight& l, const Color& rgb) const { return base.area(l, rgb); }
+  U environment(const Environment& e, const Vec3& d, const Color& rgb) const { return base.environment(e, d, rgb); }
+
+  // The film's frame (SPEC §1: image axes, Q = I_x − I_y): s along the image's x axis
+  // projected ⊥ the ray, p = d × s along its y axis for d = −ray.d.
+  C start(const Ray& ray) {
+    const Vec3 d = -ray.d;
+    s_seg = normalize(image_x - d * dot(d, image_x));
+    if (polarizer) return *polarizer;
+    C one;
+    for (int i = 0; i < 4; ++i) one(i, i) = U(1);
+    return one;
+  }
+  void at_vertex(C& beta, const Frame& frame, const Vec3& wo, const Vec3& wo_world) const {
+    // S_seg = R(α) S_wo, α the turn about the light's direction (wo) from wo's s to s_seg.
+    Float c2, s2;
+    polarization_detail::frame_turn(wo_world, frame.to_world(stokes_s_axis(wo)), s_seg, c2, s2);
+    beta.rotate_incident(c2, s2);
+  }
+  void leave(const Frame& frame, const Vec3& wi) { s_seg = frame.to_world(stokes_s_axis(wi)); }
+  static Float magnitude(const C& beta) { return beta.m00().max_component(); }
+  // Column 0 of beta · x: the Stokes vector of unpolarized light through x, then beta.
+  static void add(Radiance& L, const C& beta, const C& x) {
+    for (int r = 0; r < 4; ++r) {
+      U v = beta(r, 0) * x(0, 0);
+      for (int k = 1; k < 4; ++k) v += beta(r, k) * x(k, 0);
+      L[size_t(r)] += v;
+    }
+  }
+  static void add(Radiance& L, const C& beta, const U& Le, Float w) {
+    for (int r = 0; r < 4; ++r) L[size_t(r)] += beta(r, 0) * Le * w;
+  }
+  static bool finite(const Radiance& L) {
+    return std::all_of(L.begin(), L.end(), [](const U& v) { return v.is_finite(); });
+  }
+};
+
 }  // namespace
 
 PathTracer::PathTracer(const Scene& scene, const Accel& accel) : scene_(scene), accel_(accel) {
@@ -74,6 +163,20 @@ PathTracer::PathTracer(const Scene& scene, const Accel& accel) : scene_(scene), 
         throw InputError("spectral rendering: material" + (m.name.empty() ? std::string() : " \"" + m.name + "\"") +
                          " is a subsurface material, which renders in RGB only (its medium is not carried per "
                          "wavelength yet); render without --spectral and \"spectral\": true");
+  if (scene.settings.polarized) {
+    for (const Material& m : scene.materials)
+      if (m.subsurface)
+        throw InputError("polarized rendering: material" + (m.name.empty() ? std::string() : " \"" + m.name + "\"") +
+                         " is a subsurface material, whose medium is not carried with Stokes vectors yet; render "
+                         "without --polarized and \"polarized\": true");
+    polarized_models_.reserve(scene.materials.size());
+    for (const Material& m : scene.materials)
+      polarized_models_.push_back(m.textures.empty() ? std::optional<PolarizedBxDF>(PolarizedBxDF(m.bxdf)) : std::nullopt);
+    if (scene.camera.polarizer_deg) {
+      polarizer_rgb_ = broadcast<Color>(mueller_linear_polarizer(*scene.camera.polarizer_deg * kPi / 180));
+      polarizer_spectral_ = broadcast<SampledSpectrum>(mueller_linear_polarizer(*scene.camera.polarizer_deg * kPi / 180));
+    }
+  }
   sampled_lights_ = static_cast<int>(scene.area_lights.size()) + (scene.environment.is_black() ? 0 : 1);
   light_select_pdf_ = sampled_lights_ > 0 ? 1 / Float(sampled_lights_) : Float(0);
 }
@@ -134,14 +237,34 @@ Color PathTracer::radiance(Ray ray, Pcg32& rng, PathStats& stats) const {
 
 SampledSpectrum PathTracer::radiance(Ray ray, SampledWavelengths& w, Pcg32& rng, PathStats& stats,
                                      SpectralScratch& scratch) const {
-  SpectralShading shading{w, scratch, {}, {}};
+  SpectralShading shading{{}, w, scratch, {}, {}};
+  return trace(ray, rng, stats, shading);
+}
+
+std::array<Color, 4> PathTracer::stokes(Ray ray, Pcg32& rng, PathStats& stats) const {
+  PolarizedShading<RgbShading> shading{{}, scene_.camera.image_x(), scene_.camera.polarizer_deg ? &polarizer_rgb_ : nullptr,
+                                       &polarized_models_, {}, {}, scene_.materials.data()};
+  return trace(ray, rng, stats, shading);
+}
+
+std::array<SampledSpectrum, 4> PathTracer::stokes(Ray ray, SampledWavelengths& w, Pcg32& rng, PathStats& stats,
+                                                  SpectralScratch& scratch) const {
+  PolarizedShading<SpectralShading> shading{{{}, w, scratch, {}, {}},
+                                            scene_.camera.image_x(),
+                                            scene_.camera.polarizer_deg ? &polarizer_spectral_ : nullptr,
+                                            nullptr,
+                                            {},
+                                            {},
+                                            scene_.materials.data()};
   return trace(ray, rng, stats, shading);
 }
 
 template <typename Shading>
-typename Shading::C PathTracer::trace(Ray ray, Pcg32& rng, PathStats& stats, Shading& shading) const {
+typename Shading::Radiance PathTracer::trace(Ray ray, Pcg32& rng, PathStats& stats, Shading& shading) const {
   using C = typename Shading::C;
-  C L(0), beta(1);
+  using Radiance = typename Shading::Radiance;
+  Radiance L{};
+  C beta = shading.start(ray);
   bool specular = true;  // the previous vertex was a delta lobe (or is the camera)
   Float prev_pdf = 0;    // solid-angle density of the BSDF sample that made `ray`
   Vec3 prev_p = ray.o;
@@ -165,7 +288,7 @@ typename Shading::C PathTracer::trace(Ray ray, Pcg32& rng, PathStats& stats, Sha
         if (!scene_.environment.is_black()) {
           const Color rgb = scene_.environment.radiance(ray.d);
           const Float w = specular ? 1 : power_heuristic(prev_pdf, light_select_pdf_ * scene_.environment.pdf(ray.d));
-          if (!rgb.is_black()) L += beta * shading.environment(scene_.environment, ray.d, rgb) * w;
+          if (!rgb.is_black()) shading.add(L, beta, shading.environment(scene_.environment, ray.d, rgb), w);
         }
         break;
       }
@@ -177,7 +300,7 @@ typename Shading::C PathTracer::trace(Ray ray, Pcg32& rng, PathStats& stats, Sha
         const Color rgb = area_light_radiance(light, n, -ray.d);
         if (!rgb.is_black()) {
           const Float w = specular ? 1 : power_heuristic(prev_pdf, light_select_pdf_ * area_light_pdf(light, prev_p, hit.p, n));
-          L += beta * shading.area(light, rgb) * w;
+          shading.add(L, beta, shading.area(light, rgb), w);
         }
         break;
       }
@@ -192,8 +315,9 @@ typename Shading::C PathTracer::trace(Ray ray, Pcg32& rng, PathStats& stats, Sha
     const bool consistent = dot(wo_world, hit.ns) * dot(wo_world, hit.ng) > 0;
     const Frame frame = Frame::from_normal_tangent(consistent ? hit.ns : hit.ng, hit.tangent);
     const Vec3 wo = normalize(frame.to_local(wo_world));
+    shading.at_vertex(beta, frame, wo, wo_world);
 
-    if (!is_delta_only(bxdf.flags())) L += beta * direct_light(hit, frame, bxdf, wo, wo_world, rng, stats, shading);
+    if (!is_delta_only(bxdf.flags())) shading.add(L, beta, direct_light(hit, frame, bxdf, wo, wo_world, rng, stats, shading));
 
     const Float u_lobe = rng.next_float(), u1 = rng.next_float(), u2 = rng.next_float();
     const auto s = bxdf.sample(wo, u_lobe, u1, u2);
@@ -201,7 +325,8 @@ typename Shading::C PathTracer::trace(Ray ray, Pcg32& rng, PathStats& stats, Sha
     Vec3 wi_world = normalize(frame.to_world(s->wi));
     if (!sides_agree(wo_world, wi_world, hit.ng, wo, s->wi)) break;
     beta *= s->weight;
-    if (!(beta.max_component() > 0)) break;
+    if (!(shading.magnitude(beta) > 0)) break;
+    shading.leave(frame, s->wi);
     specular = s->delta;
     prev_pdf = s->pdf;
     prev_p = hit.p;
@@ -209,7 +334,7 @@ typename Shading::C PathTracer::trace(Ray ray, Pcg32& rng, PathStats& stats, Sha
 
     // Russian roulette (Arvo & Kirk 1990): continue with probability ~ the throughput.
     if (depth + 1 >= scene_.settings.rr_depth) {
-      const Float q = std::min(Float(0.95), beta.max_component() * eta_scale);
+      const Float q = std::min(Float(0.95), shading.magnitude(beta) * eta_scale);
       if (rng.next_float() >= q) break;
       beta /= q;
     }
@@ -253,7 +378,7 @@ typename Shading::C PathTracer::trace(Ray ray, Pcg32& rng, PathStats& stats, Sha
         const Frame exit_frame = Frame::from_normal_tangent(xo.ng, xo.tangent);
         const SwBxDF& sw = material.exit_lobe;
         const Vec3 sw_wo{0, 0, 1};  // Sw does not depend on wo
-        L += beta * direct_light(xo, exit_frame, sw, sw_wo, xo.ng, rng, stats, shading);
+        shading.add(L, beta, direct_light(xo, exit_frame, sw, sw_wo, xo.ng, rng, stats, shading));
         const Float v_lobe = rng.next_float(), v1 = rng.next_float(), v2 = rng.next_float();
         const auto so = sw.sample(sw_wo, v_lobe, v1, v2);
         if (!so) break;
@@ -266,13 +391,13 @@ typename Shading::C PathTracer::trace(Ray ray, Pcg32& rng, PathStats& stats, Sha
         ray = Ray{offset_ray_origin(xo.p, xo.ng, wi_world), wi_world};
         continue;
       } else {
-        break;  // unreachable: the constructor rejects spectral subsurface scenes
+        break;  // unreachable: the constructor rejects spectral and polarized subsurface scenes
       }
     }
     ray = Ray{offset_ray_origin(hit.p, hit.ng, wi_world), wi_world};
   }
   // A path with a NaN anywhere contributes nothing rather than poisoning the pixel.
-  return L.is_finite() ? L : C(0);
+  return shading.finite(L) ? L : Radiance{};
 }
 
 }  // namespace gonio::render

@@ -3,9 +3,11 @@
 #include "gonio/render/renderer.h"
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <chrono>
 #include <mutex>
+#include <utility>
 #include <vector>
 
 #include <tbb/blocked_range.h>
@@ -35,14 +37,16 @@ std::uint64_t mix(std::uint64_t z) {
 
 }  // namespace
 
-Image render(const Scene& scene_in, const RenderOptions& options, RenderStats* stats) {
+Image render(const Scene& scene_in, const RenderOptions& options, RenderStats* stats, StokesImages* stokes) {
   using clock = std::chrono::steady_clock;
   const auto t0 = clock::now();
   Scene scene = scene_in;  // the camera basis is prepared on a copy
   scene.camera.prepare();
   const int w = scene.camera.width, h = scene.camera.height, spp = scene.settings.spp;
   const size_t pixels = size_t(w) * size_t(h);
-  const bool spectral = scene.settings.spectral;
+  const bool spectral = scene.settings.spectral, polarized = scene.settings.polarized;
+  // Colours summed per pixel: the radiance, or the four Stokes components.
+  const size_t K = polarized ? 4 : 1;
   // Acquire: what the stopper wrote before setting the flag (a signal number, say) is
   // visible to the caller once render() returns.
   const auto stop_requested = [&] { return options.stop && options.stop->load(std::memory_order_acquire); };
@@ -52,7 +56,7 @@ Image render(const Scene& scene_in, const RenderOptions& options, RenderStats* s
   // added one by one in the same order as in a single pass, so the image does not depend
   // on how the samples are split into passes.
   std::vector<Pcg32> rngs(pixels);
-  std::vector<Color> sums(pixels, Color(0)), next(pixels);
+  std::vector<Color> sums(pixels * K, Color(0)), next(pixels * K);
   const int per_pass = static_cast<int>(std::clamp<std::int64_t>(
       (kSamplesPerPass + std::int64_t(pixels) - 1) / std::int64_t(std::max<size_t>(pixels, 1)), 1, std::max(spp, 1)));
 
@@ -87,22 +91,30 @@ Image render(const Scene& scene_in, const RenderOptions& options, RenderStats* s
               const std::uint64_t pixel = static_cast<std::uint64_t>(y) * static_cast<std::uint64_t>(w) + static_cast<std::uint64_t>(x);
               Pcg32& rng = rngs[pixel];
               if (first == 0) rng = Pcg32(mix(scene.settings.seed ^ mix(pixel)), pixel);
-              Color sum = sums[pixel];
+              std::array<Color, 4> sum;
+              for (size_t k = 0; k < K; ++k) sum[k] = sums[pixel * K + k];
               for (int i = first; i < last; ++i) {
                 const Float jx = rng.next_float(), jy = rng.next_float();
                 const Ray ray = scene.camera.generate(Float(x) + jx, Float(y) + jy);
-                if (spectral) {
+                if (polarized && spectral) {
+                  SampledWavelengths wl = SampledWavelengths::sample_visible(rng.next_float());
+                  const auto S = tracer.stokes(ray, wl, rng, local, scratch);
+                  for (size_t k = 0; k < 4; ++k) sum[k] += xyz_to_linear_srgb(to_xyz(S[k], wl));
+                } else if (polarized) {
+                  const auto S = tracer.stokes(ray, rng, local);
+                  for (size_t k = 0; k < 4; ++k) sum[k] += S[k];
+                } else if (spectral) {
                   // Hero-wavelength sampling (Wilkie et al. 2014): 4 wavelengths per path,
                   // to CIE XYZ at the film (each divided by its own density), then to
                   // linear sRGB, so that the image is what RGB mode writes.
                   SampledWavelengths wl = SampledWavelengths::sample_visible(rng.next_float());
                   const SampledSpectrum L = tracer.radiance(ray, wl, rng, local, scratch);
-                  sum += xyz_to_linear_srgb(to_xyz(L, wl));
+                  sum[0] += xyz_to_linear_srgb(to_xyz(L, wl));
                 } else {
-                  sum += tracer.radiance(ray, rng, local);
+                  sum[0] += tracer.radiance(ray, rng, local);
                 }
               }
-              next[pixel] = sum;
+              for (size_t k = 0; k < K; ++k) next[pixel * K + k] = sum[k];
             }
           }
           const std::uint64_t done = samples_done.fetch_add(std::uint64_t(x1 - x0) * std::uint64_t(y1 - y0) * std::uint64_t(last - first)) +
@@ -123,10 +135,13 @@ Image render(const Scene& scene_in, const RenderOptions& options, RenderStats* s
       completed = last;
     }
   });
-  Image image(w, h);
+  StokesImages images{Image(w, h), Image(polarized ? w : 0, polarized ? h : 0), Image(polarized ? w : 0, polarized ? h : 0),
+                      Image(polarized ? w : 0, polarized ? h : 0)};
   if (completed > 0)
-    for (int y = 0; y < h; ++y)
-      for (int x = 0; x < w; ++x) image.at(x, y) = sums[size_t(y) * size_t(w) + size_t(x)] / Float(completed);
+    for (size_t k = 0; k < K; ++k)
+      for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+          images[k].at(x, y) = sums[(size_t(y) * size_t(w) + size_t(x)) * K + k] / Float(completed);
   if (stats) {
     stats->setup_seconds = setup;
     stats->seconds = std::chrono::duration<double>(clock::now() - t0).count() - setup;
@@ -138,7 +153,8 @@ Image render(const Scene& scene_in, const RenderOptions& options, RenderStats* s
     stats->spp = completed;
     stats->stopped = completed < spp;
   }
-  return image;
+  if (stokes) *stokes = images;
+  return std::move(images[0]);
 }
 
 }  // namespace gonio::render

@@ -447,7 +447,7 @@ struct Loader {
   }
 
   void camera(const Node& n) {
-    n.object({"position", "look_at", "up", "fov", "width", "height"});
+    n.object({"position", "look_at", "up", "fov", "width", "height", "polarizer"});
     Camera& c = scene.camera;
     if (n.has("position")) c.position = n.at("position").vec3();
     if (n.has("look_at")) c.look_at = n.at("look_at").vec3();
@@ -455,19 +455,21 @@ struct Loader {
     if (n.has("fov")) c.fov_deg = static_cast<Float>(n.at("fov").number(0, 179, true));
     if (n.has("width")) c.width = n.at("width").integer(1, 16384);
     if (n.has("height")) c.height = n.at("height").integer(1, 16384);
+    if (n.has("polarizer")) c.polarizer_deg = static_cast<Float>(n.at("polarizer").number(-360, 360));
     const Vec3 forward = c.look_at - c.position;
     if (!(length_squared(forward) > 0)) n.fail("position and look_at must differ");
     if (!(length_squared(cross(normalize(forward), normalize(c.up))) > 1e-8f)) n.fail("up must not be parallel to the viewing direction");
   }
 
   void render_settings(const Node& n) {
-    n.object({"spp", "max_depth", "rr_depth", "seed", "exposure", "tonemap", "spectral"});
+    n.object({"spp", "max_depth", "rr_depth", "seed", "exposure", "tonemap", "spectral", "polarized"});
     RenderSettings& s = scene.settings;
     if (n.has("spp")) s.spp = n.at("spp").integer(1, 1 << 20);
     if (n.has("max_depth")) s.max_depth = n.at("max_depth").integer(0, 1024);
     if (n.has("rr_depth")) s.rr_depth = n.at("rr_depth").integer(1, 1024);
     if (n.has("seed")) s.seed = static_cast<std::uint64_t>(n.at("seed").integer(0, 2147483647));
     if (n.has("spectral")) s.spectral = n.at("spectral").boolean();
+    if (n.has("polarized")) s.polarized = n.at("polarized").boolean();
     if (n.has("exposure")) s.exposure = static_cast<Float>(n.at("exposure").number(-64, 64));
     if (n.has("tonemap")) {
       const std::string t = n.at("tonemap").string();

@@ -17,6 +17,7 @@
 // mode (polarization/fresnel_factor.h), and M00 is the unpolarized quantity.
 
 #include <array>
+#include <cmath>
 #include <complex>
 #include <type_traits>
 
@@ -67,7 +68,37 @@ class MuellerT {
       }
     return r;
   }
+  // M ← M N: what a path's throughput does at a vertex (the camera's side on the left,
+  // the new interaction on the right).
+  constexpr MuellerT& operator*=(const MuellerT& n) { return *this = *this * n; }
+  constexpr MuellerT& operator/=(Float s) {
+    for (auto& e : m_) e /= s;
+    return *this;
+  }
+  // Each channel's matrix scaled by that channel of a colour (a light's emission, a
+  // medium's transmittance): the colour acts as a depolarization-free attenuator.
+  friend constexpr MuellerT operator*(MuellerT a, const C& v)
+    requires(!std::is_same_v<C, Float>)
+  {
+    for (auto& e : a.m_) e *= v;
+    return a;
+  }
   constexpr bool operator==(const MuellerT&) const = default;
+  // Black when the unpolarized quantity is: a realizable matrix has |Mij| ≤ M00.
+  constexpr bool is_black() const {
+    if constexpr (std::is_same_v<C, Float>) return m_[0] == 0;
+    else return m_[0].is_black();
+  }
+  constexpr bool is_finite() const {
+    for (const auto& e : m_) {
+      if constexpr (std::is_same_v<C, Float>) {
+        if (!std::isfinite(e)) return false;
+      } else if (!e.is_finite()) {
+        return false;
+      }
+    }
+    return true;
+  }
   // The unpolarized quantity.
   constexpr const C& m00() const { return m_[0]; }
 
@@ -82,15 +113,21 @@ class MuellerT {
     return r;
   }
 
-  // M ← R(b) M R(a): the frame of the incident beam turned by a (angle a given as cos 2a,
-  // sin 2a), the outgoing one by b. Row 0 and column 0 are untouched (rotations leave I
-  // alone), so M00 stays bit for bit what it was.
-  constexpr void rotate_frames(Float c2a, Float s2a, Float c2b, Float s2b) {
-    for (int r = 0; r < 4; ++r) {  // M R(a): columns 1, 2
+  // M ← M R(a): the frame of the incident beam turned by a (given as cos 2a, sin 2a);
+  // columns 1 and 2 change.
+  constexpr void rotate_incident(Float c2a, Float s2a) {
+    for (int r = 0; r < 4; ++r) {
       const C m1 = (*this)(r, 1), m2 = (*this)(r, 2);
       (*this)(r, 1) = m1 * c2a - m2 * s2a;
       (*this)(r, 2) = m1 * s2a + m2 * c2a;
     }
+  }
+
+  // M ← R(b) M R(a): the frame of the incident beam turned by a (angle a given as cos 2a,
+  // sin 2a), the outgoing one by b. Row 0 and column 0 are untouched (rotations leave I
+  // alone), so M00 stays bit for bit what it was.
+  constexpr void rotate_frames(Float c2a, Float s2a, Float c2b, Float s2b) {
+    rotate_incident(c2a, s2a);
     for (int c = 0; c < 4; ++c) {  // R(b) M: rows 1, 2
       const C m1 = (*this)(1, c), m2 = (*this)(2, c);
       (*this)(1, c) = m1 * c2b + m2 * s2b;

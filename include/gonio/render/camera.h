@@ -3,6 +3,7 @@
 // `fov_deg`. Pixel (0, 0) is the top-left corner of the image.
 
 #include <cmath>
+#include <optional>
 
 #include "gonio/math/vec3.h"
 #include "gonio/render/ray.h"
@@ -13,6 +14,9 @@ struct Camera {
   Vec3 position{0, 1, 5}, look_at{0, 1, 0}, up{0, 1, 0};
   Float fov_deg = 40;
   int width = 640, height = 360;
+  // A linear polarizer in front of the film (polarized rendering, issue 15): its
+  // transmission axis in degrees counter-clockwise from the image's +x axis (SPEC §1).
+  std::optional<Float> polarizer_deg;
 
   // The basis, computed once before rendering.
   void prepare() {
@@ -21,6 +25,10 @@ struct Camera {
     up_ = cross(right_, forward_);
     tan_half_ = std::tan(fov_deg * kPi / 360);
   }
+
+  // The image's x axis (to the right) in world space, after prepare(): the s axis of the
+  // film's Stokes frame (SPEC §1: Q = I_x − I_y).
+  Vec3 image_x() const { return right_; }
 
   // The ray through the film point (px, py) in pixel units (pixel centres at +0.5).
   Ray generate(Float px, Float py) const {

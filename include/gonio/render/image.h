@@ -60,6 +60,13 @@ struct PngOptions {
 // Linear float OpenEXR: 32-bit FLOAT channels R, G, B, ZIP compression.
 void write_exr(const Image& img, const std::string& path);
 
+// One image of a multi-layer OpenEXR file: channels "<name>.R", "<name>.G", "<name>.B"
+// (OpenEXR's naming of layers), or R, G, B when `name` is empty.
+struct ExrLayer {
+  std::string name;
+  const Image* image = nullptr;
+};
+
 // 8-bit sRGB PNG: value * 2^exposure_stops, then the tone map per channel, then the sRGB
 // transfer function, rounded to the nearest 8-bit code. NaN and negative values give 0.
 void write_png(const Image& img, const std::string& path, const PngOptions& opt = {});
@@ -70,6 +77,9 @@ void write_png(const Image& img, const std::string& path, const PngOptions& opt 
 // roughness maps). The extension (case-insensitive) chooses the format. An EXR pixel that
 // is NaN or infinite is an error.
 Image read_image(const std::string& path, bool srgb = true);
+// The layer `layer` of an OpenEXR file (channels "<layer>.R" ..., or "<layer>.Y"), with the
+// checks of read_image; "" is the default layer (R, G, B).
+Image read_exr_layer(const std::string& path, const std::string& layer);
 
 // sRGB transfer function of IEC 61966-2-1 (exposed for tests).
 Float srgb_encode(Float linear);

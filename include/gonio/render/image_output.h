@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <functional>
 #include <string>
+#include <vector>
 
 #include "gonio/render/image.h"
 
@@ -28,7 +29,8 @@ class ImageOutput {
 
   // Reserves on disk the most space an image of this size can take in the output's
   // format, so that a disk too full for it is found now (InputError "no space").
-  void reserve(int width, int height);
+  // `exr_layers`: how many RGB layers an OpenEXR output holds (write_exr_layers).
+  void reserve(int width, int height, int exr_layers = 1);
 
   // Writes the image in the format the extension names (.exr: linear float; .png:
   // tone-mapped sRGB with `png`) and renames it over the path. Once only. Throws
@@ -37,12 +39,14 @@ class ImageOutput {
   // The same in a given format, whatever the extension (write_exr and write_png).
   void write_exr(const Image& img);
   void write_png(const Image& img, const PngOptions& png = {});
+  // OpenEXR with several images of one size as named layers (image.h, ExrLayer).
+  void write_exr_layers(const std::vector<ExrLayer>& layers);
 
   const std::string& path() const { return path_; }
   const std::string& temporary_path() const { return temp_; }
 
   // Upper bounds of the file sizes of the two encoders (bytes), for reserve().
-  static std::uint64_t max_exr_bytes(int width, int height);
+  static std::uint64_t max_exr_bytes(int width, int height, int layers = 1);
   static std::uint64_t max_png_bytes(int width, int height);
 
  private:

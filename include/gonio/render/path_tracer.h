@@ -17,8 +17,12 @@
 // step limit). RGB only for now: the constructor rejects a spectral render of a scene
 // with a subsurface material.
 
+#include <array>
 #include <cstdint>
+#include <optional>
+#include <vector>
 
+#include "gonio/polarization/polarized_bxdf.h"
 #include "gonio/rng.h"
 #include "gonio/spectral_material.h"
 #include "gonio/spectrum/wavelengths.h"
@@ -46,11 +50,18 @@ class PathTracer {
   // per thread.
   SampledSpectrum radiance(Ray ray, SampledWavelengths& w, Pcg32& rng, PathStats& stats,
                            SpectralScratch& scratch) const;
+  // Polarized mode (issue 15; scene.settings.polarized): the Stokes vector S0..S3 (each a
+  // colour) of the light arriving along `ray`, in the image's frame (SPEC §1: Q = I_x − I_y,
+  // x to the right, y up), through the camera's polarizer when it has one. The lights are
+  // unpolarized; S0 estimates what radiance() does, with the same paths.
+  std::array<Color, 4> stokes(Ray ray, Pcg32& rng, PathStats& stats) const;
+  std::array<SampledSpectrum, 4> stokes(Ray ray, SampledWavelengths& w, Pcg32& rng, PathStats& stats,
+                                        SpectralScratch& scratch) const;
 
  private:
   // The estimator for both colour modes (path_tracer.cpp).
   template <typename Shading>
-  typename Shading::C trace(Ray ray, Pcg32& rng, PathStats& stats, Shading& shading) const;
+  typename Shading::Radiance trace(Ray ray, Pcg32& rng, PathStats& stats, Shading& shading) const;
   // Light reaching the vertex from the lights, by next-event estimation weighted against
   // BSDF sampling.
   template <typename Shading, typename Model>
@@ -62,6 +73,11 @@ class PathTracer {
   const Accel& accel_;
   int sampled_lights_ = 0;  // area lights + the environment when it is not black
   Float light_select_pdf_ = 0;
+  // Polarized mode: the untextured materials' polarized models (made once; empty for a
+  // textured one) and the camera's polarizer as a Mueller matrix per channel.
+  std::vector<std::optional<PolarizedBxDF>> polarized_models_;
+  MuellerT<Color> polarizer_rgb_;
+  MuellerT<SampledSpectrum> polarizer_spectral_;
 };
 
 }  // namespace gonio::render

@@ -8,6 +8,7 @@
 // and returns the passes completed: every pixel then holds the same number n of samples,
 // the very image a render with spp = n gives, bit for bit.
 
+#include <array>
 #include <atomic>
 #include <cstdint>
 #include <functional>
@@ -37,8 +38,15 @@ struct RenderStats {
   bool stopped = false;      // true when `stop` cut the render short of the scene's spp
 };
 
+// A polarized render's Stokes images S0..S3 (linear RGB each; S1..S3 may be negative), in
+// the image's frame: Q = S1 = I_x − I_y, x to the right, y up (SPEC §1).
+using StokesImages = std::array<Image, 4>;
+
 // The image at the scene's spp, or, when stopped, at stats->spp samples per pixel (all
-// black when no pass completed).
-Image render(const Scene& scene, const RenderOptions& options, RenderStats* stats = nullptr);
+// black when no pass completed). With scene.settings.polarized it is S0, the intensity
+// through the camera's polarizer, and `stokes` (when given) receives all four components;
+// without, `stokes` receives the image and three empty ones.
+Image render(const Scene& scene, const RenderOptions& options, RenderStats* stats = nullptr,
+             StokesImages* stokes = nullptr);
 
 }  // namespace gonio::render

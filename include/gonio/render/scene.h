@@ -75,6 +75,7 @@ struct RenderSettings {
   Float exposure = 0;   // stops, for PNG output
   bool filmic = true;   // tone map for PNG output (else clamp)
   bool spectral = false;  // hero-wavelength spectral transport (else RGB)
+  bool polarized = false;  // Stokes vectors along paths (issue 15), RGB or spectral
 };
 
 struct Scene {
