@@ -224,7 +224,7 @@ typename Shading::C PathTracer::direct_light(const SurfaceHit& hit, const Frame&
   if (e.f.is_black() || occluded(hit.p, hit.ng, ls.wi, ls.distance, stats)) return sum;
   const Float light_pdf = light_select_pdf_ * ls.pdf;
   const Float w = power_heuristic(light_pdf, e.pdf);
-  const C Le = env ? shading.environment(scene_.environment, ls.wi, ls.radiance)
+  const auto Le = env ? shading.environment(scene_.environment, ls.wi, ls.radiance)
                    : shading.area(scene_.area_lights[static_cast<size_t>(pick)], ls.radiance);
   sum += e.f * Le * (std::abs(wi.z) * w / light_pdf);
   return sum;

@@ -357,6 +357,40 @@ TEST(Polarization, M00IsTheUnpolarizedValueExactly) {
   }
 }
 
+// Grazing and tangent directions, down to the smallest subnormal cosine, above and below:
+// every entry of every matrix finite (a shape whose M00 underflows must not give an
+// infinite scale), M00 still the unpolarized value.
+TEST(Polarization, TinyCosinesGiveFiniteMatrices) {
+  const float tiny[] = {1e-45f, 1e-40f, 1e-38f, 1e-30f, 1e-20f, 1e-8f, 0.0f};
+  std::vector<Vec3> dirs;
+  for (float z : tiny)
+    for (float sign : {1.0f, -1.0f})
+      for (float phi : {0.0f, 0.7f, 2.0f, 4.1f}) {
+        const float r = std::sqrt(1 - z * z);
+        dirs.push_back({r * std::cos(phi), r * std::sin(phi), sign * z});
+      }
+  dirs.push_back({0, 0, 1});
+  dirs.push_back({0.6f, 0, 0.8f});
+  dirs.push_back({0, -0.6f, -0.8f});
+  for (const auto& text : polarizing_materials()) {
+    const BxDF b = parse_material(text);
+    const PolarizedBxDF p(b);
+    std::uint64_t bad = 0;
+    for (const Vec3& wo : dirs)
+      for (const Vec3& wi : dirs)
+        for (const auto mode : {TransportMode::Radiance, TransportMode::Importance}) {
+          const auto pe = p.eval(wo, wi, mode);
+          if (!pe.f.is_finite() || !std::isfinite(pe.pdf) || !(pe.f.m00() == b.eval(wo, wi, mode).f)) ++bad;
+        }
+    for (const Vec3& wo : dirs)
+      for (float u : {0.0f, 0.3f, 0.999999f})
+        if (const auto s = p.sample(wo, u, u, 1 - u)) {
+          if (!s->weight.is_finite()) ++bad;
+        }
+    EXPECT_EQ(bad, 0u) << text;
+  }
+}
+
 TEST(Polarization, EveryBsdfMuellerMatrixIsRealizable) {
   // Cloude's criterion for eval values and sample weights of every model, every channel.
   const std::uint64_t per = gonio::test::scaled(1'500, 300);

@@ -72,10 +72,14 @@ U as_colour(Float v)
 { return U(v); }
 
 // `m` scaled per channel so that M00 = value exactly; a channel whose shape has M00 = 0
-// (a value the shape cannot carry) becomes a depolarizer of that value.
+// (a value the shape cannot carry), or one so small (subnormal, at a grazing facet) that
+// value / M00 overflows, becomes a depolarizer of that value.
 template <typename U>
 void scale_to(MuellerT<U>& m, const U& value) {
-  U scale = map(value, m.m00(), [](Float v, Float m00) { return m00 != 0 ? v / m00 : Float(0); });
+  U scale = map(value, m.m00(), [](Float v, Float m00) {
+    const Float s = m00 != 0 ? v / m00 : Float(0);
+    return std::isfinite(s) ? s : Float(0);
+  });
   for (int r = 0; r < 4; ++r)
     for (int c = 0; c < 4; ++c) m(r, c) *= scale;
   m(0, 0) = value;
