@@ -130,6 +130,54 @@ TEST(PolarizedRender, SpectralGlassReflectionHasTheFresnelPolarization) {
   EXPECT_NEAR(p.u, dolp * std::sin(-2 * roll), 0.01);
 }
 
+// Next-event estimation carries polarization too: a rough glass floor (GGX, α = 0.3,
+// black beneath) lit by a point light, nothing else, one bounce, the light off to the side
+// of the camera's mirror direction. What reaches the film is the Fresnel reflection of the
+// microfacet that joins the two directions, h = (wo + wi)/|wo + wi|: polarized with degree
+// P(wo·h) = (Rs − Rp)/(Rs + Rp) along the facet's s = wi × wo, whose angle χ in the image
+// axes (x, y) gives S1/S0 = P cos 2χ, S2/S0 = P sin 2χ. The facet's plane of incidence is
+// not the floor's, so the frames of wo and wi both turn.
+TEST(PolarizedRender, PointLightOffRoughGlassHasTheFacetsFresnelPolarization) {
+  using V = std::array<double, 3>;
+  auto dot3 = [](const V& a, const V& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; };
+  auto cross3 = [](const V& a, const V& b) {
+    return V{a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+  };
+  auto unit = [&](const V& a) {
+    const double l = std::sqrt(dot3(a, a));
+    return V{a[0] / l, a[1] / l, a[2] / l};
+  };
+  const double theta = 60 * kDeg, roll = 25 * kDeg, c = std::cos(theta), s = std::sin(theta);
+  for (const double side : {0.0, 0.8, -1.5}) {
+    SCOPED_TRACE("light moved sideways by " + std::to_string(side));
+    const V cam = {0, 2 * c, 2 * s}, light = {side, 2 * c, -2 * s};
+    const V up = {-std::sin(roll), std::cos(roll) * s, -std::cos(roll) * c};
+    const std::string scene = R"({"camera": {"position": )" + vec(cam[0], cam[1], cam[2]) +
+                              R"(, "look_at": [0, 0, 0], "up": )" + vec(up[0], up[1], up[2]) +
+                              R"(, "fov": 1, "width": 8, "height": 8},
+      "render": {"spp": 4, "max_depth": 1, "polarized": true},
+      "shapes": [
+        {"type": "quad", "corner": [-50, 0, -50], "edge1": [0, 0, 100], "edge2": [100, 0, 0], "material": {"type": "roughdielectric", "eta": 1.5, "alpha": 0.3}},
+        {"type": "quad", "corner": [-50, -0.01, -50], "edge1": [0, 0, 100], "edge2": [100, 0, 0], "material": {"type": "diffuse", "reflectance": 0}}
+      ],
+      "lights": [{"type": "point", "position": )" + vec(light[0], light[1], light[2]) + R"(, "intensity": 1}]})";
+    const StokesImages img = render_stokes(scene);
+    const V wo = unit(cam), wi = unit(light), h = unit({wo[0] + wi[0], wo[1] + wi[1], wo[2] + wi[2]});
+    double Rs, Rp;
+    fresnel_rs_rp(dot3(wo, h), 1.5, Rs, Rp);
+    const double dolp = (Rs - Rp) / (Rs + Rp);
+    // The image axes: x = forward × up (normalised), y = x × forward.
+    const V forward = unit({-cam[0], -cam[1], -cam[2]});
+    const V x = unit(cross3(forward, up)), y = cross3(x, forward);
+    const V sf = unit(cross3(wi, wo));
+    const double chi = std::atan2(dot3(sf, y), dot3(sf, x));
+    const Polarization p = mean_polarization(img);
+    EXPECT_GT(p.s0, 0);
+    EXPECT_NEAR(p.q, dolp * std::cos(2 * chi), 0.01);
+    EXPECT_NEAR(p.u, dolp * std::sin(2 * chi), 0.01);
+  }
+}
+
 // A perfect mirror before the glass: the camera looks along −z at a mirror whose normal
 // is (0, 1, 1)/√2, which sends the ray up (+y) to a glass plate tilted by θ = 60° from
 // the ray, its plane of incidence turned by β = 30° about the ray. The glass polarizes the
