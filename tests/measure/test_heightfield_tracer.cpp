@@ -106,7 +106,7 @@ struct Compare {
   int n;
   int mismatches = 0, hits = 0, rays = 0;
   int embree_nearer_at_border = 0, hf_nearer_at_border = 0;
-  std::string first_failure;
+  std::string first_failure = {};
 
   void ray(const double p_in[3], const Vec3& d, const char* kind, bool compare_wraps = true) {
     // Origins in float, as Embree takes them, so that both start at the same point.
