@@ -106,7 +106,9 @@ TEST(CliPolarization, EvalPolarizedHasM00EqualToF) {
     if (bsdf.find("diffuse") != std::string::npos) {
       for (int i = 0; i < 4; ++i)
         for (int j = 0; j < 4; ++j) {
-          if (i || j) EXPECT_EQ(lines[0]["mueller"][0][i][j].get<double>(), 0.0);
+          if (i || j) {
+            EXPECT_EQ(lines[0]["mueller"][0][i][j].get<double>(), 0.0);
+          }
         }
     }
   }

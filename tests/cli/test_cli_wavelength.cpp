@@ -193,7 +193,7 @@ TEST(CliWavelength, MonteCarloAlbedoAtOneWavelength) {
   // closed-form albedo in gonio, so albedo takes the Monte Carlo path: ρ_dh = ρ_hh = ρ(λ),
   // here 0.2 + 0.4 (595 − 360) / 470 = 0.4, nothing transmitted.
   const std::string on = R"({"type":"orennayar","sigma":0,"reflectance":{"spectrum":[[360,0.2],[830,0.6]]}})";
-  for (const std::vector<std::string> where : {std::vector<std::string>{"--theta", "50"}, {"--hemispherical"}}) {
+  for (const std::vector<std::string>& where : {std::vector<std::string>{"--theta", "50"}, {"--hemispherical"}}) {
     std::vector<std::string> args{"albedo", "--bsdf", on, "--wavelength", "595", "--samples", "4000"};
     args.insert(args.end(), where.begin(), where.end());
     const json j = run_one(args);

@@ -208,7 +208,8 @@ TEST(SpectralMaterial, RgbColoursRoundTripThroughTheirSpectrum) {
   const std::vector<std::array<double, 3>> colours = {
       {0.8, 0.3, 0.1}, {0.1, 0.6, 0.9}, {0.05, 0.05, 0.05}, {0.95, 0.9, 0.2}, {0.0, 0.0, 1.0}, {1.0, 0.0, 0.0}};
   for (const auto& c : colours) {
-    const std::string rgb = "[" + std::to_string(c[0]) + "," + std::to_string(c[1]) + "," + std::to_string(c[2]) + "]";
+    std::string rgb = "[";  // appended piecewise: `"[" + std::string` trips GCC 12's bug 105651
+    rgb += std::to_string(c[0]) + "," + std::to_string(c[1]) + "," + std::to_string(c[2]) + "]";
     const auto diffuse = parse_material_with_spectra(R"({"type":"diffuse","reflectance":)" + rgb + "}");
     const auto mirror = parse_material_with_spectra(R"({"type":"mirror","reflectance":)" + rgb + "}");
     const auto on = parse_material_with_spectra(R"({"type":"orennayar","sigma":0,"reflectance":)" + rgb + "}");
