@@ -14,9 +14,7 @@ scripts/setup.sh
 echo "== Release build and tests ==" >&2
 # Without the benchmark programs (`scripts/build.sh` builds them): they are not tests,
 # and they would cost two minutes of the budget.
-# The test programs' own code at -O1 (GONIO_TEST_OPTIMIZATION): a third less compile time
-# than -O3, and what they test, the libraries and the tool, keeps the build type's -O3.
-cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DGONIO_BUILD_BENCHMARKS=OFF -DGONIO_TEST_OPTIMIZATION=-O1 >/dev/null
+cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DGONIO_BUILD_BENCHMARKS=OFF >/dev/null
 cmake --build build -j"$jobs"
 ctest --test-dir build --output-on-failure -j"$jobs"
 
@@ -33,11 +31,9 @@ echo "== ASan + UBSan build (clang, with the libFuzzer targets) and tests ==" >&
 # The albedo tables are data, the same for every build type: generated once, by the
 # Release build (a minute of CPU per build otherwise).
 tables="$PWD/build/generated/microfacet_albedo_tables.cpp"
-# The test programs' own code at -O0, still instrumented: half the compile time of -O1
-# (gtest's macros), and the code under test keeps -O1.
 CC=clang CXX=clang++ cmake -S . -B build-sanitize -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_FLAGS_RELEASE="-O1" \
   -DGONIO_FUZZ=ON -DGONIO_BUILD_BENCHMARKS=OFF -DGONIO_REUSE_ALBEDO_TABLES="$tables" \
-  -DGONIO_BUILD_PYTHON=OFF -DGONIO_TEST_OPTIMIZATION=-O0 >/dev/null
+  -DGONIO_BUILD_PYTHON=OFF >/dev/null
 # Only what ctest runs (target gonio_tests) and the fuzz targets: the tools' programs are
 # built by the Release pass.
 cmake --build build-sanitize -j"$jobs" --target gonio_tests gonio_fuzz
