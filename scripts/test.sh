@@ -1,9 +1,9 @@
 #!/usr/bin/env bash
-# Sets up, builds and runs the whole test suite twice: a Release build, then a build
-# under AddressSanitizer + UndefinedBehaviorSanitizer (reduced sample counts) that fails
-# on any sanitizer report; then runs each libFuzzer target of fuzz/ for a fixed time
-# (GONIO_FUZZ_SECONDS, default 10; one target per core at a time) from the seed corpus in
-# fuzz/corpus/. A crash fails the command and leaves its reproducer in
+# Sets up, builds and runs the whole test suite twice: a Release build, then a clang
+# build under AddressSanitizer + UndefinedBehaviorSanitizer (reduced sample counts) that
+# fails on any sanitizer report; then runs each libFuzzer target of fuzz/, built by that
+# same clang build, for a fixed time (GONIO_FUZZ_SECONDS, default 10; one target per core
+# at a time) from the seed corpus in fuzz/corpus/. A crash fails the command and leaves its reproducer in
 # build-sanitize/artifacts/<target>/.
 set -euo pipefail
 cd "$(dirname "$0")/.."
