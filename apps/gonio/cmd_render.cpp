@@ -185,8 +185,7 @@ void register_render(CLI::App& app) {
                 "{\"polarized\": true})");
   cmd->add_option("--polarizer", args->polarizer,
                   "DEG: a linear polarizer before the film, its axis DEG counter-clockwise from the image's +x, "
-                  "-360 to 360 (needs a polarized render; overrides the scene's camera \"polarizer\")")
-;
+                  "-360 to 360 (needs a polarized render; overrides the scene's camera \"polarizer\")");
   cmd->add_option("--dop", args->dop,
                   "with a polarized render, also write PNG: hue the angle, brightness the degree of linear polarization");
   cmd->callback([args] { run_render(*args); });

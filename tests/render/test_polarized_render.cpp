@@ -328,6 +328,12 @@ TEST(PolarizedRender, PolarizerAloneHalvesADepolarizedImage) {
     for (int x = 0; x < 8; ++x) {
       // A diffuse floor under a uniform sky of radiance 1 has radiance ρ = 0.5 (with the
       // noise of its hemisphere sampling); behind the polarizer half of it, all along 30°.
+      // The raw ratios first (linear_polarization clamps the degree to 1): a polarizer
+      // at 30° passes S ∝ (1, cos 60°, sin 60°, 0).
+      const double s0 = luminance(s[0].at(x, y));
+      EXPECT_NEAR(luminance(s[1].at(x, y)) / s0, 0.5, 1e-4);
+      EXPECT_NEAR(luminance(s[2].at(x, y)) / s0, std::sqrt(3.0) / 2, 1e-4);
+      EXPECT_NEAR(luminance(s[3].at(x, y)) / s0, 0, 1e-6);
       const LinearPolarization lp = linear_polarization(s, x, y);
       EXPECT_NEAR(lp.dolp, 1, 1e-4);
       EXPECT_NEAR(lp.aolp_deg, 30, 0.01);
