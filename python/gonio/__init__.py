@@ -36,7 +36,7 @@ from ._gonio import (  # noqa: F401  (the public surface)
 from . import _gonio
 
 if hasattr(_gonio, "render"):
-    from ._gonio import render  # noqa: F401
+    from ._gonio import measure, render  # noqa: F401
 if hasattr(_gonio, "fit"):
     from ._gonio import fit  # noqa: F401
 
@@ -76,4 +76,4 @@ __all__ = [
     "named_index",
     "spherical",
     "subsurface",
-] + [n for n in ("render", "fit") if hasattr(_gonio, n)]
+] + [n for n in ("render", "measure", "fit") if hasattr(_gonio, n)]

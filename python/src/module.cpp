@@ -9,12 +9,17 @@
 
 #include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <cmath>
+#include <condition_variable>
 #include <cstdint>
+#include <exception>
 #include <limits>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -32,11 +37,13 @@
 #include "gonio/subsurface/subsurface.h"
 #include "gonio/validate.h"
 #include "gonio/version.h"
+#include "convert.h"
 #include "parallel.h"
 
 #ifdef GONIO_PYTHON_RENDER
 #include "gonio/render/renderer.h"
 #include "gonio/render/scene_loader.h"
+#include "measure_binding.h"
 #endif
 #ifdef GONIO_PYTHON_FIT
 #include "gonio/fit/fit.h"
@@ -147,14 +154,6 @@ struct AtWavelength {
   SampledWavelengths wavelengths;
   SpectralBxDF bxdf;
 };
-
-std::string json_text_of(const py::object& description) {
-  if (py::isinstance<py::str>(description)) return description.cast<std::string>();
-  if (py::isinstance<py::dict>(description))
-    return py::module_::import("json").attr("dumps")(description).cast<std::string>();
-  throw InputError("Material: expected JSON text (str) or a dict, got " +
-                   py::str(py::type::of(description).attr("__name__")).cast<std::string>());
-}
 
 class Material {
  public:
@@ -352,13 +351,6 @@ double checked_degrees(double v, double lo, double hi, const char* name) {
     throw InputError(std::string(name) + " must be in [" + format_number(lo) + ", " + format_number(hi) +
                      "] degrees, got " + format_number(v));
   return v * kPiD / 180;
-}
-
-std::uint64_t checked_count(std::int64_t v, std::int64_t lo, std::int64_t hi, const char* name) {
-  if (v < lo || v > hi)
-    throw InputError(std::string(name) + " must be an integer from " + std::to_string(lo) + " to " +
-                     std::to_string(hi) + ", got " + std::to_string(v));
-  return std::uint64_t(v);
 }
 
 py::dict albedo(const Material& m, const DoubleArray& theta_a, double phi, bool inside, std::int64_t samples,
@@ -579,11 +571,48 @@ py::array_t<float> render_scene(const py::object& scene_arg, std::optional<int> 
   checked_count(threads, 0, 1024, "threads");
   render::RenderOptions options;
   options.threads = threads;
+  // Ctrl-C: the render runs on a worker thread while this one, the interpreter's, checks
+  // for signals every 100 ms; on one it asks the render to stop (at the next tile), waits
+  // for it and raises the KeyboardInterrupt (or the handler's exception).
+  std::atomic<bool> stop{false};
+  options.stop = &stop;
   render::Image image;
+  std::exception_ptr error;
+  bool interrupted = false;
   {
     py::gil_scoped_release release;
-    image = render::render(scene, options);
+    std::mutex m;
+    std::condition_variable finished;
+    bool done = false;
+    std::thread worker([&] {
+      try {
+        image = render::render(scene, options);
+      } catch (...) {
+        error = std::current_exception();
+      }
+      const std::lock_guard<std::mutex> lock(m);
+      done = true;
+      finished.notify_one();
+    });
+    std::unique_lock<std::mutex> lock(m);
+    while (!finished.wait_for(lock, std::chrono::milliseconds(100), [&] { return done; })) {
+      lock.unlock();
+      {
+        py::gil_scoped_acquire acquire;
+        interrupted = PyErr_CheckSignals() != 0;
+      }
+      lock.lock();
+      if (interrupted) {
+        stop = true;
+        finished.wait(lock, [&] { return done; });
+        break;
+      }
+    }
+    lock.unlock();
+    worker.join();
   }
+  if (interrupted) throw py::error_already_set();
+  if (error) std::rethrow_exception(error);
   auto a = empty_array<float>({image.height(), image.width(), 3});
   float* p = a.mutable_data();
   for (int y = 0; y < image.height(); ++y)
@@ -778,7 +807,9 @@ profile (M, 3), by the material's method (random walk: `samples` paths).
 Render a scene (docs/scene-format.md) as `gonio render` does, returning the linear image
 as a float32 array of shape (H, W, 3), row 0 at the top. scene: a path, JSON text, a dict,
 or None for the built-in default scene. spp, seed override the scene's; threads 0 = all.
+Ctrl-C stops the render at its next tile and raises KeyboardInterrupt.
 )doc");
+  register_measure(mod);
 #endif
 #ifdef GONIO_PYTHON_FIT
   mod.def("fit", &fit, py::arg("data"), py::arg("model"), py::kw_only(), py::arg("distribution") = "",

@@ -11,7 +11,7 @@
 namespace gonio::measure {
 namespace {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr double kInfinity = std::numeric_limits<double>::infinity();
 
 // The highest level a query starts at (it climbs on from there when the ray runs above
 // the surface): docs/benchmarks.md, "gonio measure", for the choice.
@@ -42,7 +42,7 @@ HeightFieldTracer::HeightFieldTracer(const HeightField& field) {
   n_ = n;
   h_ = field.spacing();
   z_.resize(std::size_t(n) * std::size_t(n));
-  double lo = kInf, hi = -kInf;
+  double lo = kInfinity, hi = -kInfinity;
   for (int j = 0; j < n; ++j)
     for (int i = 0; i < n; ++i) {
       const float z = field.z[std::size_t(i) + std::size_t(n) * std::size_t(j)];
@@ -107,7 +107,7 @@ std::size_t HeightFieldTracer::memory_bytes() const {
 HeightFieldTracer::Hit HeightFieldTracer::intersect(const double o[3], const double d[3], double tmax,
                                                     std::uint32_t max_wraps, Stats* stats, int start_level) const {
   Hit hit;
-  hit.t = kInf;
+  hit.t = kInfinity;
   if (!(tmax >= 0)) return hit;
   // Grid coordinates: x and y in cells (cell (i, j) is [i, i+1) × [j, j+1)), z as it is;
   // d is scaled alike, so t is the same parameter as in world coordinates.
@@ -151,11 +151,11 @@ HeightFieldTracer::Hit HeightFieldTracer::intersect(const double o[3], const dou
   // A triangle with edge values w_a (the edge opposite vertex a), w_b, w_c: a hit unless the
   // values have mixed signs (Woop's test, edges included) or all vanish; t = Σ w z / Σ w.
   auto triangle = [tmax](double wa, double wb, double wc, double za, double zb, double zc) {
-    if ((wa < 0 || wb < 0 || wc < 0) && (wa > 0 || wb > 0 || wc > 0)) return kInf;
+    if ((wa < 0 || wb < 0 || wc < 0) && (wa > 0 || wb > 0 || wc > 0)) return kInfinity;
     const double det = wa + wb + wc;
-    if (det == 0) return kInf;
+    if (det == 0) return kInfinity;
     const double t = (wa * za + wb * zb + wc * zc) / det;
-    return t >= 0 && t <= tmax ? t : kInf;
+    return t >= 0 && t <= tmax ? t : kInfinity;
   };
 
   const std::int64_t n = n_;
@@ -183,7 +183,7 @@ HeightFieldTracer::Hit HeightFieldTracer::intersect(const double o[3], const dou
     const double t0 = triangle(e_bc, -e_ac, e_ab, A.z, B.z, C.z);
     // Triangle 1 (B, D, C): opposite B the edge D→C, opposite D C→B, opposite C B→D.
     const double t1 = triangle(-e_cd, -e_bc, e_bd, B.z, D.z, C.z);
-    if (!(t0 < kInf || t1 < kInf)) return false;
+    if (!(t0 < kInfinity || t1 < kInfinity)) return false;
     const bool upper = t1 < t0;
     hit.t = upper ? t1 : t0;
     hit.i = i, hit.j = j, hit.triangle = upper ? 1 : 0;
@@ -212,10 +212,10 @@ HeightFieldTracer::Hit HeightFieldTracer::intersect(const double o[3], const dou
     const std::int64_t x0 = bx + (ax << level), y0 = by + (ay << level);  // its lower corner (cells)
     const double tx = step_x > 0 ? (double(x0 + s) - org[0]) * inv_dx
                       : step_x < 0 ? (double(x0) - org[0]) * inv_dx
-                                   : kInf;
+                                   : kInfinity;
     const double ty = step_y > 0 ? (double(y0 + s) - org[1]) * inv_dy
                       : step_y < 0 ? (double(y0) - org[1]) * inv_dy
-                                   : kInf;
+                                   : kInfinity;
     const double t1 = std::min(std::min(tx, ty), tmax);
     if (stats) ++stats->nodes;
     // The ray's heights over the node's footprint against the node's [min, max] (a cell's

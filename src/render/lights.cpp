@@ -11,7 +11,7 @@
 namespace gonio::render {
 namespace {
 
-Float luminance(const Color& c) {
+Float pixel_weight(const Color& c) {
   if constexpr (kColorChannels == 3) return Float(0.2126) * c[0] + Float(0.7152) * c[1] + Float(0.0722) * c[2];
   else return c.average();
 }
@@ -42,7 +42,7 @@ Environment::Environment(Image map, Float scale, Float rotation_deg)
     Float* col = &col_cdf_[static_cast<size_t>(y) * static_cast<size_t>(w + 1)];
     double row = 0;
     for (int x = 0; x < w; ++x) {
-      row += std::max(0.0, static_cast<double>(luminance(map_.at(x, y)))) * sin_theta;
+      row += std::max(0.0, static_cast<double>(pixel_weight(map_.at(x, y)))) * sin_theta;
       col[x + 1] = static_cast<Float>(row);
     }
     for (int x = 1; x <= w; ++x) col[x] = row > 0 ? static_cast<Float>(col[x] / row) : Float(x) / Float(w);
@@ -114,7 +114,7 @@ Float Environment::pdf(const Vec3& dir) const {
   const int x = std::min(static_cast<int>(uv.x * Float(w)), w - 1);
   const int y = std::min(static_cast<int>(uv.y * Float(h)), h - 1);
   const Float sin_theta = std::sin(kPi * (Float(y) + Float(0.5)) / Float(h));
-  const Float weight = std::max(Float(0), luminance(map_.at(x, y))) * sin_theta;
+  const Float weight = std::max(Float(0), pixel_weight(map_.at(x, y))) * sin_theta;
   const Float sin_dir = std::sqrt(std::max(Float(0), 1 - dir.y * dir.y));
   if (!(sin_dir > 0)) return 0;
   // Density over (u, v) is weight / mean; dω = 2π² sin θ du dv.

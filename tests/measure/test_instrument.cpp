@@ -6,6 +6,7 @@
 #include <cmath>
 #include <complex>
 
+#include "../test_common.h"
 #include "../unit/test_scale.h"
 #include "gonio/error.h"
 #include "gonio/material.h"
@@ -15,7 +16,6 @@
 namespace gonio::measure {
 namespace {
 
-constexpr double kDeg = kPiD / 180;
 
 // Unpolarised Fresnel reflectance from a medium of index 1 onto index n (complex for a
 // conductor), Born & Wolf eqs. 1.5 (20) and 13.2.

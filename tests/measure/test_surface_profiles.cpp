@@ -18,7 +18,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 // A fresh directory under the system's temporary directory, removed at the end.
 struct TempDir {
@@ -47,7 +46,7 @@ TEST(VGroove, FacetSlopesAreExactlyPlusMinusTanAngle) {
     const gm::HeightField& f = s.field;
     ASSERT_EQ(f.n, 10);
     EXPECT_EQ(f.size, 2.0);
-    const double t = std::tan(angle * kPi / 180), h = f.spacing();
+    const double t = std::tan(angle * gonio::kPiD / 180), h = f.spacing();
     for (int j = 0; j < f.n; ++j)
       for (int i = 0; i < f.n; ++i) {
         const double sx = (f.at(i + 1, j) - f.at(i, j)) / h, sy = (f.at(i, j + 1) - f.at(i, j)) / h;

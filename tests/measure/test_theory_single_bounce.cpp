@@ -26,6 +26,7 @@
 #include <cstdio>
 #include <vector>
 
+#include "../test_common.h"
 #include "../unit/test_scale.h"
 #include "gonio/material.h"
 #include "gonio/math/constants.h"
@@ -35,7 +36,6 @@
 namespace gonio::measure {
 namespace {
 
-constexpr double kDeg = kPiD / 180;
 
 struct V {
   double x, y, z;

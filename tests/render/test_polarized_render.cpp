@@ -13,6 +13,7 @@
 
 #include <gtest/gtest.h>
 
+#include "../test_common.h"
 #include "gonio/render/colormap.h"
 #include "gonio/render/stokes_image.h"
 #include "render_test_util.h"
@@ -20,7 +21,6 @@
 namespace gonio::render::test {
 namespace {
 
-constexpr double kDeg = std::numbers::pi / 180;
 
 StokesImages render_stokes(const std::string& json, int threads = 0) {
   const Scene scene = parse_scene(json, "test scene", "");

@@ -10,6 +10,7 @@
 #include <vector>
 #include <string>
 
+#include "../test_common.h"
 #include "gonio/material.h"
 #include "gonio/render/bitmap_font.h"
 #include "gonio/render/colormap.h"
@@ -18,8 +19,6 @@
 namespace gonio::render {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-constexpr double kDeg = kPi / 180;
 constexpr int kSize = 64;  // panel side for these tests
 
 double luma(double r, double g, double b) { return 0.2126 * r + 0.7152 * g + 0.0722 * b; }
@@ -76,7 +75,7 @@ TEST(Slice, DiffuseIsOneColourThatOfItsValueOnTheBar) {
   const SliceFigure fig = make_slice(diffuse, nullptr, o);
   ASSERT_EQ(fig.panels.size(), 1u);
   EXPECT_FALSE(fig.diff_bar);
-  const double y = luma(0.2, 0.5, 0.8) / kPi;  // 0.1457
+  const double y = luma(0.2, 0.5, 0.8) / kPiD;  // 0.1457
   EXPECT_DOUBLE_EQ(fig.lo, 0.1);                // whole decades around it
   EXPECT_DOUBLE_EQ(fig.hi, 1.0);
   const Rect& p = fig.panels[0];
@@ -97,7 +96,7 @@ TEST(Slice, DiffuseIsOneColourThatOfItsValueOnTheBar) {
 double ggx_schlick_luminance(double alpha, const double (&f0)[3], double theta_h, double theta_d) {
   const double a2 = alpha * alpha;
   const double ch = std::cos(theta_h), t2h = std::pow(std::tan(theta_h), 2);
-  const double d = a2 / (kPi * std::pow(ch, 4) * std::pow(a2 + t2h, 2));
+  const double d = a2 / (kPiD * std::pow(ch, 4) * std::pow(a2 + t2h, 2));
   const double cos_io = std::cos(theta_d) * ch;
   const double tan2 = (1 - cos_io * cos_io) / (cos_io * cos_io);
   const double lambda = (-1 + std::sqrt(1 + a2 * tan2)) / 2;
@@ -130,7 +129,7 @@ TEST(Slice, RoughConductorPixelsShowTheClosedFormOnTheBar) {
     const Rect& p = sq.panels[0];
     const int px = int(u * kSize), py = kSize / 2;
     const double uc = (px + 0.5) / kSize, td = (1 - (py + 0.5) / kSize) * 90;
-    const double y = ggx_schlick_luminance(alpha, f0, uc * uc * kPi / 2, td * kDeg);
+    const double y = ggx_schlick_luminance(alpha, f0, uc * uc * kPiD / 2, td * kDeg);
     EXPECT_LT(code_distance(sq.image.at(p.x + px, p.y + py), bar_colour_of_value(sq, y)), kBarTolerance) << "u " << u;
   }
   // The automatic scale: whole decades around the 1st and 99th percentiles of the values
@@ -139,7 +138,7 @@ TEST(Slice, RoughConductorPixelsShowTheClosedFormOnTheBar) {
   std::vector<double> ys;
   for (int py = 0; py < kSize; ++py)
     for (int px = 0; px < kSize; ++px)
-      ys.push_back(ggx_schlick_luminance(alpha, f0, (px + 0.5) / kSize * kPi / 2, (1 - (py + 0.5) / kSize) * kPi / 2));
+      ys.push_back(ggx_schlick_luminance(alpha, f0, (px + 0.5) / kSize * kPiD / 2, (1 - (py + 0.5) / kSize) * kPiD / 2));
   std::sort(ys.begin(), ys.end());
   const double p01 = ys[size_t(0.01 * double(ys.size() - 1))], p99 = ys[size_t(0.99 * double(ys.size() - 1))];
   const SliceFigure automatic = make_slice(rc, nullptr, SliceOptions{.size = kSize});
@@ -171,7 +170,7 @@ TEST(Slice, HorizonIsGreyExactlyWhereWiDips) {
     }
   EXPECT_GT(grey, kSize * kSize / 3);
   // At φd = 180° the roles swap: wo = (sin(θh + θd), 0, cos(θh + θd)) dips.
-  o.phi_d = kPi;
+  o.phi_d = kPiD;
   const SliceFigure swapped = make_slice(diffuse, nullptr, o);
   for (int py = 0; py < p.height; ++py)
     for (int px = 0; px < p.width; ++px) {
@@ -180,7 +179,7 @@ TEST(Slice, HorizonIsGreyExactlyWhereWiDips) {
       ASSERT_EQ(is_horizon(swapped.image.at(p.x + px, p.y + py)), th + td > 90) << th << " " << td;
     }
   // At φd = 90° both directions stay above the horizon everywhere.
-  o.phi_d = kPi / 2;
+  o.phi_d = kPiD / 2;
   const SliceFigure up = make_slice(diffuse, nullptr, o);
   for (int py = 0; py < kSize; ++py)
     for (int px = 0; px < kSize; ++px) ASSERT_FALSE(is_horizon(up.image.at(up.panels[0].x + px, up.panels[0].y + py)));

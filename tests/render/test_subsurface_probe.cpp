@@ -91,7 +91,7 @@ TEST(SubsurfaceProbe, FlatSlabExitsReproduceTheProfile) {
   std::vector<std::array<Tally, 3>> tally(kBins), bottom(kBins);
   std::vector<double> bottom_edge(kBins + 1);
   for (int k = 0; k <= kBins; ++k) bottom_edge[static_cast<size_t>(k)] = 0.01 * reach * std::pow(100.0, double(k) / kBins);
-  const std::uint64_t n = test::scaled(300000, 30000);
+  const std::uint64_t n = gonio::test::scaled(300000, 30000);
   Pcg32 rng(11);
   std::uint64_t found = 0;
   for (std::uint64_t i = 0; i < n; ++i) {
@@ -156,7 +156,7 @@ TEST(SubsurfaceProbe, SphereExitsIntegrateTheProfile) {
   // Four zones of polar angle about the entry (at the pole): ∫ Sp(2R sin(θ/2)) 2π R² sin θ dθ.
   constexpr int kZones = 4;
   std::vector<std::array<Tally, 3>> tally(kZones);
-  const std::uint64_t n = test::scaled(300000, 30000);
+  const std::uint64_t n = gonio::test::scaled(300000, 30000);
   Pcg32 rng(5);
   for (std::uint64_t i = 0; i < n; ++i) {
     const auto exit = sample_probe_exit(accel, entry, frame, p, rng);

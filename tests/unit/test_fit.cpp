@@ -21,12 +21,11 @@ namespace gonio {
 namespace {
 
 using json = nlohmann::json;
-constexpr double kPi = 3.14159265358979323846;
 
 // SPEC §2: entry (i, j, k) at θh = ((i + ½)/90)² π/2, θd = (j + ½)°, φd = (k + ½)°.
-double theta_h(int i) { return (i + 0.5) / 90 * ((i + 0.5) / 90) * kPi / 2; }
-double theta_d(int j) { return (j + 0.5) * kPi / 180; }
-double phi_d(int k) { return (k + 0.5) * kPi / 180; }
+double theta_h(int i) { return (i + 0.5) / 90 * ((i + 0.5) / 90) * kPiD / 2; }
+double theta_d(int j) { return (j + 0.5) * kPiD / 180; }
+double phi_d(int k) { return (k + 0.5) * kPiD / 180; }
 
 // (wo, wi) of Rusinkiewicz's angles with φh = 0: d in the frame of h = (sin θh, 0, cos θh),
 // wi = d rotated by θh about y, wo = wi mirrored about h.
@@ -191,7 +190,7 @@ TEST(Fit, ReportedErrorIsTheDocumentedMetricOverTheWholeTable) {
 // (4 · 2π · Δθd · Δφd, × 2 for φd folded into [0, π)) is the measure of the pairs (ωi, ωo)
 // of two hemispheres, (2π)², up to the bins cut by the horizon.
 TEST(Fit, EntryWeightsIntegrateToTheMeasureOfTwoHemispheres) {
-  const double dtheta = kPi / 180;
+  const double dtheta = kPiD / 180;
   double sum = 0;
   for (int i = 0; i < 90; ++i)
     for (int j = 0; j < 90; ++j)
@@ -199,8 +198,8 @@ TEST(Fit, EntryWeightsIntegrateToTheMeasureOfTwoHemispheres) {
         const auto [wo, wi] = merl_directions(merl_theta_h(i), merl_theta_d(j), merl_phi_d(k));
         if (wo.z > 0 && wi.z > 0) sum += merl_entry_weight(i, j);
       }
-  sum *= 4 * 2 * kPi * dtheta * dtheta * 2;
-  EXPECT_NEAR(sum, 4 * kPi * kPi, 0.01 * 4 * kPi * kPi);
+  sum *= 4 * 2 * kPiD * dtheta * dtheta * 2;
+  EXPECT_NEAR(sum, 4 * kPiD * kPiD, 0.01 * 4 * kPiD * kPiD);
 }
 
 TEST(Fit, EveryModelGivesAValidMaterialAndAFiniteError) {

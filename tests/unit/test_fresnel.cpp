@@ -7,6 +7,7 @@
 #include <cmath>
 #include <complex>
 
+#include "../test_common.h"
 #include "gonio/bxdf/conductor.h"
 #include "gonio/bxdf/dielectric.h"
 #include "gonio/fresnel.h"
@@ -14,7 +15,6 @@
 namespace gonio {
 namespace {
 
-constexpr double kDeg = kPiD / 180;
 
 struct DielectricCase {
   double eta, theta, rs, rp;

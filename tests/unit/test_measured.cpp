@@ -32,7 +32,6 @@ namespace gonio {
 namespace {
 
 namespace mf = gonio_test_merl;
-constexpr double kPi = mf::kPi;
 
 struct D3 {
   double x, y, z;
@@ -58,7 +57,7 @@ double ggx_f(D3 wo, D3 wi, double alpha, double f0) {
   if (wo.z <= 0 || wi.z <= 0) return 0;
   const D3 h = unit(wo + wi);
   const double a2 = alpha * alpha, c2 = h.z * h.z;
-  const double d = a2 / (kPi * std::pow(c2 * (a2 - 1) + 1, 2));
+  const double d = a2 / (kPiD * std::pow(c2 * (a2 - 1) + 1, 2));
   auto lambda = [&](D3 w) {
     const double t2 = (1 - w.z * w.z) / (w.z * w.z);
     return (std::sqrt(1 + a2 * t2) - 1) / 2;
@@ -67,12 +66,12 @@ double ggx_f(D3 wo, D3 wi, double alpha, double f0) {
   const double f = f0 + (1 - f0) * std::pow(1 - dot(wo, h), 5);
   return d * g2 * f / (4 * wo.z * wi.z);
 }
-constexpr const char* kGgx = R"({"type":"roughconductor","alpha":0.2,"fresnel":"schlick","f0":0.8})";
+constexpr const char* kGgxMaterial = R"({"type":"roughconductor","alpha":0.2,"fresnel":"schlick","f0":0.8})";
 
-// A table of gonio's tabulation of kGgx, written by gonio, once per process.
-const std::string& ggx_table() {
+// A table of gonio's tabulation of kGgxMaterial, written by gonio, once per process.
+const std::string& ggx_table_path() {
   static const mf::TempTable table(mf::temp_path("ggx"));
-  static const bool written = (write_merl(table.path, tabulate(parse_material(kGgx))), true);
+  static const bool written = (write_merl(table.path, tabulate(parse_material(kGgxMaterial))), true);
   (void)written;
   return table.path;
 }
@@ -173,20 +172,20 @@ TEST(HalfDiff, MatchesRusinkiewiczFramesAndFoldsByReciprocity) {
   std::mt19937 rng(3);
   std::uniform_real_distribution<double> u(0, 1);
   for (int n = 0; n < 2000; ++n) {
-    const double th = u(rng) * kPi / 2 * 0.95, td = u(rng) * kPi / 2 * 0.95, pd = u(rng) * 2 * kPi;
+    const double th = u(rng) * kPiD / 2 * 0.95, td = u(rng) * kPiD / 2 * 0.95, pd = u(rng) * 2 * kPiD;
     const auto [wo, wi] = directions(th, td, pd);
     const HalfDiff a = half_diff(to_vec(wo), to_vec(wi));
     EXPECT_NEAR(a.theta_h, th, 2e-6);
     EXPECT_NEAR(a.theta_d, td, 2e-6);
     EXPECT_GE(a.phi_d, 0);  // folded into [0, π) (SPEC §2)
-    EXPECT_LT(a.phi_d, kPi);
-    const double folded = std::fmod(pd, kPi);
+    EXPECT_LT(a.phi_d, kPiD);
+    const double folded = std::fmod(pd, kPiD);
     const double dphi = std::abs(a.phi_d - folded);
-    EXPECT_LT(std::min(dphi, kPi - dphi), 1e-4 / std::max(std::sin(td), 1e-3)) << th << " " << td << " " << pd;
+    EXPECT_LT(std::min(dphi, kPiD - dphi), 1e-4 / std::max(std::sin(td), 1e-3)) << th << " " << td << " " << pd;
     // Swapping the directions adds π to φd: the same folded entry.
     const HalfDiff b = half_diff(to_vec(wi), to_vec(wo));
     const double dswap = std::abs(a.phi_d - b.phi_d);
-    EXPECT_LT(std::min(dswap, kPi - dswap), 1e-4 / std::max(std::sin(td), 1e-3));
+    EXPECT_LT(std::min(dswap, kPiD - dswap), 1e-4 / std::max(std::sin(td), 1e-3));
     // merl_directions is the inverse.
     const auto [o2, i2] = merl_directions(th, td, pd);
     EXPECT_NEAR(o2.x, wo.x, 1e-6);
@@ -200,7 +199,7 @@ TEST(HalfDiff, MatchesRusinkiewiczFramesAndFoldsByReciprocity) {
 
 // A table written from GGX reads back to GGX at the bin centres, within float rounding.
 TEST(Measured, ReadsBackTheTabulatedModelAtBinCentres) {
-  const BxDF m = measured(ggx_table());
+  const BxDF m = measured(ggx_table_path());
   std::mt19937 rng(5);
   int checked = 0;
   for (int n = 0; n < 20000; ++n) {
@@ -226,9 +225,9 @@ double interpolate(const std::function<double(int, int, int)>& g, double th, dou
   };
   int i0, j0;
   double ti, tj;
-  clamp_axis(90 * std::sqrt(th / (kPi / 2)) - 0.5, 90, i0, ti);
-  clamp_axis(td * 180 / kPi - 0.5, 90, j0, tj);
-  double w = pd * 180 / kPi - 0.5;
+  clamp_axis(90 * std::sqrt(th / (kPiD / 2)) - 0.5, 90, i0, ti);
+  clamp_axis(td * 180 / kPiD - 0.5, 90, j0, tj);
+  double w = pd * 180 / kPiD - 0.5;
   w -= 180 * std::floor(w / 180);
   const int k0 = std::min(int(w), 179), k1 = (k0 + 1) % 180;
   const double tk = w - k0;
@@ -244,7 +243,7 @@ double interpolate(const std::function<double(int, int, int)>& g, double th, dou
   return sum > 0 ? acc / sum : 0;
 }
 
-double smooth(int i, int j, int k) { return 1 + 0.01 * i + 0.02 * j + 0.3 * std::cos(2 * kPi * (k + 0.5) / 180); }
+double smooth(int i, int j, int k) { return 1 + 0.01 * i + 0.02 * j + 0.3 * std::cos(2 * kPiD * (k + 0.5) / 180); }
 double holes(int i, int j, int k) { return (k % 2 == 1 || (i == 40 && j == 40)) ? -1.0 : smooth(i, j, k); }
 
 TEST(Measured, InterpolatesTrilinearlyInTheTableCoordinatesWithEdgesAndHoles) {
@@ -256,9 +255,9 @@ TEST(Measured, InterpolatesTrilinearlyInTheTableCoordinatesWithEdgesAndHoles) {
     std::uniform_real_distribution<double> u(0, 1);
     for (int n = 0; n < 4000; ++n) {
       // Edges included: θh below the first centre, θd beyond the last, φd across the seam.
-      double th = u(rng) * kPi / 2 * 0.9, td = u(rng) * kPi / 2, pd = u(rng) * 2 * kPi;
+      double th = u(rng) * kPiD / 2 * 0.9, td = u(rng) * kPiD / 2, pd = u(rng) * 2 * kPiD;
       if (n % 4 == 1) th = u(rng) * 4e-5;
-      if (n % 4 == 2) td = (89.5 + 0.5 * u(rng)) * kPi / 180;
+      if (n % 4 == 2) td = (89.5 + 0.5 * u(rng)) * kPiD / 180;
       if (n % 4 == 3) pd = (u(rng) - 0.5) * 0.02;
       const auto [wo, wi] = directions(th, td, pd);
       if (wo.z < 1e-3 || wi.z < 1e-3) continue;
@@ -269,9 +268,9 @@ TEST(Measured, InterpolatesTrilinearlyInTheTableCoordinatesWithEdgesAndHoles) {
     if (g == &holes) {
       // All eight neighbours of the point between centres (40, 40) and (41, 41) at an odd k
       // and its even neighbour: (40, 40, ·) is missing, the others not.
-      const auto [wo, wi] = directions(std::pow(41.0 / 90, 2) * kPi / 2, 41.0 * kPi / 180, 20.7 * kPi / 180);
-      EXPECT_NEAR(m.f(to_vec(wo), to_vec(wi))[0], interpolate(holes, std::pow(41.0 / 90, 2) * kPi / 2, 41.0 * kPi / 180,
-                                                               20.7 * kPi / 180),
+      const auto [wo, wi] = directions(std::pow(41.0 / 90, 2) * kPiD / 2, 41.0 * kPiD / 180, 20.7 * kPiD / 180);
+      EXPECT_NEAR(m.f(to_vec(wo), to_vec(wi))[0], interpolate(holes, std::pow(41.0 / 90, 2) * kPiD / 2, 41.0 * kPiD / 180,
+                                                               20.7 * kPiD / 180),
                   1e-4);
     }
   }
@@ -288,7 +287,7 @@ TEST(Measured, InterpolatesTrilinearlyInTheTableCoordinatesWithEdgesAndHoles) {
 // trilinear interpolation, (1/8) Σ_axes h² |∂²f/∂x²| (the second differences of the closed
 // form over the cell, taken at its corners; Burden & Faires, linear interpolation error).
 TEST(Measured, BetweenBinsWithinTheInterpolationError) {
-  const BxDF m = measured(ggx_table());
+  const BxDF m = measured(ggx_table_path());
   auto f_at = [](int i, int j, int k) {
     const auto [wo, wi] = directions(mf::theta_h(i), mf::theta_d(j), mf::phi_d((k + 180) % 180));
     return ggx_f(wo, wi, 0.2, 0.8);
@@ -298,7 +297,7 @@ TEST(Measured, BetweenBinsWithinTheInterpolationError) {
   int checked = 0;
   for (int n = 0; n < 3000; ++n) {
     const double uc = 1 + u(rng) * 80, vc = 1 + u(rng) * 60, wc = u(rng) * 179;
-    const double th = std::pow((uc + 0.5) / 90, 2) * kPi / 2, td = (vc + 0.5) * kPi / 180, pd = (wc + 0.5) * kPi / 180;
+    const double th = std::pow((uc + 0.5) / 90, 2) * kPiD / 2, td = (vc + 0.5) * kPiD / 180, pd = (wc + 0.5) * kPiD / 180;
     const auto [wo, wi] = directions(th, td, pd);
     if (wo.z < 0.1 || wi.z < 0.1) continue;
     const int i0 = int(uc), j0 = int(vc), k0 = int(wc);
@@ -324,7 +323,7 @@ TEST(Measured, BetweenBinsWithinTheInterpolationError) {
 }
 
 TEST(Measured, ReflectsOnBothSidesAndNeverAcross) {
-  const BxDF m = measured(ggx_table());
+  const BxDF m = measured(ggx_table_path());
   const Vec3 wo = normalize(Vec3{0.3f, 0.1f, 0.8f}), wi = normalize(Vec3{-0.2f, 0.3f, 0.9f});
   const Vec3 wo_b{wo.x, wo.y, -wo.z}, wi_b{wi.x, wi.y, -wi.z};
   EXPECT_EQ(m.f(wo, wi)[0], m.f(wo_b, wi_b)[0]);
@@ -349,7 +348,7 @@ TEST(Tabulate, RefusesWhatATableCannotHold) {
   const auto [wo, wi] = directions(mf::theta_h(89), mf::theta_d(80), mf::phi_d(0));
   ASSERT_TRUE(wo.z < 0 || wi.z < 0);
   EXPECT_FALSE(t.measured(89, 80, 0));
-  EXPECT_NEAR(t.at(10, 10, 10)[0], 0.5 / kPi, 1e-7);
+  EXPECT_NEAR(t.at(10, 10, 10)[0], 0.5 / kPiD, 1e-7);
 }
 
 // --- sampling ----------------------------------------------------------------------
@@ -360,7 +359,7 @@ TEST(Tabulate, RefusesWhatATableCannotHold) {
 TEST(Measured, ValidatorPasses) {
   ValidationOptions o;
   o.scale = double(test::scaled(100000, 1)) / 1e6;
-  for (const std::string& path : {ggx_table(), gonio_test_merl::lambert_table()}) {
+  for (const std::string& path : {ggx_table_path(), gonio_test_merl::lambert_table()}) {
     const ValidationReport r = validate(measured(path), o);
     for (const auto& p : r.properties) EXPECT_TRUE(p.pass) << path << ": " << p.name << ": " << p.detail;
   }
@@ -376,7 +375,7 @@ TEST(Measured, SamplingCutsTheVarianceOfCosineSamplingTenfold) {
   std::uniform_real_distribution<float> u(0, 0.99999f);
   const std::uint64_t n = test::scaled(200000, 20000);
   for (double theta_deg : {0.0, 30.0, 60.0}) {
-    const double t = theta_deg * kPi / 180;
+    const double t = theta_deg * kPiD / 180;
     const Vec3 wo{Float(std::sin(t)), 0, Float(std::cos(t))};
     double s1 = 0, s2 = 0, c1 = 0, c2 = 0;
     for (std::uint64_t i = 0; i < n; ++i) {
@@ -384,7 +383,7 @@ TEST(Measured, SamplingCutsTheVarianceOfCosineSamplingTenfold) {
       const double w = s ? s->weight[0] : 0;
       s1 += w, s2 += w * w;
       const Vec3 wi = square_to_cosine_hemisphere(u(rng), u(rng));
-      const double wc = wi.z > 0 ? m.f(wo, wi)[0] * kPi : 0;  // f cos / (cos/π)
+      const double wc = wi.z > 0 ? m.f(wo, wi)[0] * kPiD : 0;  // f cos / (cos/π)
       c1 += wc, c2 += wc * wc;
     }
     const double var_model = s2 / double(n) - std::pow(s1 / double(n), 2);
@@ -403,7 +402,7 @@ TEST(Measured, SpectralValueOfAGreyTableIsItsValueAtEveryWavelength) {
   for (Float lambda : {380.0f, 550.0f, 700.0f}) {
     SampledWavelengths w = SampledWavelengths::single(lambda);
     const SpectralBxDF s = to_spectral(m.bxdf, m.spectra, w, scratch);
-    EXPECT_NEAR(s.f(wo, wi)[0], 0.5 / kPi, 1e-5) << lambda;
+    EXPECT_NEAR(s.f(wo, wi)[0], 0.5 / kPiD, 1e-5) << lambda;
   }
 }
 

@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "../test_common.h"
 #include "../data_csv.h"
 #include "gonio/metals.h"
 
@@ -24,7 +25,6 @@ using gonio_test_data::read_data;
 
 // Normal incidence from vacuum onto n + ik: ((n−1)² + k²)/((n+1)² + k²) (Born & Wolf
 // §14.2, eq. 21 at θ = 0; SPEC §3).
-double f0(double n, double k) { return ((n - 1) * (n - 1) + k * k) / ((n + 1) * (n + 1) + k * k); }
 
 // Linear sRGB (D65 white) of the metal's normal-incidence reflectance spectrum, not clamped:
 // XYZ = ∫ R D65 x̄ȳz̄ dλ / ∫ D65 ȳ dλ over 360–830 nm (CIE 15:2004 §7.1), every table
@@ -40,7 +40,7 @@ std::array<double, 3> spectral_rgb(const std::string& metal) {
     const double l = a + i * h;
     const double w = (i == 0 || i == steps) ? 1 : (i % 2 ? 4 : 2);
     const double e = lerp_rows(d65, l);
-    const double r = f0(lerp_rows(nk, l, 1), lerp_rows(nk, l, 2));
+    const double r = normal_incidence_reflectance(lerp_rows(nk, l, 1), lerp_rows(nk, l, 2));
     for (int j = 0; j < 3; ++j) xyz[j] += w * r * e * lerp_rows(cmf, l, size_t(j) + 1);
     white += w * e * lerp_rows(cmf, l, 2);
   }
@@ -63,7 +63,7 @@ TEST(Metals, RgbNormalIncidenceIsTheColourOfTheMeasuredSpectrum) {
     const auto rgb = spectral_rgb(std::string(name));
     for (int c = 0; c < 3; ++c) {
       EXPECT_TRUE(std::isfinite(m->eta[c]) && std::isfinite(m->k[c])) << name << " channel " << c;
-      EXPECT_NEAR(f0(m->eta[c], m->k[c]), channel_target(rgb[size_t(c)]), 1e-3) << name << " channel " << c;
+      EXPECT_NEAR(normal_incidence_reflectance(m->eta[c], m->k[c]), channel_target(rgb[size_t(c)]), 1e-3) << name << " channel " << c;
     }
   }
 }
@@ -91,7 +91,7 @@ TEST(Metals, GoldRgbWithinTwoPercentOfSpectral) {
   EXPECT_GT(rgb[0], 1.0);  // why the clamp and the cap exist
   for (int c = 0; c < 3; ++c) {
     const double spectral = std::clamp(rgb[size_t(c)], 0.0, 1.0);
-    EXPECT_NEAR(f0(au.eta[c], au.k[c]) / spectral, 1.0, 0.02) << "channel " << c;
+    EXPECT_NEAR(normal_incidence_reflectance(au.eta[c], au.k[c]) / spectral, 1.0, 0.02) << "channel " << c;
   }
   // This file's quadrature against the Python reference's trapezoid
   // (tests/reference/models_reference.py, metal_reflectance_rgb("Au")). The point samples at

@@ -12,6 +12,7 @@
 #include <utility>
 #include <vector>
 
+#include "../test_common.h"
 #include "gonio/bxdf.h"
 #include "gonio/dielectric_multiscatter.h"
 #include "gonio/material.h"
@@ -26,7 +27,6 @@
 namespace gonio {
 namespace {
 
-constexpr double kDeg = kPiD / 180;
 
 Vec3 sph(double theta_deg, double phi_deg) {
   return direction_from_angles(Float(theta_deg * kDeg), Float(phi_deg * kDeg));

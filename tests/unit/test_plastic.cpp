@@ -11,6 +11,7 @@
 #include <utility>
 #include <vector>
 
+#include "../test_common.h"
 #include "gonio/bxdf.h"
 #include "gonio/error.h"
 #include "gonio/material.h"
@@ -22,7 +23,6 @@
 namespace gonio {
 namespace {
 
-constexpr double kDeg = kPiD / 180;
 
 // White base (ρ = 1) under a coat that absorbs nothing: every joule that arrives leaves,
 // so the directional albedo is 1 at every θ (issue 9: within [0.99, 1.005]). Before the

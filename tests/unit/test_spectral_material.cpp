@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include "../test_common.h"
 #include "../merl_files.h"
 
 #include <algorithm>
@@ -40,7 +41,7 @@ SpectralBxDF spectral(const MaterialWithSpectra& m, SampledWavelengths& w, Spect
   return to_spectral(m.bxdf, m.spectra, w, scratch, textured);
 }
 
-Vec3 dir(double theta_deg, double phi_deg) {
+Vec3 dir_deg(double theta_deg, double phi_deg) {
   const double t = theta_deg * kPiD / 180, p = phi_deg * kPiD / 180;
   return Vec3{Float(std::sin(t) * std::cos(p)), Float(std::sin(t) * std::sin(p)), Float(std::cos(t))};
 }
@@ -69,7 +70,6 @@ std::array<double, 3> srgb_under_d65(const std::function<double(double)>& R) {
 }
 
 // Normal incidence from vacuum onto n + ik (Born & Wolf §14.2, eq. 21 at θ = 0).
-double f0(double n, double k) { return ((n - 1) * (n - 1) + k * k) / ((n + 1) * (n + 1) + k * k); }
 
 // Schott N-BK7, Sellmeier formula n² − 1 = Σ B_i λ² / (λ² − C_i), λ in µm, C in µm²
 // (SCHOTT optical glass data sheet N-BK7, 2014: B = 1.03961212, 0.231792344, 1.01046945;
@@ -155,7 +155,7 @@ TEST(SpectralMaterial, EveryTypeConvertsAndGreyGivesTheRgbModelAtEveryWavelength
         EXPECT_FALSE(w.secondary_terminated()) << json << ": a constant index must not terminate";
         for (double to : {0.0, 30.0, 75.0, 89.0, 150.0}) {
           for (double ti : {10.0, 45.0, 85.0, 120.0, 179.0}) {
-            const Vec3 wo = dir(to, 20), wi = dir(ti, 200);
+            const Vec3 wo = dir_deg(to, 20), wi = dir_deg(ti, 200);
             const Color fr = m.bxdf.f(wo, wi);
             const SampledSpectrum fs = s.f(wo, wi);
             for (int j = 0; j < 4; ++j)
@@ -165,7 +165,7 @@ TEST(SpectralMaterial, EveryTypeConvertsAndGreyGivesTheRgbModelAtEveryWavelength
           }
           // Sampling with the same random numbers: same direction, same weight per λ.
           for (double u : {0.1, 0.5, 0.93}) {
-            const Vec3 wo = dir(to, 20);
+            const Vec3 wo = dir_deg(to, 20);
             const auto r = m.bxdf.sample(wo, Float(u), Float(0.3), Float(0.7));
             const auto q = s.sample(wo, Float(u), Float(0.3), Float(0.7));
             ASSERT_EQ(bool(r), bool(q)) << json;
@@ -188,7 +188,7 @@ TEST(SpectralMaterial, GreyReflectanceIsFlat) {
     const auto m = parse_material_with_spectra(R"({"type":"diffuse","reflectance":)" + std::to_string(c) + "}");
     for (int i = 0; i <= 47; ++i) {
       SampledWavelengths w = at(360 + 10 * i);
-      const SampledSpectrum f = spectral(m, w, scratch).f(dir(0, 0), dir(30, 90));
+      const SampledSpectrum f = spectral(m, w, scratch).f(dir_deg(0, 0), dir_deg(30, 90));
       for (int j = 0; j < 4; ++j) EXPECT_NEAR(f[j] * kPiD, c, 1e-6) << "c=" << c << " λ=" << w[j];
     }
   }
@@ -199,7 +199,7 @@ TEST(SpectralMaterial, GreyReflectanceIsFlat) {
 double diffuse_rho(const MaterialWithSpectra& m, double lambda, TexturedColours textured = 0) {
   SpectralScratch scratch;
   SampledWavelengths w = at(lambda);
-  return double(spectral(m, w, scratch, textured).f(dir(0, 0), dir(40, 0))[0]) * kPiD;
+  return double(spectral(m, w, scratch, textured).f(dir_deg(0, 0), dir_deg(40, 0))[0]) * kPiD;
 }
 
 // An RGB reflectance's spectrum, reduced to linear sRGB under D65 by this file's own
@@ -217,7 +217,7 @@ TEST(SpectralMaterial, RgbColoursRoundTripThroughTheirSpectrum) {
     const auto back_mirror = srgb_under_d65([&](double l) {
       SpectralScratch scratch;
       SampledWavelengths w = at(l);
-      return double(spectral(mirror, w, scratch).sample(dir(0, 0), 0.5f, 0.5f, 0.5f)->weight[0]);
+      return double(spectral(mirror, w, scratch).sample(dir_deg(0, 0), 0.5f, 0.5f, 0.5f)->weight[0]);
     });
     const auto back_on = srgb_under_d65([&](double l) { return diffuse_rho(on, l); });
     for (int k = 0; k < 3; ++k) {
@@ -233,7 +233,7 @@ TEST(SpectralMaterial, RgbColoursRoundTripThroughTheirSpectrum) {
     SpectralScratch scratch;
     for (int i = 0; i < n; ++i) {
       SampledWavelengths w = SampledWavelengths::sample_visible(Float((i + 0.5) / n));
-      const SampledSpectrum rho = spectral(diffuse, w, scratch).f(dir(0, 0), dir(40, 0)) * Float(kPiD);
+      const SampledSpectrum rho = spectral(diffuse, w, scratch).f(dir_deg(0, 0), dir_deg(40, 0)) * Float(kPiD);
       SampledSpectrum d;
       for (int j = 0; j < 4; ++j) d[j] = Float(lerp_rows(d65, w[j]));
       const Color out = xyz_to_linear_srgb(to_xyz(rho * d, w));
@@ -293,15 +293,15 @@ TEST(SpectralMaterial, EveryColourParameterIsItsUpsampledSpectrum) {
       const SpectralBxDF s = spectral(m, w, scratch);
       for (double to : {0.0, 35.0, 80.0}) {
         for (double ti : {5.0, 35.0, 60.0, 88.0}) {
-          const Vec3 wo = dir(to, 0), wi = dir(ti, 160);
+          const Vec3 wo = dir_deg(to, 0), wi = dir_deg(ti, 160);
           const double e = grey.f(wo, wi)[0];
           EXPECT_NEAR(s.f(wo, wi)[0], e, 1e-4 * std::max(1.0, e)) << t << " λ=" << w[0] << " θo=" << to << " θi=" << ti;
         }
         // A delta-only model has no f: compare its sampled weight. (Other models may choose
         // lobes by the mean over the wavelengths, so their samples legitimately differ.)
         if (!is_delta_only(grey.flags())) continue;
-        const auto q = s.sample(dir(to, 0), 0.4f, 0.3f, 0.6f);
-        const auto r = grey.sample(dir(to, 0), 0.4f, 0.3f, 0.6f);
+        const auto q = s.sample(dir_deg(to, 0), 0.4f, 0.3f, 0.6f);
+        const auto r = grey.sample(dir_deg(to, 0), 0.4f, 0.3f, 0.6f);
         ASSERT_EQ(bool(q), bool(r)) << t;
         if (q) {
           EXPECT_NEAR(q->weight[0], r->weight[0], 1e-4 * std::max(1.0f, r->weight[0])) << t << " λ=" << w[0];
@@ -362,7 +362,7 @@ TEST(SpectralMaterial, BlendsConvertBothParts) {
   SpectralScratch scratch;
   for (double lambda : {360.0, 420.0, 555.5, 600.0, 777.0}) {
     SampledWavelengths w = at(lambda);
-    const SampledSpectrum f = spectral(m, w, scratch).f(dir(10, 0), dir(50, 180));
+    const SampledSpectrum f = spectral(m, w, scratch).f(dir_deg(10, 0), dir_deg(50, 180));
     for (int j = 0; j < 4; ++j)
       EXPECT_NEAR(f[j] * kPiD, 0.7 * rho0(w[j]) + 0.3 * rho1(w[j]), 1e-5) << "λ=" << w[j];
   }
@@ -379,7 +379,7 @@ TEST(SpectralMaterial, BlendsConvertBothParts) {
       {"type":"blend","weight":1,"bsdfs":[{"type":"diffuse","reflectance":0},{"type":"diffuse","reflectance":{"spectrum":[[360,1],[600,0.2],[830,0.5]]}}]}]})");
   for (double lambda : {400.0, 650.0}) {
     SampledWavelengths wl = at(lambda);
-    const SampledSpectrum f = spectral(nested, wl, scratch).f(dir(10, 0), dir(50, 180));
+    const SampledSpectrum f = spectral(nested, wl, scratch).f(dir_deg(10, 0), dir_deg(50, 180));
     for (int j = 0; j < 4; ++j)
       EXPECT_NEAR(f[j] * kPiD, 0.25 * rho0(wl[j]) + 0.5 * rho1(wl[j]), 1e-5) << "nested, λ=" << wl[j];
   }
@@ -417,9 +417,9 @@ TEST(SpectralMaterial, TexturedColoursAreUpsampledFromTheirRgbValue) {
   SpectralScratch scratch;
   for (const auto& [lambda, nk] : expected) {
     SampledWavelengths w = at(lambda);
-    const auto s = spectral(ti, w, scratch, bits).sample(dir(0, 0), 0.5f, 0.5f, 0.5f);
+    const auto s = spectral(ti, w, scratch, bits).sample(dir_deg(0, 0), 0.5f, 0.5f, 0.5f);
     ASSERT_TRUE(s);
-    EXPECT_NEAR(s->weight[0], f0(nk.first, nk.second), 1e-4) << lambda;
+    EXPECT_NEAR(s->weight[0], normal_incidence_reflectance(nk.first, nk.second), 1e-4) << lambda;
   }
 }
 
@@ -437,24 +437,24 @@ TEST(SpectralMaterial, GoldSpectralAlbedoMatchesTheMeasuredSpectrum) {
   double worst = 0;
   auto gonio_albedo = [&](double l) {
     SampledWavelengths w = at(l);
-    const auto a = spectral(au, w, scratch).exact_albedo(dir(0, 0), TransportMode::Radiance);
+    const auto a = spectral(au, w, scratch).exact_albedo(dir_deg(0, 0), TransportMode::Radiance);
     EXPECT_TRUE(a);
-    const double expect = f0(lerp_rows(nk, w[0], 1), lerp_rows(nk, w[0], 2));
+    const double expect = normal_incidence_reflectance(lerp_rows(nk, w[0], 1), lerp_rows(nk, w[0], 2));
     worst = std::max(worst, std::abs(double(a->reflectance[0]) - expect));
     // The sampled reflection at normal incidence carries the same weight.
-    const auto s = spectral(au, w, scratch).sample(dir(0, 0), 0.5f, 0.5f, 0.5f);
+    const auto s = spectral(au, w, scratch).sample(dir_deg(0, 0), 0.5f, 0.5f, 0.5f);
     EXPECT_TRUE(s && std::abs(double(s->weight[0]) - double(a->reflectance[0])) < 1e-6) << l;
     return double(a->reflectance[0]);
   };
   const auto spectral_rgb = srgb_under_d65(gonio_albedo);
   const auto measured_rgb =
-      srgb_under_d65([&](double l) { return f0(lerp_rows(nk, l, 1), lerp_rows(nk, l, 2)); });
+      srgb_under_d65([&](double l) { return normal_incidence_reflectance(lerp_rows(nk, l, 1), lerp_rows(nk, l, 2)); });
   EXPECT_LT(worst, 1e-4) << "gonio's F0(λ) against the CSV interpolated linearly in n and k";
   for (int c = 0; c < 3; ++c) EXPECT_NEAR(spectral_rgb[size_t(c)], measured_rgb[size_t(c)], 5e-4) << "channel " << c;
   // Gold's red is outside the sRGB gamut (> 1 before a clamp); RGB mode's F0 is the colour
   // clamped to [0, 1] (README "Named metals"), so compare after the same clamp.
   EXPECT_GT(spectral_rgb[0], 1.0);
-  const auto rgb = au.bxdf.exact_albedo(dir(0, 0), TransportMode::Radiance);
+  const auto rgb = au.bxdf.exact_albedo(dir_deg(0, 0), TransportMode::Radiance);
   ASSERT_TRUE(rgb);
   for (int c = 0; c < 3; ++c) {
     const double target = std::clamp(spectral_rgb[size_t(c)], 0.0, 1.0);
@@ -465,10 +465,10 @@ TEST(SpectralMaterial, GoldSpectralAlbedoMatchesTheMeasuredSpectrum) {
   // wavelengths is the ratio of their F0.
   for (double l : {450.0, 650.0}) {
     SampledWavelengths w = at(l), w2 = at(550);
-    const double a = spectral(rough, w, scratch).f(dir(0, 0), dir(0, 0))[0];
-    const double b = spectral(rough, w2, scratch).f(dir(0, 0), dir(0, 0))[0];
-    const double ea = f0(lerp_rows(nk, w[0], 1), lerp_rows(nk, w[0], 2));
-    const double eb = f0(lerp_rows(nk, w2[0], 1), lerp_rows(nk, w2[0], 2));
+    const double a = spectral(rough, w, scratch).f(dir_deg(0, 0), dir_deg(0, 0))[0];
+    const double b = spectral(rough, w2, scratch).f(dir_deg(0, 0), dir_deg(0, 0))[0];
+    const double ea = normal_incidence_reflectance(lerp_rows(nk, w[0], 1), lerp_rows(nk, w[0], 2));
+    const double eb = normal_incidence_reflectance(lerp_rows(nk, w2[0], 1), lerp_rows(nk, w2[0], 2));
     EXPECT_NEAR(a / b, ea / eb, 1e-4) << l;
   }
 }
@@ -481,7 +481,7 @@ TEST(SpectralMaterial, FiniteAtTheEndsOfTheRangeAtGrazingAndBelowTheHorizon) {
   // Directions: normal, grazing (cos θ = 1e-7 and exactly 0), below the horizon, straight
   // down, and a general one.
   const Vec3 dirs[] = {{0, 0, 1}, {0.9999999f, 0, 1e-7f}, {1, 0, 0}, {0, 1, 0}, {0.6f, 0, -0.8f},
-                       {0, 0, -1}, {0.5f, 0.5f, 0.70710678f}, {-0.2f, 0.1f, -1e-7f}, dir(89.9, 33)};
+                       {0, 0, -1}, {0.5f, 0.5f, 0.70710678f}, {-0.2f, 0.1f, -1e-7f}, dir_deg(89.9, 33)};
   // λ_0 at 360 and ≈ 830 nm (the largest the visible sampler gives), and between.
   std::vector<SampledWavelengths> ws = {SampledWavelengths::sample_uniform(0),
                                         SampledWavelengths::sample_visible(kOneMinusEpsilon),
