@@ -9,7 +9,7 @@ import matplotlib.image
 import numpy as np
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-FIGURES = ["fig1-lobes.png", "fig7-tir.png", "fig8-fresnel.png", "fig9-varnished-floor.png", "sec34-linearity.png"]
+FIGURES = ["fig1-lobes.png", "fig7-tir.png", "fig7-glass-block.png", "fig8-fresnel.png", "fig9-varnished-floor.png", "sec34-linearity.png"]
 
 
 def test_lecture_figures_are_made_and_not_blank(tmp_path):
