@@ -38,6 +38,9 @@ GANTRY_RAYS_PER_INCIDENCE = 400_000
 TABLE_RAYS = 16_000_000
 THREADS = 2
 WHITE = {"type": "mirror", "reflectance": 1}
+# The fits of roughconductor to each table: (distribution, metric, Kulla-Conty's lobe).
+FITS = [("beckmann", "log", False), ("beckmann", "ngan", False), ("ggx", "log", False), ("ggx", "ngan", False),
+        ("beckmann", "log", True), ("beckmann", "ngan", True)]
 
 
 def surface(alpha):
@@ -85,14 +88,16 @@ def measure(gonio, data, remeasure):
                        str(TABLE_RAYS), "--threads", str(THREADS), "--seed", "2"], log)
             open(s, "w").write(out)
         f = os.path.join(data, f"fit-{a}.json")
-        if remeasure or not os.path.exists(f):
+        fits = json.load(open(f)) if os.path.exists(f) and not remeasure else {}
+        wanted = [(f"{dist}-{metric}{'-multiscatter' if ms else ''}", dist, metric, ms)
+                  for dist, metric, ms in FITS]
+        if any(key not in fits for key, *_ in wanted):
             print(f"alpha {a}: fits", file=sys.stderr)
-            fits = {}
-            for dist in ["beckmann", "ggx"]:
-                for metric in ["log", "ngan"]:
-                    fits[f"{dist}-{metric}"] = json.loads(run(
+            for key, dist, metric, ms in wanted:
+                if key not in fits:
+                    fits[key] = json.loads(run(
                         [gonio, "fit", "--data", t, "--model", "roughconductor", "--distribution", dist,
-                         "--metric", metric], log))
+                         "--metric", metric] + (["--init", '{"multiscatter":true}'] if ms else []), log))
             json.dump(fits, open(f, "w"))
         m = os.path.join(data, f"models-{a}.json")
         if remeasure or not os.path.exists(m) or "cone" not in json.load(open(m)):
@@ -211,7 +216,9 @@ def plot(data, docs):
     fig, ax = plt.subplots(figsize=(4.2, 3.6))
     fitrows = []
     for key, mk, lab in [("beckmann-log", "o", "Beckmann, log"), ("beckmann-ngan", "s", "Beckmann, ngan"),
-                         ("ggx-log", "^", "GGX, log"), ("ggx-ngan", "v", "GGX, ngan")]:
+                         ("ggx-log", "^", "GGX, log"), ("ggx-ngan", "v", "GGX, ngan"),
+                         ("beckmann-log-multiscatter", "D", "Beckmann + multiscatter, log"),
+                         ("beckmann-ngan-multiscatter", "x", "Beckmann + multiscatter, ngan")]:
         xs, ys = [], []
         for a in ALPHAS:
             _, _, f, _ = load(data, a)

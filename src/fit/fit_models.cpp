@@ -34,13 +34,21 @@ ojson ks_of(const std::vector<double>& v, size_t s) {
   return ojson::array({v[s] * v[s + 3], v[s + 1] * v[s + 4], v[s + 2] * v[s + 5]});
 }
 
+// The conductor's multiple-scattering lobe (Kulla & Conty 2017) is a fixed choice of the
+// --init, not a fitted parameter: written out only when asked for.
+ojson with_multiscatter(ojson m, const ojson& fx) {
+  if (fx.contains("multiscatter") && fx["multiscatter"].get<bool>()) m["multiscatter"] = true;
+  return m;
+}
 ojson describe_roughconductor_schlick(const std::vector<double>& v, const ojson& fx) {
-  return {{"type", "roughconductor"}, {"distribution", fx["distribution"]}, {"fresnel", "schlick"},
-          {"f0", rgb(v, 0)}, {"alpha", v[3]}};
+  return with_multiscatter({{"type", "roughconductor"}, {"distribution", fx["distribution"]}, {"fresnel", "schlick"},
+                            {"f0", rgb(v, 0)}, {"alpha", v[3]}},
+                           fx);
 }
 ojson describe_roughconductor_exact(const std::vector<double>& v, const ojson& fx) {
-  return {{"type", "roughconductor"}, {"distribution", fx["distribution"]}, {"fresnel", "exact"},
-          {"eta", rgb(v, 0)}, {"k", rgb(v, 3)}, {"alpha", v[6]}};
+  return with_multiscatter({{"type", "roughconductor"}, {"distribution", fx["distribution"]}, {"fresnel", "exact"},
+                            {"eta", rgb(v, 0)}, {"k", rgb(v, 3)}, {"alpha", v[6]}},
+                           fx);
 }
 ojson describe_plastic(const std::vector<double>& v, const ojson& fx) {
   return {{"type", "plastic"}, {"eta", fx["eta"]}, {"reflectance", rgb(v, 0)}, {"alpha", v[3]},
@@ -84,6 +92,11 @@ double init_number(const json& j, const char* key) {
   if (std::string(key) == "alpha" && v.is_array())
     bad_init("alpha must be a number (fit is isotropic: MERL tables are), got " + v.dump());
   bad_init(std::string(key) + " must be a number, got " + v.dump());
+}
+bool init_flag(const json& j, const char* key) {
+  const json& v = j.at(key);
+  if (!v.is_boolean()) bad_init(std::string(key) + " must be true or false, got " + v.dump());
+  return v.get<bool>();
 }
 std::string init_choice(const json& j, const char* key) {
   const json& v = j.at(key);
@@ -160,8 +173,9 @@ FitModel make_fit_model(const std::string& name, const std::string& distribution
   };
 
   if (name == "roughconductor") {
-    check_keys(init, name, {"alpha", "distribution", "fresnel", "f0", "eta", "k"}, "");
+    check_keys(init, name, {"alpha", "distribution", "fresnel", "f0", "eta", "k", "multiscatter"}, "");
     choose_distribution(init);
+    m.fixed["multiscatter"] = init.contains("multiscatter") && init_flag(init, "multiscatter");
     const std::string fresnel = init.contains("fresnel") ? init_choice(init, "fresnel") : "";
     const bool exact = fresnel == "exact" || (fresnel.empty() && (init.contains("eta") || init.contains("k")));
     if (exact) {
