@@ -54,6 +54,34 @@ class ZeroedArray {
   std::size_t bytes_ = 0;
 };
 
+// The incidences (table.h): with probability 1/2 uniform on the hemisphere, else in one of
+// the 90 one-degree bands of θi chosen uniformly, uniform in solid angle within it. Both
+// are uniform in solid angle within a band, so p(ωi) is constant on band b:
+//   p_b = 1/2 · 1/(2π) + 1/2 · 1/90 · 1/Ω_b,  Ω_b = 2π (cos b° − cos (b+1)°).
+class IncidenceSampler {
+ public:
+  IncidenceSampler() {
+    for (int b = 0; b <= kBands; ++b) cos_edge_[b] = b == kBands ? 0.0 : std::cos(b * kPiD / 180);
+    for (int b = 0; b < kBands; ++b) {
+      const double omega = 2 * kPiD * (cos_edge_[b] - cos_edge_[b + 1]);
+      inv_p_[b] = 1 / (0.5 / (2 * kPiD) + 0.5 / (kBands * omega));
+    }
+  }
+  // cos θi in (0, 1] (never exactly grazing), from two uniform numbers in [0, 1) and a
+  // third that picks the half.
+  double draw(double pick, double u) const {
+    if (pick < 0.5) return 1 - u;
+    const int b = std::min(kBands - 1, int(2 * pick * kBands) - kBands);  // pick ∈ [0.5, 1): the band
+    return cos_edge_[b + 1] + (cos_edge_[b] - cos_edge_[b + 1]) * (1 - u);
+  }
+  static int band(double cos_i) { return std::min(kBands - 1, int(std::acos(cos_i) / kPiD * 180)); }
+  double inv_p(int band) const { return inv_p_[band]; }
+
+ private:
+  double cos_edge_[kBands + 1];
+  double inv_p_[kBands];
+};
+
 struct Score {
   std::uint32_t entry;
   double value[3];  // w / (p cos θo): a float would overflow for an exit within 1e-38 of grazing
@@ -73,7 +101,7 @@ TableReading measure_table(const Microsurface& surface, const RunOptions& option
   TableReading out;
   const std::uint64_t n = std::max<std::uint64_t>(1, options.samples);
   const std::uint64_t blocks = (n + kBlockRays - 1) / kBlockRays;
-  const double inv_p = 2 * kPiD;  // 1 / p(ωi), uniform on the hemisphere
+  const IncidenceSampler incidence;
   const std::vector<double>& measure = merl_bin_measures();
 
   ZeroedArray<double> sum(3 * MerlTable::kEntries), sum2(3 * MerlTable::kEntries);
@@ -93,15 +121,17 @@ TableReading measure_table(const Microsurface& surface, const RunOptions& option
         const std::uint64_t first = block * kBlockRays, last = std::min(n, first + kBlockRays);
         r.scores.reserve(kBlockRays);
         for (std::uint64_t k = first; k < last; ++k) {
-          // ωi uniform on the hemisphere: cos θi uniform in (0, 1] (never exactly grazing).
-          const double cos_i = 1 - rng.next_double(), phi_i = 2 * kPiD * rng.next_double();
+          const double pick = rng.next_double(), u_cos = rng.next_double();
+          const double cos_i = incidence.draw(pick, u_cos), phi_i = 2 * kPiD * rng.next_double();
           const double sin_i = std::sqrt(std::max(0.0, 1 - cos_i * cos_i));
           const Vec3 wi{Float(sin_i * std::cos(phi_i)), Float(sin_i * std::sin(phi_i)), Float(cos_i)};
           double u, v;
           entry_point(k - first, last - first == kBlockRays, rng, u, v);
           const TraceResult t = surface.trace(u, v, -wi, rng);
           r.counts.add(t);
-          const int b = std::min(kBands - 1, int(std::acos(cos_i) / kPiD * 180));
+          // The band of cos θi as drawn (rounding at a band's edge may move a ray drawn in
+          // one band to its neighbour, whose p is then used: a change of 10⁻¹⁶ in cos θi).
+          const int b = IncidenceSampler::band(cos_i);
           double* bd = &r.band[7 * std::size_t(b)];
           bd[0] += 1;
           if (t.fate != Fate::Up) continue;
@@ -109,7 +139,7 @@ TableReading measure_table(const Microsurface& surface, const RunOptions& option
           const Vec3& wo = t.direction;
           if (!(wo.z > 0)) continue;
           const MerlBin bin = merl_bin_of(wo, wi);  // float angles (merl_bins.h)
-          const double scale = inv_p / wo.z;
+          const double scale = incidence.inv_p(b) / wo.z;
           Score s;
           s.entry = std::uint32_t(MerlTable::index(bin.i, bin.j, bin.k));
           for (int c = 0; c < 3; ++c) s.value[c] = double(t.weight[c]) * scale;

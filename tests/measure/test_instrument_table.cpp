@@ -113,6 +113,49 @@ TEST(MeasureTable, FlatLambertianFillsRhoOverPi) {
   for (const AlbedoBand& b : r.bands) EXPECT_NEAR(b.albedo[1], 0.6, 1e-3) << b.theta_lo;
 }
 
+// Unpolarised Fresnel reflectance of glass (n = 1.5) from air at cos θi = c (Born & Wolf
+// §1.5.2: r_s = (c − n c_t)/(c + n c_t), r_p = (n c − c_t)/(n c + c_t)).
+double glass_reflectance_from_air(double c) {
+  const double n = 1.5, ct = std::sqrt(1 - (1 - c * c) / (n * n));
+  const double rs = (c - n * ct) / (c + n * ct), rp = (n * c - ct) / (n * c + ct);
+  return (rs * rs + rp * rp) / 2;
+}
+
+// The incidences (table.h): every 1° band of θi gets N (1/180 + (cos b° − cos (b+1)°)/2)
+// rays, and its albedo is the band's solid-angle mean of what the surface reflects: here
+// a flat glass, F averaged over the band (Simpson's rule in cos θi).
+TEST(MeasureTable, EveryBandOfIncidenceGetsItsShareOfRaysAndItsFresnelMean) {
+  const Microsurface s(testsurf::flat_field(), parse_material(R"({"type":"dielectric","eta":1.5})"));
+  RunOptions o;
+  o.samples = gonio::test::scaled(400000, 100000);
+  o.seed = 5;
+  const TableReading r = measure_table(s, o);
+  ASSERT_EQ(r.bands.size(), 90u);
+  const double n = double(o.samples);
+  for (int b = 0; b < 90; ++b) {
+    const double c0 = std::cos(b * kPiD / 180), c1 = std::cos((b + 1) * kPiD / 180);
+    const double p = 1.0 / 180 + (c0 - c1) / 2, expected = n * p;
+    EXPECT_NEAR(double(r.bands[b].rays), expected, 5 * std::sqrt(expected * (1 - p))) << "band " << b;
+  }
+  for (int b : {0, 1, 20, 45, 70}) {
+    const double c0 = std::cos(b * kPiD / 180), c1 = std::cos((b + 1) * kPiD / 180);
+    double mean = 0;
+    const int m = 64;
+    for (int q = 0; q <= m; ++q) {
+      const double w = q == 0 || q == m ? 1 : q % 2 ? 4 : 2;
+      mean += w * glass_reflectance_from_air(c1 + (c0 - c1) * q / m);
+    }
+    mean /= 3.0 * m;
+    const AlbedoBand& a = r.bands[b];
+    ASSERT_GT(a.stderr_albedo[1], 0) << "band " << b;
+    EXPECT_NEAR(a.albedo[1], mean, 4 * a.stderr_albedo[1]) << "band " << b;
+    // A binary event per ray: the standard error is that of a proportion over the band's rays.
+    EXPECT_NEAR(a.stderr_albedo[1], std::sqrt(mean * (1 - mean) / double(a.rays)),
+                0.15 * std::sqrt(mean * (1 - mean) / double(a.rays)))
+        << "band " << b;
+  }
+}
+
 TEST(MeasureTable, SameBitsWhateverTheThreadCount) {
   const Microsurface s(testsurf::eggcrate_field(16, 2), parse_material(R"({"type":"diffuse","reflectance":0.7})"));
   RunOptions o;
