@@ -112,6 +112,18 @@ std::size_t broadcast(const Rows3& a, const Rows3& b, const char* na, const char
 [[gnu::always_inline]] inline void row_directions(const Rows3& a, const Rows3& b, std::size_t s, std::size_t c,
                                                   Vec3* wa, Vec3* wb, std::atomic<std::size_t>& bad_a,
                                                   std::atomic<std::size_t>& bad_b) {
+  // The common case, two C-contiguous (N, 3) arrays, without the strides and broadcasts.
+  constexpr py::ssize_t kRow = 3 * sizeof(double), kCol = sizeof(double);
+  if (a.n == b.n && a.row_stride == kRow && a.col_stride == kCol && b.row_stride == kRow && b.col_stride == kCol) {
+    const double* pa = reinterpret_cast<const double*>(a.base) + 3 * s;
+    const double* pb = reinterpret_cast<const double*>(b.base) + 3 * s;
+    for (std::size_t j = 0; j < c; ++j)
+      if (!unit_direction_pair(pa + 3 * j, pb + 3 * j, wa[j], wb[j])) [[unlikely]] {
+        wa[j] = row_direction(a, s + j, bad_a);
+        wb[j] = row_direction(b, s + j, bad_b);
+      }
+    return;
+  }
   for (std::size_t j = 0; j < c; ++j) {
     const std::size_t ka = a.n == 1 ? 0 : s + j, kb = b.n == 1 ? 0 : s + j;
     const double ra[3] = {a.at(ka, 0), a.at(ka, 1), a.at(ka, 2)}, rb[3] = {b.at(kb, 0), b.at(kb, 1), b.at(kb, 2)};
