@@ -8,10 +8,11 @@
 // direction uniform in solid angle within it): p(ωi) = 1/(4π) + 1/(180 Ω_b) on band b of
 // solid angle Ω_b. On the hemisphere alone the band next to the normal would get
 // 1 − cos 1° = 1.5 × 10⁻⁴ of the rays, and its albedo the noise of a few; now every band
-// gets at least 1/180 of them. The ray enters the patch at a uniform point and is traced; a ray that leaves upwards along ωo with power
-// w scores w / (p(ωi) cos θo) in the bin B of (ωi, ωo). For a fixed ωi the expected power
-// leaving into dωo is f(ωi, ωo) cos θo dωo per unit incident power (the gantry's
-// f = dL/dE), so over the N rays
+// gets at least 1/180 of them. The ray enters the patch at a uniform point and is
+// traced; a ray that leaves upwards along ωo with power w scores w / (p(ωi) cos θo) in
+// the bin B of (ωi, ωo). For a fixed ωi the expected power leaving into dωo is
+// f(ωi, ωo) cos θo dωo per unit incident power (the gantry's f = dL/dE), so over the N
+// rays
 //   E[Σ w / (p(ωi) cos θo) · 1_B] / N = ∫∫_B f dωi dωo,
 // and dividing by the bin's measure M_B = ∫∫_B dωi dωo (merl_bins.h, both directions
 // above the horizon) gives the bin average of f:
