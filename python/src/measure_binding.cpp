@@ -96,6 +96,17 @@ py::dict table_dict(const measure::TableReading& t, const std::string& file) {
   return d;
 }
 
+// Ctrl-C. The instrument calls RunOptions::progress from the calling thread between
+// batches of blocks (about half a million rays); there the interpreter runs its pending
+// signal handlers, and a KeyboardInterrupt unwinds the run as this exception (no ray is
+// traced after it), to be raised in Python once the GIL is back.
+struct Interrupted {};
+
+void check_signals(double) {
+  py::gil_scoped_acquire acquire;
+  if (PyErr_CheckSignals() != 0) throw Interrupted{};
+}
+
 py::dict measure_surface(const py::object& surface_arg, const py::object& gantry_arg, const std::string& output,
                          std::int64_t samples, int threads, std::int64_t seed, std::int64_t max_bounces) {
   // Every argument is checked before the first ray, in the CLI's words.
@@ -111,23 +122,28 @@ py::dict measure_surface(const py::object& surface_arg, const py::object& gantry
   options.threads = int(checked_count(threads, 0, 1024, "threads"));
   options.seed = checked_count(seed, 0, 2'147'483'647, "seed");
   const auto bounces = std::uint32_t(checked_count(max_bounces, 1, 1'000'000, "max_bounces"));
-  if (gantry_arg.is_none()) {
-    measure::TableReading t;
+  options.progress = check_signals;
+  try {
+    if (gantry_arg.is_none()) {
+      measure::TableReading t;
+      {
+        py::gil_scoped_release release;
+        const measure::Microsurface micro(surface.field, surface.material, bounces);
+        t = measure::measure_table(micro, options);
+        write_merl(output, t.table);
+      }
+      return table_dict(t, output);
+    }
+    measure::GantryReading g;
     {
       py::gil_scoped_release release;
       const measure::Microsurface micro(surface.field, surface.material, bounces);
-      t = measure::measure_table(micro, options);
-      write_merl(output, t.table);
+      g = measure::run_gantry(micro, spec, options);
     }
-    return table_dict(t, output);
+    return gantry_dict(g);
+  } catch (const Interrupted&) {
+    throw py::error_already_set();  // the KeyboardInterrupt the signal handler set
   }
-  measure::GantryReading g;
-  {
-    py::gil_scoped_release release;
-    const measure::Microsurface micro(surface.field, surface.material, bounces);
-    g = measure::run_gantry(micro, spec, options);
-  }
-  return gantry_dict(g);
 }
 
 }  // namespace
@@ -150,7 +166,8 @@ surface: the microsurface, JSON text or a dict ({"type": "flat"|"gaussian"|"vgro
     albedo and stderr_albedo (90, 3).
 samples: total rays launched from the light (split evenly over the incidences); seed: the
 random seed (the result does not depend on threads); max_bounces: facet interactions allowed
-to a ray. The same numbers as `gonio measure` with the same arguments.)doc");
+to a ray. The same numbers as `gonio measure` with the same arguments. Ctrl-C stops a run
+within about half a million rays with KeyboardInterrupt (a table is then not written).)doc");
 }
 
 }  // namespace gonio::python

@@ -126,6 +126,31 @@ def test_gantry_and_output_are_separate_runs(tmp_path):
         gonio.measure(42, GANTRY)
 
 
+def test_measure_stops_on_ctrl_c(tmp_path):
+    """A table far too long to finish (10^12 rays) is interrupted by SIGINT within seconds,
+    raising KeyboardInterrupt, and writes no table."""
+    out = tmp_path / "t.binary"
+    code = ("import sys, gonio\n"
+            "print('measuring', flush=True)\n"
+            "try:\n"
+            "    gonio.measure(%r, output=%r, samples=10**12, threads=2)\n"
+            "except KeyboardInterrupt:\n"
+            "    print('interrupted', flush=True)\n"
+            "    sys.exit(3)\n") % (json.dumps(SURFACE), str(out))
+    p = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                         env=os.environ.copy())
+    assert p.stdout.readline() == "measuring\n"
+    time.sleep(1.5)
+    p.send_signal(signal.SIGINT)
+    try:
+        rest, err = p.communicate(timeout=60)
+    except subprocess.TimeoutExpired:
+        p.kill()
+        pytest.fail("the measurement did not stop within 60 s of SIGINT")
+    assert p.returncode == 3 and rest == "interrupted\n", (p.returncode, rest, err)
+    assert not out.exists()
+
+
 def test_render_stops_on_ctrl_c():
     """A render far too long to finish (the default scene at 2^20 spp) is interrupted by
     SIGINT within seconds, raising KeyboardInterrupt in the interpreter."""
