@@ -27,6 +27,23 @@
 
 namespace gonio {
 
+// The table's memory (merl.cpp): blocks of 2 MiB and more aligned to 2 MiB, which Linux is
+// asked to back with transparent huge pages (madvise MADV_HUGEPAGE, before the first touch).
+// A lookup's entries lie anywhere in the 17.5 MB; on 4 KiB pages (4,300 of them) most
+// lookups also missed the TLB. Where the system offers no such pages, ordinary ones.
+void* merl_table_allocate(std::size_t bytes);
+void merl_table_deallocate(void* p, std::size_t bytes) noexcept;
+template <typename T>
+struct MerlTableAllocator {
+  using value_type = T;
+  MerlTableAllocator() = default;
+  template <typename U>
+  MerlTableAllocator(const MerlTableAllocator<U>&) {}
+  T* allocate(std::size_t n) { return static_cast<T*>(merl_table_allocate(n * sizeof(T))); }
+  void deallocate(T* p, std::size_t n) noexcept { merl_table_deallocate(p, n * sizeof(T)); }
+  friend bool operator==(const MerlTableAllocator&, const MerlTableAllocator&) { return true; }
+};
+
 struct MerlTable {
   static constexpr int kThetaH = 90, kThetaD = 90, kPhiD = 180;
   static constexpr std::size_t kEntries = std::size_t(kThetaH) * kThetaD * kPhiD;  // 1,458,000
@@ -38,7 +55,7 @@ struct MerlTable {
   // 3 × kEntries floats: f in 1/sr of entry e at rgb[3e .. 3e+2], or kMissing in all three;
   // then one float of padding (0), so that the lookup can load each entry as four floats.
   static constexpr std::size_t kFloats = 3 * kEntries + 1;
-  std::vector<float> rgb = std::vector<float>(kFloats, 0.0f);
+  std::vector<float, MerlTableAllocator<float>> rgb = std::vector<float, MerlTableAllocator<float>>(kFloats, 0.0f);
 
   static constexpr std::size_t index(int i, int j, int k) {
     return std::size_t(k) + std::size_t(kPhiD) * std::size_t(j) + std::size_t(kPhiD) * kThetaD * std::size_t(i);
