@@ -4,6 +4,7 @@
 #include "gonio/measured_data.h"
 
 #include <algorithm>
+#include <cstring>
 #include <filesystem>
 #include <map>
 #include <mutex>
@@ -15,17 +16,6 @@ namespace gonio {
 namespace {
 
 constexpr Float kDegPerRad = Float(180 / kPiD);
-
-// Half vector and difference angles of (wo, wi), both z > 0, in float: the hot path of
-// lookup (merl.h, half_diff_angles).
-struct HalfDiffF {
-  Float theta_h, theta_d, phi_d;  // radians; φd in [−π, π] (not folded)
-};
-inline HalfDiffF half_diff_f(const Vec3& wo, const Vec3& wi) {
-  HalfDiffF a;
-  half_diff_angles<Float>(wo, wi, [](Float y, Float x) { return fast_atan2(y, x); }, a.theta_h, a.theta_d, a.phi_d);
-  return a;
-}
 
 // Linear interpolation coordinate clamped to [0, n − 1]: index and fraction.
 inline void clamp_coord(Float c, int n, int& i0, Float& t) {
@@ -59,54 +49,65 @@ MeasuredData::MeasuredData(MerlTable table, std::string path) : table_(std::move
 }
 
 namespace {
-// Where (wo, wi) falls in the table: the eight neighbouring entries (offsets into the
-// interleaved RGB data) and the fractions between them along each axis.
+// Where (wo, wi) falls in the table: the entry (i0, j0, k0) below it, the step from k0 to
+// k1 (3 floats, or back across the φd seam) and the fractions between the neighbours along
+// each axis. Its eight neighbours are p00 + {0, kStepJ, kStepI, kStepI + kStepJ} + {0, dk}.
 struct TableCorners {
-  std::size_t offset[8];  // corner n = 4 di + 2 dj + dk
-  Float ti, tj, tk;       // the fractions along θh, θd, φd
+  const float* p00;
+  std::ptrdiff_t dk;
+  Float ti, tj, tk;  // the fractions along θh, θd, φd
 };
-// False where the directions have no angles (not finite, or |wo + wi| overflows).
-inline bool locate(const Vec3& wo, const Vec3& wi, TableCorners& c) {
-  const HalfDiffF a = half_diff_f(wo, wi);
-  if (!std::isfinite(a.theta_h + a.theta_d + a.phi_d)) return false;
+constexpr std::ptrdiff_t kStepJ = 3 * MerlTable::kPhiD, kStepI = 3 * MerlTable::kPhiD * MerlTable::kThetaD;
+
+// The half/difference angles (merl.h, half_diff_atan2_args) take three arctangents; a
+// fourth pair of arguments (y4, x4) rides along in the same vector (the pdf's azimuth in
+// eval) and its arctangent is returned in `extra`. False where the directions have no
+// angles (not finite, or |wo + wi| overflows).
+inline bool locate(const float* data, const Vec3& wo, const Vec3& wi, Float y4, Float x4, TableCorners& c,
+                   Float& extra) {
+  Float y[3], x[3];
+  half_diff_atan2_args<Float>(wo, wi, y, x);
+  const Float4 a = fast_atan2(Float4{y[0], y[1], y[2], y4}, Float4{x[0], x[1], x[2], x4});
+  const Float theta_h = a[0], theta_d = a[1], phi_d = a[2];  // radians; φd in [−π, π] (not folded)
+  extra = a[3];
+  if (!std::isfinite(theta_h + theta_d + phi_d)) return false;
   int i0, j0;
   Float ti, tj;
-  clamp_coord(Float(MerlTable::kThetaH) * std::sqrt(a.theta_h * Float(2 / kPiD)) - Float(0.5), MerlTable::kThetaH, i0,
+  clamp_coord(Float(MerlTable::kThetaH) * std::sqrt(theta_h * Float(2 / kPiD)) - Float(0.5), MerlTable::kThetaH, i0,
               ti);
-  clamp_coord(a.theta_d * kDegPerRad - Float(0.5), MerlTable::kThetaD, j0, tj);
+  clamp_coord(theta_d * kDegPerRad - Float(0.5), MerlTable::kThetaD, j0, tj);
   // φd periodic with period 180°: fold, then interpolate across the seam.
-  Float w = a.phi_d * kDegPerRad - Float(0.5);  // in [−180.5, 179.5]
+  Float w = phi_d * kDegPerRad - Float(0.5);  // in [−180.5, 179.5]
   if (w < 0) w += Float(180);
   if (w < 0) w += Float(180);
   const int k0 = std::min(int(w), MerlTable::kPhiD - 1);
-  const Float tk = std::clamp(w - Float(k0), Float(0), Float(1));
-  const int k1 = k0 + 1 == MerlTable::kPhiD ? 0 : k0 + 1;
-  for (int n = 0; n < 8; ++n) {
-    const int di = n >> 2, dj = (n >> 1) & 1, dk = n & 1;
-    c.offset[n] = 3 * (MerlTable::index(i0 + di, j0 + dj, 0) + std::size_t(dk ? k1 : k0));
-  }
-  c.ti = ti, c.tj = tj, c.tk = tk;
+  c.tk = std::clamp(w - Float(k0), Float(0), Float(1));
+  c.dk = k0 + 1 == MerlTable::kPhiD ? -3 * std::ptrdiff_t(MerlTable::kPhiD - 1) : 3;
+  c.p00 = data + 3 * MerlTable::index(i0, j0, k0);
+  c.ti = ti, c.tj = tj;
   return true;
+}
+inline Float4 load4(const float* p) {  // r, g, b of the entry at p and the next float
+  Float4 v;
+  std::memcpy(&v, p, sizeof v);
+  return v;
 }
 // The weighted mean of the measured corners; 0 where none is measured. With all eight
 // measured (the common case) it is three rounds of linear interpolation, a chain of three
-// multiply-adds instead of eight.
-inline Color interpolate(const float* data, const TableCorners& c) {
-  const float* p[8];
-  bool missing = false;
-  for (int n = 0; n < 8; ++n) {
-    p[n] = data + c.offset[n];
-    missing |= p[n][0] < 0;
-  }
-  if (!missing) {
-    Color out;
-    for (int ch = 0; ch < 3; ++ch) {
-      Float e[4];
-      for (int m = 0; m < 4; ++m) e[m] = p[2 * m][ch] + c.tk * (p[2 * m + 1][ch] - p[2 * m][ch]);
-      const Float lo = e[0] + c.tj * (e[1] - e[0]), hi = e[2] + c.tj * (e[3] - e[2]);
-      out[ch] = lo + c.ti * (hi - lo);
-    }
-    return out;
+// multiply-adds instead of eight, on the three channels at once (lane 3 is ignored).
+inline Color interpolate(const TableCorners& c) {
+  const float* p[8];  // corner n = 4 di + 2 dj + dk
+  for (int n = 0; n < 8; ++n) p[n] = c.p00 + ((n & 4) ? kStepI : 0) + ((n & 2) ? kStepJ : 0) + ((n & 1) ? c.dk : 0);
+  Float4 v[8];
+  for (int n = 0; n < 8; ++n) v[n] = load4(p[n]);
+  Float4 lowest = v[0];
+  for (int n = 1; n < 8; ++n) lowest = v[n] < lowest ? v[n] : lowest;
+  if (!(lowest[0] < 0)) {
+    Float4 e[4];
+    for (int m = 0; m < 4; ++m) e[m] = v[2 * m] + c.tk * (v[2 * m + 1] - v[2 * m]);
+    const Float4 lo = e[0] + c.tj * (e[1] - e[0]), hi = e[2] + c.tj * (e[3] - e[2]);
+    const Float4 out = lo + c.ti * (hi - lo);
+    return {out[0], out[1], out[2]};
   }
   Float acc[3] = {0, 0, 0}, weight_sum = 0;
   for (int n = 0; n < 8; ++n) {
@@ -124,7 +125,8 @@ inline Color interpolate(const float* data, const TableCorners& c) {
 Color MeasuredData::lookup(const Vec3& wo, const Vec3& wi) const {
   if (!(wo.z > 0) || !(wi.z > 0)) return Color(0);
   TableCorners c;
-  return locate(wo, wi, c) ? interpolate(table_.rgb.data(), c) : Color(0);
+  Float unused;
+  return locate(table_.rgb.data(), wo, wi, 0, 1, c, unused) ? interpolate(c) : Color(0);
 }
 
 // --- sampling ------------------------------------------------------------------------
@@ -241,21 +243,27 @@ inline Float sample_linear(Float u, Float a, Float b) {
 }
 }  // namespace
 
-Float MeasuredData::tabulated_pdf(const Vec3& wo, const Vec3& wi, int b) const {
+namespace {
+// The arguments of the arctangent of the pdf's azimuth φ' around the mirror direction
+// (mirror_frame's x', y'), before folding. Both are scaled by |wo_xy| > 0, which leaves
+// the angle and saves a square root and a division; at normal incidence x' = (cos θo, 0, 0)
+// and y' = (0, 1, 0) as in mirror_frame.
+inline void pdf_azimuth_args(const Vec3& wo, const Vec3& wi, Float& along_y, Float& along_x) {
+  const Float so2 = wo.x * wo.x + wo.y * wo.y;
+  along_y = so2 > 0 ? wo.x * wi.y - wo.y * wi.x : wi.y;
+  along_x = so2 > 0 ? wo.z * (wo.x * wi.x + wo.y * wi.y) + so2 * wi.z : wo.z * wi.x;
+}
+}  // namespace
+
+Float MeasuredData::tabulated_pdf(const Vec3& wo, const Vec3& wi, int b, Float azimuth) const {
   constexpr int kNodesP = kPhiCells + 1;
   // The chord |wi − wr| = 2 sin(θ'/2) gives the cell coordinate x = √(sin(θ'/2)) and
   // cos θ' = 1 − |wi − wr|²/2 without an arccosine, and accurately near the peak.
   const Vec3 d{wi.x + wo.x, wi.y + wo.y, wi.z - wo.z};  // wi − wr, wr = (−wo.x, −wo.y, wo.z)
   const Float chord2 = dot(d, d), half_chord = std::sqrt(chord2) / 2;
   const Float c = 1 - chord2 / 2;
-  // The azimuth around wr (mirror_frame's x', y'), folded into [0, π] by the mirror
-  // symmetry through the plane of incidence. Both of atan2's arguments are scaled by
-  // |wo_xy| > 0, which leaves the angle and saves a square root and a division; at normal
-  // incidence x' = (cos θo, 0, 0) and y' = (0, 1, 0) as in mirror_frame.
-  const Float so2 = wo.x * wo.x + wo.y * wo.y;
-  const Float along_y = so2 > 0 ? wo.x * wi.y - wo.y * wi.x : wi.y;
-  const Float along_x = so2 > 0 ? wo.z * (wo.x * wi.x + wo.y * wi.y) + so2 * wi.z : wo.z * wi.x;
-  const Float rel = std::abs(fast_atan2(along_y, along_x));
+  // The azimuth folded into [0, π] by the mirror symmetry through the plane of incidence.
+  const Float rel = std::abs(azimuth);
   const Float x = std::sqrt(std::min(half_chord, Float(1)));
   if (!std::isfinite(x + rel)) return 0;
   const int it = std::clamp(int(x * kThetaCells), 0, kThetaCells - 1);
@@ -272,25 +280,37 @@ Float MeasuredData::tabulated_pdf(const Vec3& wo, const Vec3& wi, int b) const {
 
 // Flattened: with the lookup and the pdf inlined into one body, the processor sees their two
 // independent chains of square roots and divisions together and overlaps them (7% faster
-// than calls, bench_measured.cpp).
+// than calls, bench_measured.cpp). The pdf's arctangent is the fourth lane of the lookup's
+// vector of arctangents (locate), bit for bit the scalar one pdf takes.
 [[gnu::flatten]] MeasuredData::Eval MeasuredData::eval(const Vec3& wo, const Vec3& wi) const {
   if (!(wo.z > 0) || !(wi.z > 0)) return {Color(0), 0};
+  Float along_y, along_x;
+  pdf_azimuth_args(wo, wi, along_y, along_x);
   // The table entries are 17.5 MB apart at random: ask for them first, compute the pdf
   // while they arrive, then interpolate.
   TableCorners c;
-  const bool found = locate(wo, wi, c);
-  const float* data = table_.rgb.data();
+  Float azimuth;
+  const bool found = locate(table_.rgb.data(), wo, wi, along_y, along_x, c, azimuth);
   if (found)
-    for (int n = 0; n < 8; ++n) __builtin_prefetch(data + c.offset[n]);
-  const Float p = pdf(wo, wi);
-  return {found ? interpolate(data, c) : Color(0), p};
+    for (const float* q : {c.p00, c.p00 + kStepJ, c.p00 + kStepI, c.p00 + kStepI + kStepJ}) {
+      __builtin_prefetch(q);
+      __builtin_prefetch(q + c.dk);
+    }
+  const int b = theta_o_bin(wo);
+  const Float p = has_table_[size_t(b)]
+                      ? kDefensive * cosine_hemisphere_pdf(wi.z) + (1 - kDefensive) * tabulated_pdf(wo, wi, b, azimuth)
+                      : cosine_hemisphere_pdf(wi.z);
+  return {found ? interpolate(c) : Color(0), p};
 }
 
 Float MeasuredData::pdf(const Vec3& wo, const Vec3& wi) const {
   if (!(wo.z > 0) || !(wi.z > 0)) return 0;
   const int b = theta_o_bin(wo);
   if (!has_table_[size_t(b)]) return cosine_hemisphere_pdf(wi.z);
-  return kDefensive * cosine_hemisphere_pdf(wi.z) + (1 - kDefensive) * tabulated_pdf(wo, wi, b);
+  Float along_y, along_x;
+  pdf_azimuth_args(wo, wi, along_y, along_x);
+  return kDefensive * cosine_hemisphere_pdf(wi.z) +
+         (1 - kDefensive) * tabulated_pdf(wo, wi, b, fast_atan2(along_y, along_x));
 }
 
 Vec3 MeasuredData::sample(const Vec3& wo, Float u_lobe, Float u1, Float u2) const {

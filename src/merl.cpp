@@ -11,6 +11,12 @@
 #include <fstream>
 #include <system_error>
 #include <filesystem>
+#include <new>
+#include <cstdlib>
+
+#if defined(__linux__)
+#include <sys/mman.h>
+#endif
 
 #include "gonio/error.h"
 #include "gonio/math/constants.h"
@@ -41,6 +47,25 @@ void to_little_endian(T v, unsigned char* p) {
 std::string quoted(const std::string& path) { return escape_control(path); }
 
 }  // namespace
+
+namespace {
+constexpr std::size_t kHugePage = std::size_t(2) << 20;
+}  // namespace
+
+void* merl_table_allocate(std::size_t bytes) {
+  if (bytes < kHugePage) return ::operator new(bytes);
+  const std::size_t size = (bytes + kHugePage - 1) / kHugePage * kHugePage;
+  void* p = std::aligned_alloc(kHugePage, size);
+  if (!p) throw std::bad_alloc();
+#if defined(__linux__) && defined(MADV_HUGEPAGE)
+  (void)madvise(p, size, MADV_HUGEPAGE);  // advice only: refused, the pages are ordinary ones
+#endif
+  return p;
+}
+void merl_table_deallocate(void* p, std::size_t bytes) noexcept {
+  if (bytes < kHugePage) ::operator delete(p);
+  else std::free(p);
+}
 
 double merl_theta_h(int i) {
   const double x = (i + 0.5) / MerlTable::kThetaH;

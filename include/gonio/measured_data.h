@@ -67,7 +67,9 @@ class MeasuredData {
   };
   void build_sampler();
   int theta_o_bin(const Vec3& wo) const;
-  Float tabulated_pdf(const Vec3& wo, const Vec3& wi, int theta_o_bin) const;  // the bin has a table
+  // The tabulated density (the bin has a table), given the azimuth of wi around the mirror
+  // direction of wo (measured_data.cpp, pdf_azimuth_args) in [−π, π].
+  Float tabulated_pdf(const Vec3& wo, const Vec3& wi, int theta_o_bin, Float azimuth) const;
 
   MerlTable table_;
   std::string path_;

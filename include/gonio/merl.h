@@ -12,7 +12,8 @@
 // measured.
 //
 // In memory the table is held as interleaved floats (r, g, b per entry): one lookup
-// touches one cache line per entry instead of three far-apart doubles.
+// touches one cache line per entry instead of three far-apart doubles, and loads an entry
+// as one vector of four floats (its r, g, b and the next entry's r).
 
 #include <array>
 #include <cmath>
@@ -26,6 +27,23 @@
 
 namespace gonio {
 
+// The table's memory (merl.cpp): blocks of 2 MiB and more aligned to 2 MiB, which Linux is
+// asked to back with transparent huge pages (madvise MADV_HUGEPAGE, before the first touch).
+// A lookup's entries lie anywhere in the 17.5 MB; on 4 KiB pages (4,300 of them) most
+// lookups also missed the TLB. Where the system offers no such pages, ordinary ones.
+void* merl_table_allocate(std::size_t bytes);
+void merl_table_deallocate(void* p, std::size_t bytes) noexcept;
+template <typename T>
+struct MerlTableAllocator {
+  using value_type = T;
+  MerlTableAllocator() = default;
+  template <typename U>
+  MerlTableAllocator(const MerlTableAllocator<U>&) {}
+  T* allocate(std::size_t n) { return static_cast<T*>(merl_table_allocate(n * sizeof(T))); }
+  void deallocate(T* p, std::size_t n) noexcept { merl_table_deallocate(p, n * sizeof(T)); }
+  friend bool operator==(const MerlTableAllocator&, const MerlTableAllocator&) { return true; }
+};
+
 struct MerlTable {
   static constexpr int kThetaH = 90, kThetaD = 90, kPhiD = 180;
   static constexpr std::size_t kEntries = std::size_t(kThetaH) * kThetaD * kPhiD;  // 1,458,000
@@ -34,8 +52,10 @@ struct MerlTable {
   // The value stored for an entry that was not measured.
   static constexpr float kMissing = -1;
 
-  // 3 × kEntries floats: f in 1/sr of entry e at rgb[3e .. 3e+2], or kMissing in all three.
-  std::vector<float> rgb = std::vector<float>(3 * kEntries, 0.0f);
+  // 3 × kEntries floats: f in 1/sr of entry e at rgb[3e .. 3e+2], or kMissing in all three;
+  // then one float of padding (0), so that the lookup can load each entry as four floats.
+  static constexpr std::size_t kFloats = 3 * kEntries + 1;
+  std::vector<float, MerlTableAllocator<float>> rgb = std::vector<float, MerlTableAllocator<float>>(kFloats, 0.0f);
 
   static constexpr std::size_t index(int i, int j, int k) {
     return std::size_t(k) + std::size_t(kPhiD) * std::size_t(j) + std::size_t(kPhiD) * kThetaD * std::size_t(i);
@@ -77,21 +97,33 @@ HalfDiff half_diff(const Vec3& wo, const Vec3& wi);
 // atan2 does not change when both arguments are scaled by the same positive number, so
 // the half vector is never normalised: θh = atan2(|s_xy|, s_z) for s = wo + wi, and φd's
 // arguments are those of the normalised frame times |s| |s_xy| (no division at all).
-template <typename T, typename Atan2>
-void half_diff_angles(const Vec3& wo, const Vec3& wi, Atan2 atan2, T& theta_h, T& theta_d, T& phi_d) {
+// Computed in two steps: half_diff_atan2_args gives the arguments (y[n], x[n]) of the three
+// arctangents, θh = atan2(y[0], x[0]), θd = atan2(y[1], x[1]), φd = atan2(y[2], x[2]);
+// half_diff_angles takes them one by one, the measured model's lookup four at once in one
+// vector (measured_data.cpp, with its pdf's).
+template <typename T>
+void half_diff_atan2_args(const Vec3& wo, const Vec3& wi, T y[3], T x[3]) {
   const T sx = T(wo.x) + T(wi.x), sy = T(wo.y) + T(wi.y), sz = T(wo.z) + T(wi.z);
   const T ex = T(wi.x) - T(wo.x), ey = T(wi.y) - T(wo.y), ez = T(wi.z) - T(wo.z);
   const T sp2 = sx * sx + sy * sy, sp_len = std::sqrt(sp2);
   const T sum = std::sqrt(sp2 + sz * sz);
-  theta_h = atan2(sp_len, sz);
-  theta_d = atan2(std::sqrt(ex * ex + ey * ey + ez * ez), sum);
+  y[0] = sp_len, x[0] = sz;
+  y[1] = std::sqrt(ex * ex + ey * ey + ez * ez), x[1] = sum;
   // e in the half vector's frame: x1 = (s_xy · e_xy)/|s_xy|, y1 = (s_xy × e_xy)/|s_xy|,
   // φd = atan2(y1, cos θh x1 − sin θh ez). With the half vector along z (s_xy = 0) the
   // frame's x axis is the x axis.
   if (sp2 > 0)
-    phi_d = atan2(sum * (sx * ey - sy * ex), sz * (sx * ex + sy * ey) - sp2 * ez);
+    y[2] = sum * (sx * ey - sy * ex), x[2] = sz * (sx * ex + sy * ey) - sp2 * ez;
   else
-    phi_d = atan2(ey, ex);
+    y[2] = ey, x[2] = ex;
+}
+template <typename T, typename Atan2>
+void half_diff_angles(const Vec3& wo, const Vec3& wi, Atan2 atan2, T& theta_h, T& theta_d, T& phi_d) {
+  T y[3], x[3];
+  half_diff_atan2_args<T>(wo, wi, y, x);
+  theta_h = atan2(y[0], x[0]);
+  theta_d = atan2(y[1], x[1]);
+  phi_d = atan2(y[2], x[2]);
 }
 // The pair (wo, wi) of the half/difference angles, with φh = 0: the inverse of half_diff
 // (either direction may lie below the horizon, z < 0, for large θh + θd).

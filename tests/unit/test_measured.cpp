@@ -337,6 +337,34 @@ TEST(Measured, ReflectsOnBothSidesAndNeverAcross) {
   }
 }
 
+// eval computes f and the pdf together (their arctangents in one vector): it must give
+// f() and pdf() bit for bit, at random pairs, near normal and grazing incidence, for
+// directions off unit length, and f and pdf must stay finite and non-negative.
+TEST(Measured, EvalIsFAndPdfBitForBit) {
+  const BxDF m = measured(ggx_table_path());
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> u(0, 1);
+  auto direction = [&](int kind) {
+    Vec3 w = square_to_uniform_hemisphere(u(rng), u(rng));
+    if (kind == 1) w = normalize(Vec3{w.x, w.y, w.z * 1e-4f});   // grazing
+    if (kind == 2) w = normalize(Vec3{w.x * 1e-4f, w.y * 1e-4f, w.z});  // near the normal
+    if (kind == 3) w = Vec3{w.x * 1.001f, w.y * 0.999f, w.z * 1.0005f};  // off unit length
+    return w;
+  };
+  for (int n = 0; n < 20000; ++n) {
+    const Vec3 wo = direction(n % 4), wi = direction((n / 4) % 4);
+    const BSDFEval e = m.eval(wo, wi);
+    const Color f = m.f(wo, wi);
+    const Float p = m.pdf(wo, wi);
+    for (int c = 0; c < 3; ++c) {
+      const Float a = e.f[c], b = f[c];
+      ASSERT_EQ(std::memcmp(&a, &b, sizeof a), 0) << n << " channel " << c << ": " << a << " vs " << b;
+    }
+    ASSERT_EQ(std::memcmp(&e.pdf, &p, sizeof p), 0) << n;
+    ASSERT_TRUE(f.is_finite() && f.min_component() >= 0 && std::isfinite(p) && p >= 0) << n;
+  }
+}
+
 // --- tabulation ----------------------------------------------------------------------
 
 TEST(Tabulate, RefusesWhatATableCannotHold) {

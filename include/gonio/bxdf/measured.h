@@ -55,9 +55,11 @@ struct MeasuredBxDFT {
     const Vec3 o = upper(wo, wo);
     const Vec3 i = data->sample(o, u_lobe, u1, u2);
     if (!(i.z > 0) || !is_finite(i)) return std::nullopt;
-    const Float p = data->pdf(o, i);
+    // f and pdf together (eval shares their arctangents; bit for bit lookup and pdf).
+    const MeasuredData::Eval e = data->eval(o, i);
+    const Float p = e.pdf;
     if (!(p > 0)) return std::nullopt;
-    const C value = colour(data->lookup(o, i));
+    const C value = colour(e.f);
     const Vec3 wi = wo.z > 0 ? i : Vec3{i.x, i.y, -i.z};
     return BSDFSampleT<C>{wi, value * (i.z / p), p, false, Lobe::Reflection, 1};
   }
