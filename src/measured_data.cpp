@@ -296,21 +296,22 @@ Float MeasuredData::tabulated_pdf(const Vec3& wo, const Vec3& wi, int b, Float a
       __builtin_prefetch(q);
       __builtin_prefetch(q + c.dk);
     }
-  const int b = theta_o_bin(wo);
-  const Float p = has_table_[size_t(b)]
-                      ? kDefensive * cosine_hemisphere_pdf(wi.z) + (1 - kDefensive) * tabulated_pdf(wo, wi, b, azimuth)
-                      : cosine_hemisphere_pdf(wi.z);
+  const Float p = mixture_pdf(wo, wi, theta_o_bin(wo), azimuth);
   return {found ? interpolate(c) : Color(0), p};
+}
+
+Float MeasuredData::mixture_pdf(const Vec3& wo, const Vec3& wi, int b, Float azimuth) const {
+  if (!has_table_[size_t(b)]) return cosine_hemisphere_pdf(wi.z);
+  return kDefensive * cosine_hemisphere_pdf(wi.z) + (1 - kDefensive) * tabulated_pdf(wo, wi, b, azimuth);
 }
 
 Float MeasuredData::pdf(const Vec3& wo, const Vec3& wi) const {
   if (!(wo.z > 0) || !(wi.z > 0)) return 0;
   const int b = theta_o_bin(wo);
-  if (!has_table_[size_t(b)]) return cosine_hemisphere_pdf(wi.z);
+  if (!has_table_[size_t(b)]) return cosine_hemisphere_pdf(wi.z);  // no arctangent needed
   Float along_y, along_x;
   pdf_azimuth_args(wo, wi, along_y, along_x);
-  return kDefensive * cosine_hemisphere_pdf(wi.z) +
-         (1 - kDefensive) * tabulated_pdf(wo, wi, b, fast_atan2(along_y, along_x));
+  return mixture_pdf(wo, wi, b, fast_atan2(along_y, along_x));
 }
 
 Vec3 MeasuredData::sample(const Vec3& wo, Float u_lobe, Float u1, Float u2) const {

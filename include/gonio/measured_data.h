@@ -70,6 +70,9 @@ class MeasuredData {
   // The tabulated density (the bin has a table), given the azimuth of wi around the mirror
   // direction of wo (measured_data.cpp, pdf_azimuth_args) in [−π, π].
   Float tabulated_pdf(const Vec3& wo, const Vec3& wi, int theta_o_bin, Float azimuth) const;
+  // The sampling density of sample(): kDefensive of cosine plus the tabulated density, or
+  // cosine alone where θo's bin has no table (the one formula that eval and pdf use).
+  Float mixture_pdf(const Vec3& wo, const Vec3& wi, int theta_o_bin, Float azimuth) const;
 
   MerlTable table_;
   std::string path_;

@@ -126,50 +126,38 @@ def test_gantry_and_output_are_separate_runs(tmp_path):
         gonio.measure(42, GANTRY)
 
 
+def interrupt_after(call, seconds):
+    """Runs `call` (Python source) in a fresh interpreter, sends it SIGINT `seconds` after
+    it starts the call, and asserts that the call raised KeyboardInterrupt within 60 s."""
+    code = ("import sys, gonio\n"
+            "print('started', flush=True)\n"
+            "try:\n"
+            "    %s\n"
+            "except KeyboardInterrupt:\n"
+            "    print('interrupted', flush=True)\n"
+            "    sys.exit(3)\n") % call
+    p = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                         env=os.environ.copy())
+    assert p.stdout.readline() == "started\n"
+    time.sleep(seconds)
+    p.send_signal(signal.SIGINT)
+    try:
+        out, err = p.communicate(timeout=60)
+    except subprocess.TimeoutExpired:
+        p.kill()
+        pytest.fail("%s did not stop within 60 s of SIGINT" % call)
+    assert p.returncode == 3 and out == "interrupted\n", (p.returncode, out, err)
+
+
 def test_measure_stops_on_ctrl_c(tmp_path):
     """A table far too long to finish (10^12 rays) is interrupted by SIGINT within seconds,
     raising KeyboardInterrupt, and writes no table."""
     out = tmp_path / "t.binary"
-    code = ("import sys, gonio\n"
-            "print('measuring', flush=True)\n"
-            "try:\n"
-            "    gonio.measure(%r, output=%r, samples=10**12, threads=2)\n"
-            "except KeyboardInterrupt:\n"
-            "    print('interrupted', flush=True)\n"
-            "    sys.exit(3)\n") % (json.dumps(SURFACE), str(out))
-    p = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                         env=os.environ.copy())
-    assert p.stdout.readline() == "measuring\n"
-    time.sleep(1.5)
-    p.send_signal(signal.SIGINT)
-    try:
-        rest, err = p.communicate(timeout=60)
-    except subprocess.TimeoutExpired:
-        p.kill()
-        pytest.fail("the measurement did not stop within 60 s of SIGINT")
-    assert p.returncode == 3 and rest == "interrupted\n", (p.returncode, rest, err)
+    interrupt_after("gonio.measure(%r, output=%r, samples=10**12, threads=2)" % (json.dumps(SURFACE), str(out)), 1.5)
     assert not out.exists()
 
 
 def test_render_stops_on_ctrl_c():
     """A render far too long to finish (the default scene at 2^20 spp) is interrupted by
     SIGINT within seconds, raising KeyboardInterrupt in the interpreter."""
-    code = ("import sys, gonio\n"
-            "print('rendering', flush=True)\n"
-            "try:\n"
-            "    gonio.render(spp=1 << 20, threads=2)\n"
-            "except KeyboardInterrupt:\n"
-            "    print('interrupted', flush=True)\n"
-            "    sys.exit(3)\n")
-    p = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                         env=os.environ.copy())
-    assert p.stdout.readline() == "rendering\n"
-    time.sleep(1.0)
-    p.send_signal(signal.SIGINT)
-    try:
-        out, err = p.communicate(timeout=60)
-    except subprocess.TimeoutExpired:
-        p.kill()
-        pytest.fail("the render did not stop within 60 s of SIGINT")
-    assert p.returncode == 3, err
-    assert out == "interrupted\n"
+    interrupt_after("gonio.render(spp=1 << 20, threads=2)", 1.0)
