@@ -9,7 +9,9 @@
 #include <map>
 #include <mutex>
 
+#include "gonio/math/cdf_guide.h"
 #include "gonio/math/fast_atan.h"
+#include "gonio/math/select.h"
 #include "gonio/math/warp.h"
 
 namespace gonio {
@@ -153,6 +155,8 @@ void MeasuredData::build_sampler() {
   cell_prob_.assign(size_t(kThetaOBins) * cells, 0.0f);
   marginal_cdf_.assign(size_t(kThetaOBins) * (kThetaCells + 1), 0.0f);
   conditional_cdf_.assign(size_t(kThetaOBins) * kThetaCells * (kPhiCells + 1), 0.0f);
+  marginal_guide_.assign(size_t(kThetaOBins) * kThetaGuide, 0);
+  conditional_guide_.assign(size_t(kThetaOBins) * kThetaCells * kPhiGuide, 0);
   const double dphi = kPiD / kPhiCells;
   for (int b = 0; b < kThetaOBins; ++b) {
     // Bin centre in t = 1 − √(1 − θo/(π/2)) (theta_o_bin).
@@ -202,20 +206,15 @@ void MeasuredData::build_sampler() {
         cond[ip + 1] = row > 0 ? float(c / row) : float(ip + 1) / kPhiCells;
       }
       cond[kPhiCells] = 1;
+      build_cdf_guide<kPhiGuide>(cond, kPhiCells, &conditional_guide_[(size_t(b) * kThetaCells + size_t(it)) * kPhiGuide]);
       run += row;
       marginal[it + 1] = float(run);
     }
     marginal[kThetaCells] = 1;
+    build_cdf_guide<kThetaGuide>(marginal, kThetaCells, &marginal_guide_[size_t(b) * kThetaGuide]);
   }
 }
 
-namespace {
-// The index of the CDF interval holding u (cdf[0] = 0, cdf[n] = 1), skipping empty ones.
-inline int find_interval(const float* cdf, int n, Float u) {
-  const float* it = std::upper_bound(cdf + 1, cdf + n + 1, float(u));
-  return std::clamp(int(it - cdf) - 1, 0, n - 1);
-}
-}  // namespace
 
 // The θo bin of wo: uniform in t = 1 − √(1 − θo/(π/2)), so that the bins narrow towards
 // grazing, where a lobe changes fastest with θo (the last of 32 spans 89.91° to 90°).
@@ -278,6 +277,11 @@ Float MeasuredData::tabulated_pdf(const Vec3& wo, const Vec3& wi, int b, Float a
   return v / 2;  // the cell and its mirror image share the mass
 }
 
+Float MeasuredData::mixture_pdf(const Vec3& wo, const Vec3& wi, int b, Float azimuth) const {
+  if (!has_table_[size_t(b)]) return cosine_hemisphere_pdf(wi.z);
+  return kDefensive * cosine_hemisphere_pdf(wi.z) + (1 - kDefensive) * tabulated_pdf(wo, wi, b, azimuth);
+}
+
 // Flattened: with the lookup and the pdf inlined into one body, the processor sees their two
 // independent chains of square roots and divisions together and overlaps them (7% faster
 // than calls, bench_measured.cpp). The pdf's arctangent is the fourth lane of the lookup's
@@ -300,11 +304,6 @@ Float MeasuredData::tabulated_pdf(const Vec3& wo, const Vec3& wi, int b, Float a
   return {found ? interpolate(c) : Color(0), p};
 }
 
-Float MeasuredData::mixture_pdf(const Vec3& wo, const Vec3& wi, int b, Float azimuth) const {
-  if (!has_table_[size_t(b)]) return cosine_hemisphere_pdf(wi.z);
-  return kDefensive * cosine_hemisphere_pdf(wi.z) + (1 - kDefensive) * tabulated_pdf(wo, wi, b, azimuth);
-}
-
 Float MeasuredData::pdf(const Vec3& wo, const Vec3& wi) const {
   if (!(wo.z > 0) || !(wi.z > 0)) return 0;
   const int b = theta_o_bin(wo);
@@ -323,11 +322,12 @@ Vec3 MeasuredData::sample(const Vec3& wo, Float u_lobe, Float u1, Float u2) cons
   // The cell, from the discrete distribution of the patches' masses; the remainders of u1
   // and u2 place the point within it.
   const float* marginal = &marginal_cdf_[size_t(b) * (kThetaCells + 1)];
-  const int it = find_interval(marginal, kThetaCells, u1);
+  const int it = cdf_interval_guided<kThetaGuide>(marginal, kThetaCells, &marginal_guide_[size_t(b) * kThetaGuide], u1);
   const Float m0 = marginal[it], m1 = marginal[it + 1];
   const Float v1 = m1 > m0 ? std::clamp((u1 - m0) / (m1 - m0), Float(0), kOneMinusEpsilon) : Float(0.5);
   const float* cond = &conditional_cdf_[(size_t(b) * kThetaCells + size_t(it)) * (kPhiCells + 1)];
-  const int ip = find_interval(cond, kPhiCells, u2);
+  const int ip = cdf_interval_guided<kPhiGuide>(cond, kPhiCells,
+                                                &conditional_guide_[(size_t(b) * kThetaCells + size_t(it)) * kPhiGuide], u2);
   const Float c0 = cond[ip], c1 = cond[ip + 1];
   const Float v2 = c1 > c0 ? std::clamp((u2 - c0) / (c1 - c0), Float(0), kOneMinusEpsilon) : Float(0.5);
   // Within the bilinear patch (corners n00, n01 along φ', n10, n11 one row down in cos θ'):
@@ -338,10 +338,12 @@ Vec3 MeasuredData::sample(const Vec3& wo, Float u_lobe, Float u1, Float u2) cons
   const Float tp = sample_linear(v2, (1 - tu) * n[0] + tu * n[kNodesP], (1 - tu) * n[1] + tu * n[kNodesP + 1]);
   const Float ct = cos_edge_[size_t(it)] + (cos_edge_[size_t(it) + 1] - cos_edge_[size_t(it)]) * tu;
   const Float st = std::sqrt(std::max(Float(0), 1 - ct * ct));
-  Float rel = (Float(ip) + tp) * Float(kPiD / kPhiCells);
-  if (u_mirror < Float(0.5)) rel = -rel;
+  // The azimuth φ' = (ip + tp) π / kPhiCells in [0, π], as a fraction of a turn for the
+  // polynomial sine and cosine (a libm call costs ~15 ns); its mirror image has −sin φ'.
+  const SinCos turn = sincos_2pi((Float(ip) + tp) * Float(0.5 / kPhiCells));
+  const Float sin_rel = u_mirror < Float(0.5) ? -turn.sin : turn.sin;
   const MirrorFrame fr = mirror_frame(wo);
-  return normalize(ct * fr.wr + (st * std::cos(rel)) * fr.xp + (st * std::sin(rel)) * fr.yp);
+  return normalize(ct * fr.wr + (st * turn.cos) * fr.xp + (st * sin_rel) * fr.yp);
 }
 
 // --- loading -----------------------------------------------------------------------

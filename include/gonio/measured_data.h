@@ -80,6 +80,10 @@ class MeasuredData {
   // (kPhiCells + 1)), the cells' probabilities (kThetaCells × kPhiCells), the marginal CDF over
   // θ' (kThetaCells + 1) and the conditional CDFs over φ' (kThetaCells × (kPhiCells + 1)).
   std::vector<float> node_, cell_prob_, marginal_cdf_, conditional_cdf_;
+  // Guide tables of the CDFs (cdf_guide.h), twice as many steps as intervals: the same
+  // intervals as a binary search, found in less than one step on average.
+  static constexpr int kThetaGuide = 2 * kThetaCells, kPhiGuide = 2 * kPhiCells;
+  std::vector<std::uint8_t> marginal_guide_, conditional_guide_;
   std::array<bool, kThetaOBins> has_table_{};  // false: the bin's target was 0 everywhere
   std::array<float, kThetaCells + 1> cos_edge_{};  // cos θ' at the cells' edges
   std::array<float, kThetaCells> inv_cos_width_{};  // 1 / (cos_edge_[i] − cos_edge_[i + 1])

@@ -1,11 +1,15 @@
 #pragma once
-// Threads for the Python module's batch calls: [0, n) cut into one contiguous range per
-// thread, on plain std::thread (the core has no threading library, and oneTBB belongs to
-// the renderer). Each element is independent of the others, so the result does not
-// depend on the thread count. The first exception a range throws is rethrown here, after
-// every thread has finished.
+// Threads for the Python module's batch calls, on plain std::thread (the core has no
+// threading library, and oneTBB belongs to the renderer). [0, n) is cut into pieces that
+// the threads take in turn from a shared counter, the calling thread among them: on a
+// machine whose cores are shared (a VM's, or one busy with other work) a thread that gets
+// less of its core takes fewer pieces instead of holding up the whole call with a fixed
+// half of it. Each element is independent of the others, so the result does not depend
+// on the thread count or on which thread took a piece. The first exception a piece throws
+// is rethrown here, after every thread has finished, and no further pieces are started.
 
 #include <algorithm>
+#include <atomic>
 #include <cstddef>
 #include <exception>
 #include <mutex>
@@ -23,28 +27,42 @@ inline int thread_count(int threads) {
   return threads > 0 ? threads : std::max(1, int(std::thread::hardware_concurrency()));
 }
 
-// fn(begin, end) over ranges covering [0, n); `grain` elements at least per thread.
+// Pieces per thread: enough that a thread slowed to half speed costs the call about a
+// sixteenth of its time, few enough that taking one (an atomic increment) costs nothing.
+inline constexpr std::size_t kPiecesPerThread = 16;
+
+// fn(begin, end) over ranges covering [0, n); `grain` elements at least per thread and
+// per piece.
 template <typename F>
 void parallel_ranges(std::size_t n, int threads, F&& fn, std::size_t grain = kMinPerThread) {
-  const std::size_t t = std::clamp<std::size_t>(n / std::max<std::size_t>(grain, 1), 1, std::size_t(thread_count(threads)));
+  grain = std::max<std::size_t>(grain, 1);
+  const std::size_t t = std::clamp<std::size_t>(n / grain, 1, std::size_t(thread_count(threads)));
   if (t == 1) {
     fn(std::size_t(0), n);
     return;
   }
+  const std::size_t piece = std::max(grain, (n + t * kPiecesPerThread - 1) / (t * kPiecesPerThread));
+  std::atomic<std::size_t> next{0};
+  std::atomic<bool> failed{false};
   std::exception_ptr error;
   std::mutex m;
-  std::vector<std::thread> pool;
-  pool.reserve(t);
-  for (std::size_t k = 0; k < t; ++k) {
-    pool.emplace_back([&, k] {
-      try {
-        fn(n * k / t, n * (k + 1) / t);
-      } catch (...) {
-        const std::lock_guard<std::mutex> lock(m);
-        if (!error) error = std::current_exception();
+  auto work = [&] {
+    try {
+      while (!failed.load(std::memory_order_relaxed)) {
+        const std::size_t begin = next.fetch_add(piece, std::memory_order_relaxed);
+        if (begin >= n) break;
+        fn(begin, std::min(n, begin + piece));
       }
-    });
-  }
+    } catch (...) {
+      const std::lock_guard<std::mutex> lock(m);
+      if (!error) error = std::current_exception();
+      failed = true;
+    }
+  };
+  std::vector<std::thread> pool;
+  pool.reserve(t - 1);
+  for (std::size_t k = 1; k < t; ++k) pool.emplace_back(work);
+  work();
   for (auto& th : pool) th.join();
   if (error) std::rethrow_exception(error);
 }

@@ -9,6 +9,7 @@
 #include <functional>
 #include <vector>
 
+#include "gonio/math/cdf_guide.h"
 #include "gonio/math/fast_atan.h"
 #include "gonio/math/frame.h"
 #include "gonio/math/select.h"
@@ -219,6 +220,71 @@ TEST(FastAtan, FourLanesAreTheScalarBitForBit) {
       }
     }
   EXPECT_GT(compared, 100000);
+}
+
+// The interval a CDF search must return, by counting instead of searching: the number of
+// entries cdf[1 .. n] at or below u (upper_bound's position less one), at most n − 1.
+int counted_interval(const std::vector<float>& cdf, Float u) {
+  const int n = int(cdf.size()) - 1;
+  int below = 0;
+  for (int j = 1; j <= n; ++j) below += cdf[std::size_t(j)] <= u ? 1 : 0;
+  return std::min(below, n - 1);
+}
+
+// The guided search (the measured model's sampler) and the binary one return the same
+// interval as the count for every u in [0, 1]: random CDFs with empty intervals at the
+// ends and inside, a CDF whose mass is all in one interval, and u at every entry, a float
+// step either side of it, at the guide's step boundaries and at random.
+template <int G>
+void expect_guided_search_exact(int n) {
+  Pcg32 rng(11 + std::uint64_t(n));
+  for (int trial = 0; trial < 40; ++trial) {
+    std::vector<double> mass(static_cast<std::size_t>(n));
+    for (int i = 0; i < n; ++i) mass[std::size_t(i)] = rng.next_float() < 0.3f ? 0.0 : std::pow(double(rng.next_float()), 6);
+    if (trial % 4 == 0) {  // empty ends
+      mass.front() = 0;
+      mass[1] = 0;
+      mass.back() = 0;
+    }
+    if (trial % 4 == 1) {  // all the mass in one interval
+      std::fill(mass.begin(), mass.end(), 0.0);
+      mass[rng.next_u32() % std::uint32_t(n)] = 1;
+    }
+    double total = 0;
+    for (double m : mass) total += m;
+    if (!(total > 0)) {
+      mass[0] = 1;
+      total = 1;
+    }
+    std::vector<float> cdf(std::size_t(n) + 1, 0.0f);
+    double run = 0;
+    for (int i = 0; i < n; ++i) {
+      run += mass[std::size_t(i)];
+      cdf[std::size_t(i) + 1] = float(run / total);
+    }
+    cdf[std::size_t(n)] = 1;
+    std::vector<std::uint8_t> guide(G);
+    build_cdf_guide<G>(cdf.data(), n, guide.data());
+    std::vector<Float> us = {0.0f, kOneMinusEpsilon, 1.0f};
+    for (float c : cdf) us.insert(us.end(), {c, std::nextafter(c, 0.0f), std::nextafter(c, 1.0f)});
+    for (int g = 0; g <= G; ++g) us.insert(us.end(), {Float(g) / G, std::nextafter(Float(g) / G, 0.0f)});
+    for (int i = 0; i < 2000; ++i) us.push_back(rng.next_float());
+    for (Float u : us) {
+      if (!(u >= 0 && u <= 1)) continue;
+      const int want = counted_interval(cdf, u);
+      ASSERT_EQ(cdf_interval_guided<G>(cdf.data(), n, guide.data(), u), want) << "n " << n << " trial " << trial << " u " << u;
+      ASSERT_EQ(cdf_interval(cdf.data(), n, u), want) << "n " << n << " u " << u;
+    }
+    EXPECT_EQ(cdf_interval_guided<G>(cdf.data(), n, guide.data(), std::nanf("")), n - 1);
+    EXPECT_EQ(cdf_interval_guided<G>(cdf.data(), n, guide.data(), 1.5f), n - 1);
+    const int below = cdf_interval_guided<G>(cdf.data(), n, guide.data(), -0.5f);
+    EXPECT_TRUE(below >= 0 && below < n);
+  }
+}
+TEST(CdfGuide, GuidedSearchFindsTheBinarySearchesInterval) {
+  expect_guided_search_exact<128>(64);
+  expect_guided_search_exact<64>(32);
+  expect_guided_search_exact<8>(32);  // fewer steps than intervals: longer walks, same answers
 }
 }  // namespace
 }  // namespace gonio
