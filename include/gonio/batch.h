@@ -20,6 +20,10 @@
 #include "gonio/bxdf.h"
 #include "gonio/fresnel.h"  // lane_sqrt
 
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#include <immintrin.h>
+#endif
+
 namespace gonio {
 
 // A direction as a user gives it (a line of stdin, a row of a numpy array): normalised in
@@ -37,7 +41,11 @@ namespace gonio {
     y = std::scalbn(y, -e);
     z = std::scalbn(z, -e);
   }
-  const double inv = 1 / std::sqrt(x * x + y * y + z * z);
+  const double s = x * x + y * y + z * z;
+  // A NaN after the first component can slip past std::max (NaN compares false), never
+  // past the sum of squares.
+  if (std::isnan(s)) [[unlikely]] return std::nullopt;
+  const double inv = 1 / std::sqrt(s);
   return Vec3{Float(x * inv), Float(y * inv), Float(z * inv)};
 }
 
@@ -59,11 +67,85 @@ namespace gonio {
     return true;
   }
   const V x{a[0], b[0]}, y{a[1], b[1]}, z{a[2], b[2]};
-  const V inv = 1 / lane_sqrt(x * x + y * y + z * z);
+  const V s = x * x + y * y + z * z;
+  if (std::isnan(s[0]) || std::isnan(s[1])) [[unlikely]] return false;  // as in unit_direction
+  const V inv = 1 / lane_sqrt(s);
   const V ux = x * inv, uy = y * inv, uz = z * inv;
   wa = Vec3{Float(ux[0]), Float(uy[0]), Float(uz[0])};
   wb = Vec3{Float(ux[1]), Float(uy[1]), Float(uz[1])};
   return true;
+}
+
+namespace batch_detail {
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#define GONIO_BATCH_AVX2 1
+// unit_direction_pair over four rows at a time, in 256-bit registers: each lane does the
+// scalar operations in the scalar order (vsqrtpd, vdivpd and vcvtpd2ps round as sqrtsd,
+// divsd and cvtsd2ss do), so every row is bit for bit unit_direction's. "avx2" does not
+// enable FMA, so no multiply-add is contracted. Any row outside the scalar fast path's
+// range (or not finite) sends its group of four through unit_direction_pair. Run only
+// where the processor has AVX2 (unit_direction_rows checks). (Helpers rather than
+// lambdas: a lambda does not inherit its enclosing function's target.)
+
+// Lane k: component c of row k of the rows of three doubles at p.
+[[gnu::target("avx2")]] inline __m256d row_column_avx2(const double* p, int c) {
+  return _mm256_set_pd(p[9 + c], p[6 + c], p[3 + c], p[c]);
+}
+// The scalar fast path's condition lane by lane: every |component| ≤ 2^500 (false for a
+// NaN) and one of them ≥ 2^−500.
+[[gnu::target("avx2")]] inline __m256d in_fast_range_avx2(__m256d x, __m256d y, __m256d z) {
+  const __m256d sign = _mm256_set1_pd(-0.0), lo = _mm256_set1_pd(0x1p-500), hi = _mm256_set1_pd(0x1p500);
+  const __m256d ax = _mm256_andnot_pd(sign, x), ay = _mm256_andnot_pd(sign, y), az = _mm256_andnot_pd(sign, z);
+  const __m256d bounded = _mm256_and_pd(_mm256_and_pd(_mm256_cmp_pd(ax, hi, _CMP_LE_OQ), _mm256_cmp_pd(ay, hi, _CMP_LE_OQ)),
+                                        _mm256_cmp_pd(az, hi, _CMP_LE_OQ));
+  const __m256d not_tiny = _mm256_or_pd(_mm256_or_pd(_mm256_cmp_pd(ax, lo, _CMP_GE_OQ), _mm256_cmp_pd(ay, lo, _CMP_GE_OQ)),
+                                        _mm256_cmp_pd(az, lo, _CMP_GE_OQ));
+  return _mm256_and_pd(bounded, not_tiny);
+}
+// x · (1 / √(x² + y² + z²)), the sum left to right as in unit_direction, rounded to float.
+[[gnu::target("avx2")]] inline void unit_rows_avx2(__m256d x, __m256d y, __m256d z, Vec3* out) {
+  const __m256d s = _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(x, x), _mm256_mul_pd(y, y)), _mm256_mul_pd(z, z));
+  const __m256d inv = _mm256_div_pd(_mm256_set1_pd(1.0), _mm256_sqrt_pd(s));
+  alignas(16) float fx[4], fy[4], fz[4];
+  _mm_store_ps(fx, _mm256_cvtpd_ps(_mm256_mul_pd(x, inv)));
+  _mm_store_ps(fy, _mm256_cvtpd_ps(_mm256_mul_pd(y, inv)));
+  _mm_store_ps(fz, _mm256_cvtpd_ps(_mm256_mul_pd(z, inv)));
+  for (int k = 0; k < 4; ++k) out[k] = Vec3{fx[k], fy[k], fz[k]};
+}
+// Returns the rows done (a multiple of 4); ok is cleared if a pair was refused.
+[[gnu::target("avx2")]] inline std::size_t unit_direction_rows_avx2(const double* a, const double* b, std::size_t n,
+                                                                    Vec3* wa, Vec3* wb, bool& ok) {
+  std::size_t j = 0;
+  for (; j + 4 <= n; j += 4) {
+    const double *p = a + 3 * j, *q = b + 3 * j;
+    const __m256d ax = row_column_avx2(p, 0), ay = row_column_avx2(p, 1), az = row_column_avx2(p, 2);
+    const __m256d bx = row_column_avx2(q, 0), by = row_column_avx2(q, 1), bz = row_column_avx2(q, 2);
+    if (_mm256_movemask_pd(_mm256_and_pd(in_fast_range_avx2(ax, ay, az), in_fast_range_avx2(bx, by, bz))) != 0xF)
+        [[unlikely]] {
+      for (std::size_t k = 0; k < 4; ++k) ok = unit_direction_pair(p + 3 * k, q + 3 * k, wa[j + k], wb[j + k]) && ok;
+      continue;
+    }
+    unit_rows_avx2(ax, ay, az, wa + j);
+    unit_rows_avx2(bx, by, bz, wb + j);
+  }
+  return j;
+}
+#endif
+}  // namespace batch_detail
+
+// unit_direction_pair for n rows of a and b (each n × 3 doubles, row after row): four
+// rows at a time where the processor has AVX2, the same bits either way. False when a
+// pair was refused; the outputs of that pair are then unspecified, and the caller looks
+// for it row by row.
+inline bool unit_direction_rows(const double* a, const double* b, std::size_t n, Vec3* wa, Vec3* wb) {
+  bool ok = true;
+  std::size_t j = 0;
+#ifdef GONIO_BATCH_AVX2
+  static const bool avx2 = __builtin_cpu_supports("avx2");
+  if (avx2) j = batch_detail::unit_direction_rows_avx2(a, b, n, wa, wb, ok);
+#endif
+  for (; j < n; ++j) ok = unit_direction_pair(a + 3 * j, b + 3 * j, wa[j], wb[j]) && ok;
+  return ok;
 }
 
 // sample()'s three uniform numbers, each in [0, 1): u_lobe picks the lobe.

@@ -117,11 +117,12 @@ std::size_t broadcast(const Rows3& a, const Rows3& b, const char* na, const char
   if (a.n == b.n && a.row_stride == kRow && a.col_stride == kCol && b.row_stride == kRow && b.col_stride == kCol) {
     const double* pa = reinterpret_cast<const double*>(a.base) + 3 * s;
     const double* pb = reinterpret_cast<const double*>(b.base) + 3 * s;
-    for (std::size_t j = 0; j < c; ++j)
-      if (!unit_direction_pair(pa + 3 * j, pb + 3 * j, wa[j], wb[j])) [[unlikely]] {
-        wa[j] = row_direction(a, s + j, bad_a);
-        wb[j] = row_direction(b, s + j, bad_b);
-      }
+    if (!unit_direction_rows(pa, pb, c, wa, wb)) [[unlikely]]
+      for (std::size_t j = 0; j < c; ++j)
+        if (!unit_direction_pair(pa + 3 * j, pb + 3 * j, wa[j], wb[j])) {
+          wa[j] = row_direction(a, s + j, bad_a);
+          wb[j] = row_direction(b, s + j, bad_b);
+        }
     return;
   }
   for (std::size_t j = 0; j < c; ++j) {

@@ -61,6 +61,12 @@ m = gonio.Material('{"type":"diffuse"}')
 @pytest.mark.parametrize("wo, wi, message", [
     (np.zeros((2, 3)), np.ones((2, 3)), r"^wo\[0\] is a zero vector$"),
     (np.ones((3, 3)), np.array([[1, 1, 1], [0, 0, 1], [np.nan, 0, 1]]), r"^wi\[2\] is not a finite vector$"),
+    # A NaN after the first component of a row (it once slipped through as f = 0), in
+    # contiguous arrays, a strided view and a single row, and inside a group of four rows.
+    (np.ones((3, 3)), np.array([[1, 1, 1], [0, np.nan, 1], [0, 0, 1]]), r"^wi\[1\] is not a finite vector$"),
+    (np.array([[0, 0, 1], [0, 1, np.nan]] * 5), np.ones((10, 3)), r"^wo\[1\] is not a finite vector$"),
+    (np.ones((6, 3))[::2], np.array([[0, 1, 0], [1, 0, 0], [1, 1, np.nan]]), r"^wi\[2\] is not a finite vector$"),
+    (np.array([0, np.nan, 1]), np.ones((4, 3)), r"^wo\[0\] is not a finite vector$"),
     (np.ones((2, 2)), np.ones((2, 3)), r"^wo must have shape \(N, 3\) or \(3,\), got \(2, 2\)$"),
     (np.ones((2, 3)), np.ones((3, 3)), "different lengths"),
 ])

@@ -3,7 +3,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <vector>
 
@@ -28,6 +30,16 @@ TEST(Batch, UnitDirectionScalesExtremeComponents) {
   EXPECT_FALSE(unit_direction(0, -0.0, 0));
   EXPECT_FALSE(unit_direction(std::numeric_limits<double>::infinity(), 0, 1));
   EXPECT_FALSE(unit_direction(std::nan(""), 0, 1));
+  // A NaN after the first component, on the plain and on the scaled path.
+  for (double s : {1.0, 1e-300, 1e300}) {
+    EXPECT_FALSE(unit_direction(0, std::nan("") * s, s)) << s;
+    EXPECT_FALSE(unit_direction(s, 0, std::nan(""))) << s;
+    EXPECT_FALSE(unit_direction(s, std::nan(""), std::numeric_limits<double>::infinity())) << s;
+  }
+  const double nan_y[3] = {0, std::nan(""), 1}, nan_z[3] = {1, 0, std::nan("")}, one[3] = {0, 0, 1};
+  Vec3 wa, wb;
+  EXPECT_FALSE(unit_direction_pair(nan_y, one, wa, wb));
+  EXPECT_FALSE(unit_direction_pair(one, nan_z, wa, wb));
 }
 
 TEST(Batch, PairEqualsTwoSingles) {
@@ -45,6 +57,68 @@ TEST(Batch, PairEqualsTwoSingles) {
   Vec3 wa, wb;
   EXPECT_FALSE(unit_direction_pair(zero, one, wa, wb));
   EXPECT_FALSE(unit_direction_pair(one, zero, wa, wb));
+}
+
+// unit_direction_rows (four rows at a time on AVX2) gives each row bit for bit what
+// unit_direction gives it, over 40 decades of scale, with rows that need the scaled path,
+// zero rows and NaN components scattered among them, and a row count that is not a
+// multiple of four; it reports a refused pair. Both the dispatching function and, where
+// the processor has it, the AVX2 loop itself.
+TEST(Batch, RowsEqualOneRowAtATime) {
+  Pcg32 rng(12, 0);
+  const std::size_t n = 4099;
+  std::vector<double> a(3 * n), b(3 * n);
+  auto c = [&] { return (rng.next_float() - 0.5) * std::pow(10.0, 40 * (rng.next_float() - 0.5)); };
+  for (double& x : a) x = c();
+  for (double& x : b) x = c();
+  const std::size_t tiny = 1001, huge = 2002;  // rows for the scaled path, inside the AVX2 groups
+  const double tiny_row[3] = {3e-310, -4e-310, 1e-311}, huge_row[3] = {1e305, 2e305, -3e305};
+  std::copy(tiny_row, tiny_row + 3, a.begin() + 3 * tiny);
+  std::copy(huge_row, huge_row + 3, b.begin() + 3 * huge);
+  auto run = [&](auto rows, std::size_t count, const char* which) {
+    std::vector<Vec3> wa(count), wb(count);
+    const bool ok = rows(a.data(), b.data(), count, wa.data(), wb.data());
+    bool every = true;
+    for (std::size_t j = 0; j < count; ++j) {
+      const auto ua = unit_direction(a[3 * j], a[3 * j + 1], a[3 * j + 2]);
+      const auto ub = unit_direction(b[3 * j], b[3 * j + 1], b[3 * j + 2]);
+      every = every && ua && ub;
+      if (!ua || !ub) continue;
+      ASSERT_EQ(std::memcmp(&wa[j], &*ua, sizeof(Vec3)), 0) << which << " row " << j;
+      ASSERT_EQ(std::memcmp(&wb[j], &*ub, sizeof(Vec3)), 0) << which << " row " << j;
+    }
+    EXPECT_EQ(ok, every) << which;
+  };
+  auto dispatching = [](const double* pa, const double* pb, std::size_t m, Vec3* oa, Vec3* ob) {
+    return unit_direction_rows(pa, pb, m, oa, ob);
+  };
+  run(dispatching, n, "unit_direction_rows");
+#ifdef GONIO_BATCH_AVX2
+  const bool avx2 = __builtin_cpu_supports("avx2");
+  auto vector_loop = [](const double* pa, const double* pb, std::size_t m, Vec3* oa, Vec3* ob) {
+    bool ok = true;
+    EXPECT_EQ(batch_detail::unit_direction_rows_avx2(pa, pb, m, oa, ob, ok), m);
+    return ok;
+  };
+  if (avx2) run(vector_loop, n - 3, "unit_direction_rows_avx2");  // a multiple of four
+#endif
+  // Bad rows: a zero, and NaNs after the first component; each refused.
+  for (std::size_t bad : {std::size_t(5), std::size_t(2050), n - 1}) {
+    const std::vector<double> keep_a = a, keep_b = b;
+    for (std::size_t which = 0; which < 3; ++which) {
+      a = keep_a;
+      b = keep_b;
+      double* row = (which == 1 ? b.data() : a.data()) + 3 * bad;
+      if (which == 0) row[0] = row[1] = row[2] = 0;
+      else row[which] = std::nan("");
+      run(dispatching, n, "a bad row");
+#ifdef GONIO_BATCH_AVX2
+      if (avx2) run(vector_loop, n - 3, "a bad row, AVX2");
+#endif
+    }
+    a = keep_a;
+    b = keep_b;
+  }
 }
 
 TEST(Batch, EvalPdfSampleEqualOneCallPerElement) {
