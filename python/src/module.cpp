@@ -519,12 +519,24 @@ py::dict fresnel(const DoubleArray& theta_a, double eta, double k, const std::op
   return d;
 }
 
+// "name" for a number, "name[i]" for an element of an array.
+std::string element_name(const char* name, const DoubleArray& a, std::size_t i) {
+  return a.ndim() == 0 ? std::string(name) : std::string(name) + "[" + std::to_string(i) + "]";
+}
+
 // Element-wise Fresnel functions of the core on arrays (cos_i signed as in fresnel.h).
+// A cosine must be a number in [−1, 1]; up to 1e-6 beyond (the rounding of a dot product
+// of unit vectors) it is taken as ±1 by the core, further out or NaN it is an error, not
+// a reflectance (the core's clamping would give one).
 template <typename F>
 py::array_t<double> map1(const DoubleArray& a, F fn) {
   const Vec1 x = vec1(a, "cos_i");
   py::array_t<double> out(py::ssize_t(x.n));
-  for (std::size_t i = 0; i < x.n; ++i) out.mutable_data()[i] = fn(x[i]);
+  for (std::size_t i = 0; i < x.n; ++i) {
+    if (!(std::abs(x[i]) <= 1 + 1e-6))
+      throw InputError(element_name("cos_i", a, i) + " must be a cosine in [-1, 1], got " + format_number(x[i]));
+    out.mutable_data()[i] = fn(x[i]);
+  }
   return out;
 }
 
@@ -794,6 +806,12 @@ reflection (the CLI prints null). wavelength (nm): a named material's index ther
             const std::size_t n = std::max({a.n, b.n, c.n});
             for (const Vec1* v : {&a, &b, &c})
               if (v->n != n && v->n != 1) throw InputError("theta_h, theta_d and phi_d have different lengths");
+            for (const auto& [v, arr, name] : {std::tuple{&a, &th, "theta_h"}, std::tuple{&b, &td, "theta_d"},
+                                               std::tuple{&c, &pd, "phi_d"}})
+              for (std::size_t i = 0; i < v->n; ++i)
+                if (!std::isfinite((*v)[i]))
+                  throw InputError(element_name(name, *arr, i) + " must be a finite angle in degrees, got " +
+                                   format_number((*v)[i]));
             py::array_t<double> wo({py::ssize_t(n), py::ssize_t(3)}), wi({py::ssize_t(n), py::ssize_t(3)});
             for (std::size_t i = 0; i < n; ++i) {
               const auto [o, w] = merl_directions(a[i] * kPiD / 180, b[i] * kPiD / 180, c[i] * kPiD / 180);

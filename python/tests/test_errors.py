@@ -113,3 +113,30 @@ def test_other_errors():
     if hasattr(gonio, "render"):
         with pytest.raises(ValueError):
             gonio.render("/nonexistent/scene.json")
+
+
+# The array helpers refuse what has no answer instead of returning NaN or a clamped value.
+@pytest.mark.parametrize("call, message", [
+    (lambda: gonio.fresnel_dielectric(np.array([0.5, np.nan]), 1.5), r"^cos_i\[1\] must be a cosine in \[-1, 1\], got nan$"),
+    (lambda: gonio.fresnel_dielectric(1.1, 1.5), r"^cos_i must be a cosine in \[-1, 1\], got 1\.1$"),
+    (lambda: gonio.fresnel_conductor(np.array([-np.inf]), 0.2, 3.0), r"^cos_i\[0\] must be a cosine"),
+    (lambda: gonio.fresnel_schlick(np.array([0.1, 0.2, np.nan]), 0.04), r"^cos_i\[2\] must be a cosine"),
+    (lambda: gonio.half_diff_directions(np.array([10, np.nan]), 10, 10),
+     r"^theta_h\[1\] must be a finite angle in degrees, got nan$"),
+    (lambda: gonio.half_diff_directions(10, 10, np.inf), r"^phi_d must be a finite angle in degrees, got inf$"),
+    (lambda: gonio.direction(np.array([10, np.nan]), 0), r"^theta\[1\] must be a finite angle in degrees, got nan$"),
+    (lambda: gonio.direction(10, np.inf), r"^phi must be a finite angle in degrees, got inf$"),
+    (lambda: gonio.spherical(np.array([[0, 0, 1], [0, 0, 0]])), r"^w\[1\] is a zero vector$"),
+    (lambda: gonio.spherical([0, np.nan, 1]), r"^w is not a finite vector$"),
+    (lambda: gonio.spherical(np.ones((2, 2))), r"^w must have shape \(N, 3\) or \(3,\)"),
+])
+def test_array_helpers_refuse_bad_values(call, message):
+    with pytest.raises(ValueError, match=message):
+        call()
+
+
+def test_array_helpers_at_their_limits():
+    # A cosine a rounding step beyond 1 is 1; directions of any length have their angles.
+    assert gonio.fresnel_dielectric(1 + 1e-9, 1.5)[0] == pytest.approx(0.04)
+    theta, phi = gonio.spherical(np.array([[1e300, 0, 1e300], [0, 1e-320, 0]]))
+    assert theta == pytest.approx([45, 90]) and phi == pytest.approx([0, 90])
