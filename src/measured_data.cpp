@@ -215,7 +215,6 @@ void MeasuredData::build_sampler() {
   }
 }
 
-
 // The θo bin of wo: uniform in t = 1 − √(1 − θo/(π/2)), so that the bins narrow towards
 // grazing, where a lobe changes fastest with θo (the last of 32 spans 89.91° to 90°).
 // Found from cos θo = wo.z without an arctangent: a table over cos θo in kBinLutSize steps

@@ -3,6 +3,7 @@
 
 #include "gonio/render/lights.h"
 
+#include "gonio/math/cdf_guide.h"
 #include "gonio/spectrum/rgb_to_spectrum.h"
 
 #include <algorithm>
@@ -14,12 +15,6 @@ namespace {
 Float pixel_weight(const Color& c) {
   if constexpr (kColorChannels == 3) return Float(0.2126) * c[0] + Float(0.7152) * c[1] + Float(0.0722) * c[2];
   else return c.average();
-}
-
-// Index i with cdf[i] <= u < cdf[i+1] in a normalised CDF of n+1 entries.
-int find_interval(const Float* cdf, int n, Float u) {
-  const Float* it = std::upper_bound(cdf, cdf + n + 1, u);
-  return std::clamp(static_cast<int>(it - cdf) - 1, 0, n - 1);
 }
 
 // 1 − cos θmax of the cone subtended by a sphere of radius r at distance d > r, without
@@ -93,9 +88,9 @@ LightSample Environment::sample(Float u1, Float u2) const {
     return s;
   }
   const int w = map_.width(), h = map_.height();
-  const int y = find_interval(row_cdf_.data(), h, u1);
+  const int y = cdf_interval(row_cdf_.data(), h, u1);
   const Float* col = &col_cdf_[static_cast<size_t>(y) * static_cast<size_t>(w + 1)];
-  const int x = find_interval(col, w, u2);
+  const int x = cdf_interval(col, w, u2);
   // Reuse the remainder of each uniform number for the position inside the pixel.
   const Float dy = row_cdf_[y + 1] - row_cdf_[y], dx = col[x + 1] - col[x];
   const Float fy = dy > 0 ? std::clamp((u1 - row_cdf_[y]) / dy, Float(0), kOneMinusEpsilon) : Float(0.5);
