@@ -31,4 +31,7 @@ inline std::uint64_t checked_count(std::int64_t v, std::int64_t lo, std::int64_t
   return std::uint64_t(v);
 }
 
+// A `threads` argument as the CLI's --threads takes it: 0 (every core) to 1024.
+inline int checked_threads(std::int64_t threads) { return int(checked_count(threads, 0, 1024, "threads")); }
+
 }  // namespace gonio::python

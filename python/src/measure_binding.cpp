@@ -119,7 +119,7 @@ py::dict measure_surface(const py::object& surface_arg, const py::object& gantry
   if (!gantry_arg.is_none()) spec = measure::parse_gantry(json_text_of(gantry_arg, "gantry"), "--gantry");
   measure::RunOptions options;
   options.samples = checked_count(samples, 1, 1'000'000'000'000, "samples");
-  options.threads = int(checked_count(threads, 0, 1024, "threads"));
+  options.threads = checked_threads(threads);
   options.seed = checked_count(seed, 0, 2'147'483'647, "seed");
   const auto bounces = std::uint32_t(checked_count(max_bounces, 1, 1'000'000, "max_bounces"));
   options.progress = check_signals;

@@ -216,6 +216,7 @@ void store_colour(float* out, const C& c, int channels) {
 
 py::tuple eval(const Material& m, const DoubleArray& wo_a, const DoubleArray& wi_a, const std::string& mode_name,
                int threads) {
+  checked_threads(threads);
   const TransportMode mode = parse_mode(mode_name);
   const Rows3 wo = rows3(wo_a, "wo"), wi = rows3(wi_a, "wi");
   const std::size_t n = broadcast(wo, wi, "wo", "wi");
@@ -257,6 +258,7 @@ py::tuple eval(const Material& m, const DoubleArray& wo_a, const DoubleArray& wi
 
 py::array_t<float> pdf(const Material& m, const DoubleArray& wo_a, const DoubleArray& wi_a,
                        const std::string& mode_name, int threads) {
+  checked_threads(threads);
   const TransportMode mode = parse_mode(mode_name);
   const Rows3 wo = rows3(wo_a, "wo"), wi = rows3(wi_a, "wi");
   const std::size_t n = broadcast(wo, wi, "wo", "wi");
@@ -297,6 +299,7 @@ std::optional<std::string> check_u(const Rows3& u) {
 
 py::tuple sample(const Material& m, const DoubleArray& wo_a, const DoubleArray& u_a, const std::string& mode_name,
                  int threads) {
+  checked_threads(threads);
   const TransportMode mode = parse_mode(mode_name);
   const Rows3 wo = rows3(wo_a, "wo"), u = rows3(u_a, "u");
   const std::size_t n = broadcast(wo, u, "wo", "u");
@@ -368,6 +371,7 @@ double checked_degrees(double v, double lo, double hi, const char* name) {
 
 py::dict albedo(const Material& m, const DoubleArray& theta_a, double phi, bool inside, std::int64_t samples,
                 std::int64_t seed, int threads) {
+  checked_threads(threads);
   if (theta_a.ndim() > 1) throw InputError("theta must be a number or a 1-D array, got shape " + shape_text(theta_a));
   const std::size_t n = theta_a.ndim() == 0 ? 1 : std::size_t(theta_a.shape(0));
   const double p = checked_degrees(phi, -360, 360, "phi");
@@ -543,6 +547,7 @@ py::array_t<double> map1(const DoubleArray& a, F fn) {
 // --- subsurface ---------------------------------------------------------------------------
 
 py::dict subsurface(const py::object& description, std::int64_t samples, std::int64_t seed, int threads) {
+  checked_threads(threads);
   const std::string text = json_text_of(description);
   // Checked as `gonio subsurface --bsdf` checks it: first as any material (the same
   // messages), then the type, then the medium.
@@ -593,7 +598,7 @@ py::array_t<float> render_scene(const py::object& scene_arg, std::optional<int> 
   if (spp) scene.settings.spp = int(checked_count(*spp, 1, 1'048'576, "spp"));
   if (seed) scene.settings.seed = checked_count(*seed, 0, 2'147'483'647, "seed");
   if (spectral) scene.settings.spectral = true;
-  checked_count(threads, 0, 1024, "threads");
+  checked_threads(threads);
   render::RenderOptions options;
   options.threads = threads;
   // Ctrl-C: the render runs on a worker thread while this one, the interpreter's, checks

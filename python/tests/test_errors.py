@@ -140,3 +140,15 @@ def test_array_helpers_at_their_limits():
     assert gonio.fresnel_dielectric(1 + 1e-9, 1.5)[0] == pytest.approx(0.04)
     theta, phi = gonio.spherical(np.array([[1e300, 0, 1e300], [0, 1e-320, 0]]))
     assert theta == pytest.approx([45, 90]) and phi == pytest.approx([0, 90])
+
+
+@pytest.mark.parametrize("threads", [-1, 1025])
+def test_threads_out_of_the_clis_range(threads):
+    # As `--threads`: 0 (every core) to 1024.
+    message = r"^threads must be an integer from 0 to 1024, got %d$" % threads
+    for call in (lambda: m.eval([0, 0, 1], [0, 0, 1], threads=threads),
+                 lambda: m.pdf([0, 0, 1], [0, 0, 1], threads=threads),
+                 lambda: m.sample([0, 0, 1], [0.5, 0.5, 0.5], threads=threads),
+                 lambda: m.albedo(10, samples=16, threads=threads)):
+        with pytest.raises(ValueError, match=message):
+            call()
