@@ -141,7 +141,8 @@ inline bool unit_direction_rows(const double* a, const double* b, std::size_t n,
   bool ok = true;
   std::size_t j = 0;
 #ifdef GONIO_BATCH_AVX2
-  static const bool avx2 = __builtin_cpu_supports("avx2");
+  // __builtin_cpu_supports checks that the OS saves the AVX registers too.
+  static const bool avx2 = (__builtin_cpu_init(), __builtin_cpu_supports("avx2"));
   if (avx2) j = batch_detail::unit_direction_rows_avx2(a, b, n, wa, wb, ok);
 #endif
   for (; j < n; ++j) ok = unit_direction_pair(a + 3 * j, b + 3 * j, wa[j], wb[j]) && ok;

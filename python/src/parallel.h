@@ -60,8 +60,13 @@ void parallel_ranges(std::size_t n, int threads, F&& fn, std::size_t grain = kMi
     }
   };
   std::vector<std::thread> pool;
-  pool.reserve(t - 1);
-  for (std::size_t k = 1; k < t; ++k) pool.emplace_back(work);
+  try {
+    pool.reserve(t - 1);
+    for (std::size_t k = 1; k < t; ++k) pool.emplace_back(work);
+  } catch (const std::exception&) {
+    // The system gave fewer threads than asked (std::system_error, or no memory for the
+    // vector): the ones started and this one take every piece between them.
+  }
   work();
   for (auto& th : pool) th.join();
   if (error) std::rethrow_exception(error);

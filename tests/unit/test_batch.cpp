@@ -94,6 +94,7 @@ TEST(Batch, RowsEqualOneRowAtATime) {
   };
   run(dispatching, n, "unit_direction_rows");
 #ifdef GONIO_BATCH_AVX2
+  __builtin_cpu_init();
   const bool avx2 = __builtin_cpu_supports("avx2");
   auto vector_loop = [](const double* pa, const double* pb, std::size_t m, Vec3* oa, Vec3* ob) {
     bool ok = true;
