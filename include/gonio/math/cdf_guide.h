@@ -1,6 +1,7 @@
 #pragma once
 // Inverting a tabulated CDF in constant expected time: a guide table (Chen & Asau 1974,
-// "On generating random variates from an empirical distribution"; Devroye 1986, §III.2.4)
+// "On generating random variates from an empirical distribution"; Devroye 1986,
+// "Non-Uniform Random Variate Generation", ch. III)
 // stores, for each of G equal steps of u, the interval that holds the step's lower end;
 // the search for u starts there and walks forward. It returns exactly what the binary
 // search does (cdf_interval), so a sampler changes speed, not samples. In a sampler the
