@@ -206,12 +206,12 @@ void MeasuredData::build_sampler() {
         cond[ip + 1] = row > 0 ? float(c / row) : float(ip + 1) / kPhiCells;
       }
       cond[kPhiCells] = 1;
-      build_cdf_guide<kPhiGuide>(cond, kPhiCells, &conditional_guide_[(size_t(b) * kThetaCells + size_t(it)) * kPhiGuide]);
+      build_cdf_guide<kPhiCells, kPhiGuide>(cond, &conditional_guide_[(size_t(b) * kThetaCells + size_t(it)) * kPhiGuide]);
       run += row;
       marginal[it + 1] = float(run);
     }
     marginal[kThetaCells] = 1;
-    build_cdf_guide<kThetaGuide>(marginal, kThetaCells, &marginal_guide_[size_t(b) * kThetaGuide]);
+    build_cdf_guide<kThetaCells, kThetaGuide>(marginal, &marginal_guide_[size_t(b) * kThetaGuide]);
   }
 }
 
@@ -321,12 +321,12 @@ Vec3 MeasuredData::sample(const Vec3& wo, Float u_lobe, Float u1, Float u2) cons
   // The cell, from the discrete distribution of the patches' masses; the remainders of u1
   // and u2 place the point within it.
   const float* marginal = &marginal_cdf_[size_t(b) * (kThetaCells + 1)];
-  const int it = cdf_interval_guided<kThetaGuide>(marginal, kThetaCells, &marginal_guide_[size_t(b) * kThetaGuide], u1);
+  const int it = cdf_interval_guided<kThetaCells, kThetaGuide>(marginal, &marginal_guide_[size_t(b) * kThetaGuide], u1);
   const Float m0 = marginal[it], m1 = marginal[it + 1];
   const Float v1 = m1 > m0 ? std::clamp((u1 - m0) / (m1 - m0), Float(0), kOneMinusEpsilon) : Float(0.5);
   const float* cond = &conditional_cdf_[(size_t(b) * kThetaCells + size_t(it)) * (kPhiCells + 1)];
-  const int ip = cdf_interval_guided<kPhiGuide>(cond, kPhiCells,
-                                                &conditional_guide_[(size_t(b) * kThetaCells + size_t(it)) * kPhiGuide], u2);
+  const int ip = cdf_interval_guided<kPhiCells, kPhiGuide>(
+      cond, &conditional_guide_[(size_t(b) * kThetaCells + size_t(it)) * kPhiGuide], u2);
   const Float c0 = cond[ip], c1 = cond[ip + 1];
   const Float v2 = c1 > c0 ? std::clamp((u2 - c0) / (c1 - c0), Float(0), kOneMinusEpsilon) : Float(0.5);
   // Within the bilinear patch (corners n00, n01 along φ', n10, n11 one row down in cos θ'):

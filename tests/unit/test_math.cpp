@@ -235,8 +235,9 @@ int counted_interval(const std::vector<float>& cdf, Float u) {
 // interval as the count for every u in [0, 1]: random CDFs with empty intervals at the
 // ends and inside, a CDF whose mass is all in one interval, and u at every entry, a float
 // step either side of it, at the guide's step boundaries and at random.
-template <int G>
-void expect_guided_search_exact(int n) {
+template <int N, int G>
+void expect_guided_search_exact() {
+  const int n = N;
   Pcg32 rng(11 + std::uint64_t(n));
   for (int trial = 0; trial < 40; ++trial) {
     std::vector<double> mass(static_cast<std::size_t>(n));
@@ -264,7 +265,7 @@ void expect_guided_search_exact(int n) {
     }
     cdf[std::size_t(n)] = 1;
     std::vector<std::uint8_t> guide(G);
-    build_cdf_guide<G>(cdf.data(), n, guide.data());
+    build_cdf_guide<N, G>(cdf.data(), guide.data());
     std::vector<Float> us = {0.0f, kOneMinusEpsilon, 1.0f};
     for (float c : cdf) us.insert(us.end(), {c, std::nextafter(c, 0.0f), std::nextafter(c, 1.0f)});
     for (int g = 0; g <= G; ++g) us.insert(us.end(), {Float(g) / G, std::nextafter(Float(g) / G, 0.0f)});
@@ -272,19 +273,22 @@ void expect_guided_search_exact(int n) {
     for (Float u : us) {
       if (!(u >= 0 && u <= 1)) continue;
       const int want = counted_interval(cdf, u);
-      ASSERT_EQ(cdf_interval_guided<G>(cdf.data(), n, guide.data(), u), want) << "n " << n << " trial " << trial << " u " << u;
+      const int guided = cdf_interval_guided<N, G>(cdf.data(), guide.data(), u);
+      ASSERT_EQ(guided, want) << "n " << n << " trial " << trial << " u " << u;
       ASSERT_EQ(cdf_interval(cdf.data(), n, u), want) << "n " << n << " u " << u;
     }
-    EXPECT_EQ(cdf_interval_guided<G>(cdf.data(), n, guide.data(), std::nanf("")), n - 1);
-    EXPECT_EQ(cdf_interval_guided<G>(cdf.data(), n, guide.data(), 1.5f), n - 1);
-    const int below = cdf_interval_guided<G>(cdf.data(), n, guide.data(), -0.5f);
+    const int at_nan = cdf_interval_guided<N, G>(cdf.data(), guide.data(), std::nanf(""));
+    const int above = cdf_interval_guided<N, G>(cdf.data(), guide.data(), 1.5f);
+    EXPECT_EQ(at_nan, n - 1);
+    EXPECT_EQ(above, n - 1);
+    const int below = cdf_interval_guided<N, G>(cdf.data(), guide.data(), -0.5f);
     EXPECT_TRUE(below >= 0 && below < n);
   }
 }
 TEST(CdfGuide, GuidedSearchFindsTheBinarySearchesInterval) {
-  expect_guided_search_exact<128>(64);
-  expect_guided_search_exact<64>(32);
-  expect_guided_search_exact<8>(32);  // fewer steps than intervals: longer walks, same answers
+  expect_guided_search_exact<64, 128>();
+  expect_guided_search_exact<32, 64>();
+  expect_guided_search_exact<32, 8>();  // fewer steps than intervals: longer walks, same answers
 }
 }  // namespace
 }  // namespace gonio

@@ -23,23 +23,25 @@ inline int cdf_interval(const float* cdf, int n, Float u) {
   return std::clamp(int(above - cdf) - 1, 0, n - 1);
 }
 
-// guide[g] = cdf_interval(cdf, n, g / G) for g = 0 .. G − 1. n ≤ 256 (one byte each).
-template <int G>
-void build_cdf_guide(const float* cdf, int n, std::uint8_t* guide) {
+// guide[g] = cdf_interval(cdf, N, g / G) for g = 0 .. G − 1, for a CDF of N intervals.
+// N and G are compile-time: the entries are one byte each, so N ≤ 256 is checked here.
+template <int N, int G>
+void build_cdf_guide(const float* cdf, std::uint8_t* guide) {
+  static_assert(N > 0 && N <= 256, "guide entries are one byte");
   static_assert(G > 0 && (G & (G - 1)) == 0, "G a power of two, so that u·G and g/G are exact");
-  for (int g = 0; g < G; ++g) guide[g] = std::uint8_t(cdf_interval(cdf, n, Float(g) / Float(G)));
+  for (int g = 0; g < G; ++g) guide[g] = std::uint8_t(cdf_interval(cdf, N, Float(g) / Float(G)));
 }
 
-// cdf_interval(cdf, n, u) through the guide. u·G is exact (G a power of two), so the
+// cdf_interval(cdf, N, u) through the guide. u·G is exact (G a power of two), so the
 // guide's entry lies at or before the answer for every u in [0, 1]; the two agree there,
-// above 1 and for NaN (n − 1). Below 0 the guided search gives guide[0], the binary
-// search 0; both are indices in [0, n − 1].
-template <int G>
-inline int cdf_interval_guided(const float* cdf, int n, const std::uint8_t* guide, Float u) {
+// above 1 and for NaN (N − 1). Below 0 the guided search gives guide[0], the binary
+// search 0; both are indices in [0, N − 1].
+template <int N, int G>
+inline int cdf_interval_guided(const float* cdf, const std::uint8_t* guide, Float u) {
   const Float step = u * Float(G);
   const int g = step > 0 ? int(std::min(step, Float(G - 1))) : 0;  // NaN: 0
   int i = guide[g];
-  while (i + 1 < n && !(u < cdf[i + 1])) ++i;
+  while (i + 1 < N && !(u < cdf[i + 1])) ++i;
   return i;
 }
 
