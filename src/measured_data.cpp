@@ -4,6 +4,7 @@
 #include "gonio/measured_data.h"
 
 #include <algorithm>
+#include <bit>
 #include <cstring>
 #include <filesystem>
 #include <map>
@@ -69,8 +70,14 @@ inline bool locate(const float* data, const Vec3& wo, const Vec3& wi, Float y4, 
                    Float& extra) {
   Float y[3], x[3];
   half_diff_atan2_args<Float>(wo, wi, y, x);
+  // φd has period π (SPEC §2) and atan2(−y, −x) = atan2(y, x) ± π: turning both of its
+  // arguments when y < 0 (the sign bit, so −0 too) puts φd in [0, π]. Folding after the
+  // arctangent took a branch that random pairs mispredict half the time.
+  const std::uint32_t turn = std::bit_cast<std::uint32_t>(y[2]) & 0x80000000u;
+  y[2] = std::bit_cast<Float>(std::bit_cast<std::uint32_t>(y[2]) ^ turn);
+  x[2] = std::bit_cast<Float>(std::bit_cast<std::uint32_t>(x[2]) ^ turn);
   const Float4 a = fast_atan2(Float4{y[0], y[1], y[2], y4}, Float4{x[0], x[1], x[2], x4});
-  const Float theta_h = a[0], theta_d = a[1], phi_d = a[2];  // radians; φd in [−π, π] (not folded)
+  const Float theta_h = a[0], theta_d = a[1], phi_d = a[2];  // radians; φd in [0, π]
   extra = a[3];
   if (!std::isfinite(theta_h + theta_d + phi_d)) return false;
   int i0, j0;
@@ -78,9 +85,8 @@ inline bool locate(const float* data, const Vec3& wo, const Vec3& wi, Float y4, 
   clamp_coord(Float(MerlTable::kThetaH) * std::sqrt(theta_h * Float(2 / kPiD)) - Float(0.5), MerlTable::kThetaH, i0,
               ti);
   clamp_coord(theta_d * kDegPerRad - Float(0.5), MerlTable::kThetaD, j0, tj);
-  // φd periodic with period 180°: fold, then interpolate across the seam.
-  Float w = phi_d * kDegPerRad - Float(0.5);  // in [−180.5, 179.5]
-  if (w < 0) w += Float(180);
+  // φd periodic with period 180°: fold the half bin below 0°, interpolate across the seam.
+  Float w = phi_d * kDegPerRad - Float(0.5);  // in [−0.5, 179.5]
   if (w < 0) w += Float(180);
   const int k0 = std::min(int(w), MerlTable::kPhiD - 1);
   c.tk = std::clamp(w - Float(k0), Float(0), Float(1));
