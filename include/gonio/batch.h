@@ -58,12 +58,12 @@ namespace gonio {
   using V = double __attribute__((vector_size(16)));
   const double ma = std::max({std::abs(a[0]), std::abs(a[1]), std::abs(a[2])});
   const double mb = std::max({std::abs(b[0]), std::abs(b[1]), std::abs(b[2])});
-  constexpr double kHuge = std::numeric_limits<double>::max();
   if (!(ma >= 0x1p-500 && ma <= 0x1p500 && mb >= 0x1p-500 && mb <= 0x1p500)) [[unlikely]] {
-    // Zero, non-finite or in need of scaling: one at a time.
-    if (!(ma > 0 && ma <= kHuge && mb > 0 && mb <= kHuge)) return false;
-    wa = *unit_direction(a[0], a[1], a[2]);
-    wb = *unit_direction(b[0], b[1], b[2]);
+    // Zero, non-finite or in need of scaling: one at a time, unit_direction deciding which
+    // (a NaN after the first component passes std::max, so no test on ma and mb can).
+    const auto ua = unit_direction(a[0], a[1], a[2]), ub = unit_direction(b[0], b[1], b[2]);
+    if (!ua || !ub) return false;
+    wa = *ua, wb = *ub;
     return true;
   }
   const V x{a[0], b[0]}, y{a[1], b[1]}, z{a[2], b[2]};

@@ -67,6 +67,9 @@ m = gonio.Material('{"type":"diffuse"}')
     (np.array([[0, 0, 1], [0, 1, np.nan]] * 5), np.ones((10, 3)), r"^wo\[1\] is not a finite vector$"),
     (np.ones((6, 3))[::2], np.array([[0, 1, 0], [1, 0, 0], [1, 1, np.nan]]), r"^wi\[2\] is not a finite vector$"),
     (np.array([0, np.nan, 1]), np.ones((4, 3)), r"^wo\[0\] is not a finite vector$"),
+    # Rows that need scaling (largest component beyond 2^±500), a NaN after that component.
+    (np.array([[1e-300, np.nan, 0]]), np.ones((1, 3)), r"^wo\[0\] is not a finite vector$"),
+    (np.ones((5, 3)), np.array([[0, 0, 1]] * 4 + [[1e300, 0, np.nan]]), r"^wi\[4\] is not a finite vector$"),
     (np.ones((2, 2)), np.ones((2, 3)), r"^wo must have shape \(N, 3\) or \(3,\), got \(2, 2\)$"),
     (np.ones((2, 3)), np.ones((3, 3)), "different lengths"),
 ])

@@ -36,10 +36,16 @@ TEST(Batch, UnitDirectionScalesExtremeComponents) {
     EXPECT_FALSE(unit_direction(s, 0, std::nan(""))) << s;
     EXPECT_FALSE(unit_direction(s, std::nan(""), std::numeric_limits<double>::infinity())) << s;
   }
-  const double nan_y[3] = {0, std::nan(""), 1}, nan_z[3] = {1, 0, std::nan("")}, one[3] = {0, 0, 1};
+  const double one[3] = {0, 0, 1};
   Vec3 wa, wb;
-  EXPECT_FALSE(unit_direction_pair(nan_y, one, wa, wb));
-  EXPECT_FALSE(unit_direction_pair(one, nan_z, wa, wb));
+  // The pair too, on its plain path (s = 1) and on the one-at-a-time path of rows that
+  // need scaling (s = 1e-300, 1e300: there the largest component is all a test on the
+  // rows' maxima sees, and a NaN after it once came back as a direction).
+  for (double s : {1.0, 1e-300, 1e300}) {
+    const double nan_y[3] = {s, std::nan(""), 0}, nan_z[3] = {s, 0, std::nan("")};
+    EXPECT_FALSE(unit_direction_pair(nan_y, one, wa, wb)) << s;
+    EXPECT_FALSE(unit_direction_pair(one, nan_z, wa, wb)) << s;
+  }
 }
 
 TEST(Batch, PairEqualsTwoSingles) {
