@@ -20,13 +20,6 @@ namespace {
 
 constexpr Float kDegPerRad = Float(180 / kPiD);
 
-// Linear interpolation coordinate clamped to [0, n − 1]: index and fraction.
-inline void clamp_coord(Float c, int n, int& i0, Float& t) {
-  c = std::clamp(c, Float(0), Float(n - 1));
-  i0 = std::min(int(c), n - 2);
-  t = c - Float(i0);
-}
-
 }  // namespace
 
 MeasuredData::MeasuredData(MerlTable table, std::string path) : table_(std::move(table)), path_(std::move(path)) {
@@ -77,22 +70,32 @@ inline bool locate(const float* data, const Vec3& wo, const Vec3& wi, Float y4, 
   y[2] = std::bit_cast<Float>(std::bit_cast<std::uint32_t>(y[2]) ^ turn);
   x[2] = std::bit_cast<Float>(std::bit_cast<std::uint32_t>(x[2]) ^ turn);
   const Float4 a = fast_atan2(Float4{y[0], y[1], y[2], y4}, Float4{x[0], x[1], x[2], x4});
-  const Float theta_h = a[0], theta_d = a[1], phi_d = a[2];  // radians; φd in [0, π]
   extra = a[3];
-  if (!std::isfinite(theta_h + theta_d + phi_d)) return false;
-  int i0, j0;
-  Float ti, tj;
-  clamp_coord(Float(MerlTable::kThetaH) * std::sqrt(theta_h * Float(2 / kPiD)) - Float(0.5), MerlTable::kThetaH, i0,
-              ti);
-  clamp_coord(theta_d * kDegPerRad - Float(0.5), MerlTable::kThetaD, j0, tj);
-  // φd periodic with period 180°: fold the half bin below 0°, interpolate across the seam.
-  Float w = phi_d * kDegPerRad - Float(0.5);  // in [−0.5, 179.5]
-  if (w < 0) w += Float(180);
-  const int k0 = std::min(int(w), MerlTable::kPhiD - 1);
-  c.tk = std::clamp(w - Float(k0), Float(0), Float(1));
-  c.dk = k0 + 1 == MerlTable::kPhiD ? -3 * std::ptrdiff_t(MerlTable::kPhiD - 1) : 3;
-  c.p00 = data + 3 * MerlTable::index(i0, j0, k0);
-  c.ti = ti, c.tj = tj;
+  // The angles θh, θd, φd (radians; φd in [0, π]) become the table coordinates in one
+  // vector, lane by lane the same operations as in scalar: θh's 90 √(θh/(π/2)) − ½ (its
+  // square root taken in lane 0 alone), θd's and φd's degrees − ½. NaN or Inf in any of the
+  // three fails the finite test (x − x is 0 only for finite x).
+  const Int4 finite = (a - a) == Float4{};
+  if (!(finite[0] & finite[1] & finite[2])) return false;
+  Float4 v = a * Float4{Float(2 / kPiD), kDegPerRad, kDegPerRad, 0};
+  v[0] = std::sqrt(v[0]);
+  v = v * Float4{Float(MerlTable::kThetaH), 1, 1, 0} - Float4{Float(0.5), Float(0.5), Float(0.5), 0};
+  // φd periodic with period 180°: fold the half bin below 0° (w in [−0.5, 179.5]) to the
+  // top, to be interpolated across the seam.
+  v[2] += v[2] < 0 ? Float(180) : Float(0);
+  // Clamped to [0, n − 1] (θh, θd; φd is in range already); the lower index is at most
+  // n − 2 (n − 1 for the periodic φd), so that its upper neighbour exists. The minimum is
+  // taken before truncation, which is the same for v ≥ 0 and needs no integer minimum.
+  constexpr Float kTop = Float(MerlTable::kThetaH - 1);
+  static_assert(MerlTable::kThetaH == MerlTable::kThetaD);
+  v = v > Float4{} ? v : Float4{};  // also −0 and the unused lane to +0
+  v = v < Float4{kTop, kTop, Float(MerlTable::kPhiD), 0} ? v : Float4{kTop, kTop, Float(MerlTable::kPhiD), 0};
+  const Float4 lower = {kTop - 1, kTop - 1, Float(MerlTable::kPhiD - 1), 0};
+  const Int4 i = __builtin_convertvector(v < lower ? v : lower, Int4);
+  const Float4 t = v - __builtin_convertvector(i, Float4);
+  c.ti = t[0], c.tj = t[1], c.tk = t[2];
+  c.dk = i[2] + 1 == MerlTable::kPhiD ? -3 * std::ptrdiff_t(MerlTable::kPhiD - 1) : 3;
+  c.p00 = data + 3 * MerlTable::index(i[0], i[1], i[2]);
   return true;
 }
 inline Float4 load4(const float* p) {  // r, g, b of the entry at p and the next float
@@ -102,8 +105,9 @@ inline Float4 load4(const float* p) {  // r, g, b of the entry at p and the next
 }
 // The weighted mean of the measured corners; 0 where none is measured. With all eight
 // measured (the common case) it is three rounds of linear interpolation, a chain of three
-// multiply-adds instead of eight, on the three channels at once (lane 3 is ignored).
-inline Color interpolate(const TableCorners& c) {
+// multiply-adds instead of eight, on the three channels at once. Lanes r, g, b; lane 3 is
+// unspecified (eval puts the pdf there).
+inline Float4 interpolate(const TableCorners& c) {
   const float* p[8];  // corner n = 4 di + 2 dj + dk
   for (int n = 0; n < 8; ++n) p[n] = c.p00 + ((n & 4) ? kStepI : 0) + ((n & 2) ? kStepJ : 0) + ((n & 1) ? c.dk : 0);
   Float4 v[8];
@@ -114,8 +118,7 @@ inline Color interpolate(const TableCorners& c) {
     Float4 e[4];
     for (int m = 0; m < 4; ++m) e[m] = v[2 * m] + c.tk * (v[2 * m + 1] - v[2 * m]);
     const Float4 lo = e[0] + c.tj * (e[1] - e[0]), hi = e[2] + c.tj * (e[3] - e[2]);
-    const Float4 out = lo + c.ti * (hi - lo);
-    return {out[0], out[1], out[2]};
+    return lo + c.ti * (hi - lo);
   }
   Float acc[3] = {0, 0, 0}, weight_sum = 0;
   for (int n = 0; n < 8; ++n) {
@@ -124,9 +127,9 @@ inline Color interpolate(const TableCorners& c) {
     acc[0] += w * p[n][0], acc[1] += w * p[n][1], acc[2] += w * p[n][2];
     weight_sum += w;
   }
-  if (!(weight_sum > 0)) return Color(0);
+  if (!(weight_sum > 0)) return Float4{};
   const Float inv = 1 / weight_sum;
-  return {acc[0] * inv, acc[1] * inv, acc[2] * inv};
+  return Float4{acc[0], acc[1], acc[2], 0} * inv;
 }
 }  // namespace
 
@@ -134,7 +137,9 @@ Color MeasuredData::lookup(const Vec3& wo, const Vec3& wi) const {
   if (!(wo.z > 0) || !(wi.z > 0)) return Color(0);
   TableCorners c;
   Float unused;
-  return locate(table_.rgb.data(), wo, wi, 0, 1, c, unused) ? interpolate(c) : Color(0);
+  if (!locate(table_.rgb.data(), wo, wi, 0, 1, c, unused)) return Color(0);
+  const Float4 v = interpolate(c);
+  return {v[0], v[1], v[2]};
 }
 
 // --- sampling ------------------------------------------------------------------------
@@ -306,7 +311,13 @@ Float MeasuredData::mixture_pdf(const Vec3& wo, const Vec3& wi, int b, Float azi
       __builtin_prefetch(q + c.dk);
     }
   const Float p = mixture_pdf(wo, wi, theta_o_bin(wo), azimuth);
-  return {found ? interpolate(c) : Color(0), p};
+  // Assembled in one vector and returned as its bits: built field by field, the result
+  // went through the stack in pieces that the processor cannot forward to the 8-byte
+  // reads of the return registers.
+  Float4 out = found ? interpolate(c) : Float4{};
+  out[3] = p;
+  static_assert(sizeof(Eval) == sizeof(Float4));
+  return std::bit_cast<Eval>(out);
 }
 
 Float MeasuredData::pdf(const Vec3& wo, const Vec3& wi) const {
