@@ -22,6 +22,13 @@ std::int64_t floor_div(std::int64_t a, std::int64_t b) {
   return (a % b != 0 && (a < 0) != (b < 0)) ? q - 1 : q;
 }
 
+// floor(v) for |v| < 2^62 by truncation, corrected below zero: libm's floor is a call on
+// baseline x86-64 (no rounding instruction before SSE4.1), and the walk takes one per step.
+std::int64_t floor_int(double v) {
+  const std::int64_t t = std::int64_t(v);
+  return t - std::int64_t(double(t) > v);
+}
+
 }  // namespace
 
 HeightFieldTracer::HeightFieldTracer(const HeightField& field) {
@@ -41,6 +48,7 @@ HeightFieldTracer::HeightFieldTracer(const HeightField& field) {
   margin_ = 1e-9 * (zabs + field.spacing());
   n_ = n;
   h_ = field.spacing();
+  inv_h_ = 1 / h_;
   z_.resize(std::size_t(n) * std::size_t(n));
   double lo = kInfinity, hi = -kInfinity;
   for (int j = 0; j < n; ++j)
@@ -51,6 +59,7 @@ HeightFieldTracer::HeightFieldTracer(const HeightField& field) {
     }
   z_lo_ = lo;
   z_step_ = hi > lo ? (hi - lo) / 65535 : 1;
+  inv_step_ = 1 / z_step_;
   // Level L from level L − 1 (level 0: the cells' corners), while the node size 2^L still
   // divides n (so that the nodes tile the periodic patch). The bounds are carried exactly
   // (in float) from level to level and rounded outwards only when stored.
@@ -111,7 +120,7 @@ HeightFieldTracer::Hit HeightFieldTracer::intersect(const double o[3], const dou
   if (!(tmax >= 0)) return hit;
   // Grid coordinates: x and y in cells (cell (i, j) is [i, i+1) × [j, j+1)), z as it is;
   // d is scaled alike, so t is the same parameter as in world coordinates.
-  const double inv_h = 1 / h_;
+  const double inv_h = inv_h_;
   const double org[3] = {o[0] * inv_h, o[1] * inv_h, o[2]};
   const double dir[3] = {d[0] * inv_h, d[1] * inv_h, d[2]};
   if (!(std::isfinite(org[0]) && std::isfinite(org[1]) && std::isfinite(org[2]) && std::isfinite(dir[0]) &&
@@ -151,7 +160,8 @@ HeightFieldTracer::Hit HeightFieldTracer::intersect(const double o[3], const dou
   // A triangle with edge values w_a (the edge opposite vertex a), w_b, w_c: a hit unless the
   // values have mixed signs (Woop's test, edges included) or all vanish; t = Σ w z / Σ w.
   auto triangle = [tmax](double wa, double wb, double wc, double za, double zb, double zc) {
-    if ((wa < 0 || wb < 0 || wc < 0) && (wa > 0 || wb > 0 || wc > 0)) return kInfinity;
+    // (Bitwise, all six comparisons then one branch: the signs are random from cell to cell.)
+    if ((int(wa < 0) | int(wb < 0) | int(wc < 0)) & (int(wa > 0) | int(wb > 0) | int(wc > 0))) return kInfinity;
     const double det = wa + wb + wc;
     if (det == 0) return kInfinity;
     const double t = (wa * za + wb * zb + wc * zc) / det;
@@ -161,13 +171,20 @@ HeightFieldTracer::Hit HeightFieldTracer::intersect(const double o[3], const dou
   const std::int64_t n = n_;
   const int top = levels() - 1;
   // The starting cell: the one the ray enters, so on a border the one it moves into.
-  std::int64_t ix = std::int64_t(std::floor(org[0])), iy = std::int64_t(std::floor(org[1]));
+  std::int64_t ix = floor_int(org[0]), iy = floor_int(org[1]);
   if (dir[0] < 0 && double(ix) == org[0]) --ix;
   if (dir[1] < 0 && double(iy) == org[1]) --iy;
   // The current tile's corner (a query from trace() starts in the tile [0, n]²).
   std::int64_t bx = ix >= 0 && ix < n ? 0 : floor_div(ix, n) * n, by = iy >= 0 && iy < n ? 0 : floor_div(iy, n) * n;
   const int step_x = dir[0] > 0 ? 1 : dir[0] < 0 ? -1 : 0, step_y = dir[1] > 0 ? 1 : dir[1] < 0 ? -1 : 0;
   const double inv_dx = step_x ? 1 / dir[0] : 0, inv_dy = step_y ? 1 / dir[1] : 0;
+  // The node's border the ray leaves through along x is x0 + s (moving up) or x0 (moving
+  // down, or not at all); none along an axis the ray does not move on: the distance to it
+  // is (border − origin) · 0 + ∞. Written so, as arithmetic rather than a choice per node:
+  // the compiler turned the choice into branches, which mispredicted where queries of
+  // different directions alternate (entry and exit).
+  const double far_x = step_x > 0 ? 1 : 0, far_y = step_y > 0 ? 1 : 0;
+  const double never_x = step_x ? 0 : kInfinity, never_y = step_y ? 0 : kInfinity;
   std::uint32_t wraps = 0;
   // The triangles of the cell at grid position (gx, gy) (unwrapped; its heights are read
   // modulo n): on a hit, fills `hit` and returns true.
@@ -204,24 +221,21 @@ HeightFieldTracer::Hit HeightFieldTracer::intersect(const double o[3], const dou
   }
   int level = std::min({top, start_level, kMaxStartLevel});
   double z_t = org[2];  // the ray's height at t
-  const bool rising = dir[2] > 0;
-  const double inv_step = 1 / z_step_;
+  const double inv_step = inv_step_;
   for (;;) {
     const std::int64_t s = std::int64_t(1) << level;
     const std::int64_t ax = (ix - bx) >> level, ay = (iy - by) >> level;  // the node in its tile
     const std::int64_t x0 = bx + (ax << level), y0 = by + (ay << level);  // its lower corner (cells)
-    const double tx = step_x > 0 ? (double(x0 + s) - org[0]) * inv_dx
-                      : step_x < 0 ? (double(x0) - org[0]) * inv_dx
-                                   : kInfinity;
-    const double ty = step_y > 0 ? (double(y0 + s) - org[1]) * inv_dy
-                      : step_y < 0 ? (double(y0) - org[1]) * inv_dy
-                                   : kInfinity;
+    const double tx = (double(x0) + far_x * double(s) - org[0]) * inv_dx + never_x;
+    const double ty = (double(y0) + far_y * double(s) - org[1]) * inv_dy + never_y;
     const double t1 = std::min(std::min(tx, ty), tmax);
     if (stats) ++stats->nodes;
     // The ray's heights over the node's footprint against the node's [min, max] (a cell's
     // from its corners).
     const double zb = org[2] + dir[2] * t1;
-    const double ray_lo = (rising ? z_t : zb) - margin_, ray_hi = (rising ? zb : z_t) + margin_;
+    // (The lower of the two is z_t for a rising ray, zb otherwise: org + dir t rounds
+    // monotonically in t.)
+    const double ray_lo = std::min(z_t, zb) - margin_, ray_hi = std::max(z_t, zb) + margin_;
     if (level > 0) {
       const std::size_t side = std::size_t(n_ >> level);
       const std::uint16_t* nd = &codes_[offsets_[std::size_t(level - 1)] +
@@ -263,9 +277,9 @@ HeightFieldTracer::Hit HeightFieldTracer::intersect(const double o[3], const dou
     // the other index stays inside this node's range, where the ray still is.
     const std::int64_t old_x = ix, old_y = iy;
     if (tx <= ty) ix = step_x > 0 ? x0 + s : x0 - 1;
-    else if (step_x) ix = std::clamp(std::int64_t(std::floor(org[0] + dir[0] * ty)), x0, x0 + s - 1);
+    else if (step_x) ix = std::clamp(floor_int(org[0] + dir[0] * ty), x0, x0 + s - 1);
     if (ty <= tx) iy = step_y > 0 ? y0 + s : y0 - 1;
-    else if (step_y) iy = std::clamp(std::int64_t(std::floor(org[1] + dir[1] * tx)), y0, y0 + s - 1);
+    else if (step_y) iy = std::clamp(floor_int(org[1] + dir[1] * tx), y0, y0 + s - 1);
     z_t = zb;
     // Periodic wrapping: a new tile is only a new origin for the indices modulo n.
     if (ix - bx >= n) bx += n, ++wraps;

@@ -81,21 +81,23 @@ class HeightFieldTracer {
   // the cells' own bounds (level 0) are not stored but taken from their corners; the upper
   // levels' bounds are 16-bit codes, rounded outwards (min down, max up) on a grid of
   // (z_hi − z_lo) / 65535, also in 4 × 4 blocks: 4 bytes per node.
-  static std::size_t blocked(std::size_t a, std::size_t b, std::size_t side) {
+  // Forced inline: GCC otherwise kept height() a call in intersect's node walk (three calls
+  // per cell visited), which is too large a function for its inlining limits.
+  [[gnu::always_inline]] static std::size_t blocked(std::size_t a, std::size_t b, std::size_t side) {
     if ((side & 3) != 0) return a + side * b;
     return ((b >> 2) * (side >> 2) + (a >> 2)) * 16 + (b & 3) * 4 + (a & 3);
   }
-  float height(int i, int j) const { return z_[blocked(std::size_t(i), std::size_t(j), std::size_t(n_))]; }
+  [[gnu::always_inline]] float height(int i, int j) const { return z_[blocked(std::size_t(i), std::size_t(j), std::size_t(n_))]; }
   const std::uint16_t* node(int level, int a, int b) const {  // level ≥ 1
     const std::size_t m = std::size_t(n_ >> level);
     return &codes_[offsets_[std::size_t(level - 1)] + 2 * blocked(std::size_t(a), std::size_t(b), m)];
   }
   int n_ = 0;
-  double h_ = 1;                                    // cell side
+  double h_ = 1, inv_h_ = 1;                        // cell side and its reciprocal
   std::vector<float> z_;                            // the heights, blocked
   std::vector<std::uint16_t> codes_;                // levels 1, 2, ...: (min, max) codes per node
   std::vector<std::size_t> offsets_;                // where level L ≥ 1 starts in codes_
-  double z_lo_ = 0, z_step_ = 1;                    // a code q stands for z_lo_ + q · z_step_
+  double z_lo_ = 0, z_step_ = 1, inv_step_ = 1;     // a code q stands for z_lo_ + q · z_step_
   double margin_ = 0;                       // slack of the interval test (float heights)
 };
 
