@@ -186,12 +186,11 @@ HeightFieldTracer::Hit HeightFieldTracer::intersect(const double o[3], const dou
   const double far_x = step_x > 0 ? 1 : 0, far_y = step_y > 0 ? 1 : 0;
   const double never_x = step_x ? 0 : kInfinity, never_y = step_y ? 0 : kInfinity;
   std::uint32_t wraps = 0;
-  // The triangles of the cell at grid position (gx, gy) (unwrapped; its heights are read
-  // modulo n): on a hit, fills `hit` and returns true.
-  auto test_cell = [&](std::int64_t gx, std::int64_t gy, int i, int j) {  // (i, j): (gx, gy) mod n
+  // The triangles of the cell at grid position (gx, gy) (unwrapped), whose corners (i, j),
+  // (i+1, j), (i, j+1), (i+1, j+1) modulo n have the heights za, zb, zc, zd (the caller has
+  // them already): on a hit, fills `hit` and returns true.
+  auto test_cell = [&](std::int64_t gx, std::int64_t gy, int i, int j, float za, float zb, float zc, float zd) {
     if (stats) ++stats->cells;
-    const int i1 = i + 1 == n_ ? 0 : i + 1, j1 = j + 1 == n_ ? 0 : j + 1;
-    const float za = height(i, j), zb = height(i1, j), zc = height(i, j1), zd = height(i1, j1);
     const V2 A = vertex(gx, gy, za), B = vertex(gx + 1, gy, zb), C = vertex(gx, gy + 1, zc),
              D = vertex(gx + 1, gy + 1, zd);
     // Edges in their fixed directions: bottom A→B, top C→D, left A→C, right B→D, diagonal B→C.
@@ -249,9 +248,10 @@ HeightFieldTracer::Hit HeightFieldTracer::intersect(const double o[3], const dou
     } else {
       const int i = int(ix - bx), j = int(iy - by);
       const int i1 = i + 1 == n_ ? 0 : i + 1, j1 = j + 1 == n_ ? 0 : j + 1;
-      const float c0 = height(i, j), c1 = height(i1, j), c2 = height(i, j1), c3 = height(i1, j1);
+      const std::size_t col0 = height_column(i), col1 = height_column(i1), row0 = height_row(j), row1 = height_row(j1);
+      const float c0 = z_[col0 + row0], c1 = z_[col1 + row0], c2 = z_[col0 + row1], c3 = z_[col1 + row1];
       if (ray_hi >= double(std::min(std::min(c0, c1), std::min(c2, c3))) &&
-          ray_lo <= double(std::max(std::max(c0, c1), std::max(c2, c3))) && test_cell(ix, iy, i, j))
+          ray_lo <= double(std::max(std::max(c0, c1), std::max(c2, c3))) && test_cell(ix, iy, i, j, c0, c1, c2, c3))
         return hit;
     }
     if (!(std::min(tx, ty) < tmax)) {  // no border before tmax: the ray ends in this node
@@ -270,8 +270,12 @@ HeightFieldTracer::Hit HeightFieldTracer::intersect(const double o[3], const dou
         const std::int64_t l = g - base;
         return int(l < 0 ? l + n : l >= n ? l - n : l);
       };
-      if (test_cell(cx, ly, wrapped(cx, bx), wrapped(ly, by)) || test_cell(lx, cy, wrapped(lx, bx), wrapped(cy, by)))
-        return hit;
+      auto test_side_cell = [&](std::int64_t gx, std::int64_t gy) {
+        const int i = wrapped(gx, bx), j = wrapped(gy, by);
+        const int i1 = i + 1 == n_ ? 0 : i + 1, j1 = j + 1 == n_ ? 0 : j + 1;
+        return test_cell(gx, gy, i, j, height(i, j), height(i1, j), height(i, j1), height(i1, j1));
+      };
+      if (test_side_cell(cx, ly) || test_side_cell(lx, cy)) return hit;
     }
     // Step into the next node: across the border the ray meets first (both at a corner);
     // the other index stays inside this node's range, where the ray still is.

@@ -88,6 +88,16 @@ class HeightFieldTracer {
     return ((b >> 2) * (side >> 2) + (a >> 2)) * 16 + (b & 3) * 4 + (a & 3);
   }
   [[gnu::always_inline]] float height(int i, int j) const { return z_[blocked(std::size_t(i), std::size_t(j), std::size_t(n_))]; }
+  // The layout is separable, blocked(a, b, side) = column(a) + row(b): a cell's four corners
+  // take two of each instead of four full indices.
+  [[gnu::always_inline]] std::size_t height_column(int i) const {
+    const std::size_t a = std::size_t(i);
+    return (n_ & 3) != 0 ? a : (a >> 2) * 16 + (a & 3);
+  }
+  [[gnu::always_inline]] std::size_t height_row(int j) const {
+    const std::size_t b = std::size_t(j), side = std::size_t(n_);
+    return (n_ & 3) != 0 ? b * side : (b >> 2) * (4 * side) + (b & 3) * 4;
+  }
   const std::uint16_t* node(int level, int a, int b) const {  // level ≥ 1
     const std::size_t m = std::size_t(n_ >> level);
     return &codes_[offsets_[std::size_t(level - 1)] + 2 * blocked(std::size_t(a), std::size_t(b), m)];
