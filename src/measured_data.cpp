@@ -105,9 +105,8 @@ inline Float4 load4(const float* p) {  // r, g, b of the entry at p and the next
 }
 // The weighted mean of the measured corners; 0 where none is measured. With all eight
 // measured (the common case) it is three rounds of linear interpolation, a chain of three
-// multiply-adds instead of eight, on the three channels at once. Lanes r, g, b; lane 3 is
-// unspecified (eval puts the pdf there).
-inline Float4 interpolate(const TableCorners& c) {
+// multiply-adds instead of eight, on the three channels at once (lane 3 is ignored).
+inline Color interpolate(const TableCorners& c) {
   const float* p[8];  // corner n = 4 di + 2 dj + dk
   for (int n = 0; n < 8; ++n) p[n] = c.p00 + ((n & 4) ? kStepI : 0) + ((n & 2) ? kStepJ : 0) + ((n & 1) ? c.dk : 0);
   Float4 v[8];
@@ -118,7 +117,8 @@ inline Float4 interpolate(const TableCorners& c) {
     Float4 e[4];
     for (int m = 0; m < 4; ++m) e[m] = v[2 * m] + c.tk * (v[2 * m + 1] - v[2 * m]);
     const Float4 lo = e[0] + c.tj * (e[1] - e[0]), hi = e[2] + c.tj * (e[3] - e[2]);
-    return lo + c.ti * (hi - lo);
+    const Float4 out = lo + c.ti * (hi - lo);
+    return {out[0], out[1], out[2]};
   }
   Float acc[3] = {0, 0, 0}, weight_sum = 0;
   for (int n = 0; n < 8; ++n) {
@@ -127,9 +127,9 @@ inline Float4 interpolate(const TableCorners& c) {
     acc[0] += w * p[n][0], acc[1] += w * p[n][1], acc[2] += w * p[n][2];
     weight_sum += w;
   }
-  if (!(weight_sum > 0)) return Float4{};
+  if (!(weight_sum > 0)) return Color(0);
   const Float inv = 1 / weight_sum;
-  return Float4{acc[0], acc[1], acc[2], 0} * inv;
+  return {acc[0] * inv, acc[1] * inv, acc[2] * inv};
 }
 }  // namespace
 
@@ -137,9 +137,7 @@ Color MeasuredData::lookup(const Vec3& wo, const Vec3& wi) const {
   if (!(wo.z > 0) || !(wi.z > 0)) return Color(0);
   TableCorners c;
   Float unused;
-  if (!locate(table_.rgb.data(), wo, wi, 0, 1, c, unused)) return Color(0);
-  const Float4 v = interpolate(c);
-  return {v[0], v[1], v[2]};
+  return locate(table_.rgb.data(), wo, wi, 0, 1, c, unused) ? interpolate(c) : Color(0);
 }
 
 // --- sampling ------------------------------------------------------------------------
@@ -311,13 +309,7 @@ Float MeasuredData::mixture_pdf(const Vec3& wo, const Vec3& wi, int b, Float azi
       __builtin_prefetch(q + c.dk);
     }
   const Float p = mixture_pdf(wo, wi, theta_o_bin(wo), azimuth);
-  // Assembled in one vector and returned as its bits: built field by field, the result
-  // went through the stack in pieces that the processor cannot forward to the 8-byte
-  // reads of the return registers.
-  Float4 out = found ? interpolate(c) : Float4{};
-  out[3] = p;
-  static_assert(sizeof(Eval) == sizeof(Float4));
-  return std::bit_cast<Eval>(out);
+  return {found ? interpolate(c) : Color(0), p};
 }
 
 Float MeasuredData::pdf(const Vec3& wo, const Vec3& wi) const {
