@@ -265,6 +265,20 @@ TEST(Measured, InterpolatesTrilinearlyInTheTableCoordinatesWithEdgesAndHoles) {
       const Color got = m.f(to_vec(wo), to_vec(wi));
       ASSERT_NEAR(got[1], want, 2e-4 * want) << th << " " << td << " " << pd;
     }
+    // The table's far corner, past the last θh and θd centres: both coordinates clamped
+    // to the last centre, the value that of the last entries, interpolated along φd.
+    int corner_points = 0;
+    for (const double th_deg : {89.2, 89.9})
+      for (const double td_deg : {89.6, 89.95})
+        for (const double pd_deg : {90.0, 45.0, 1.0}) {
+          const double th = th_deg * kPiD / 180, td = td_deg * kPiD / 180, pd = pd_deg * kPiD / 180;
+          const auto [wo, wi] = directions(th, td, pd);
+          if (!(wo.z > 0 && wi.z > 0)) continue;
+          const double want = interpolate(*g, th, td, pd);
+          EXPECT_NEAR(m.f(to_vec(wo), to_vec(wi))[1], want, 2e-4 * want) << th_deg << " " << td_deg << " " << pd_deg;
+          ++corner_points;
+        }
+    EXPECT_GE(corner_points, 4);
     if (g == &holes) {
       // All eight neighbours of the point between centres (40, 40) and (41, 41) at an odd k
       // and its even neighbour: (40, 40, ·) is missing, the others not.
