@@ -81,23 +81,22 @@ class HeightFieldTracer {
   // the cells' own bounds (level 0) are not stored but taken from their corners; the upper
   // levels' bounds are 16-bit codes, rounded outwards (min down, max up) on a grid of
   // (z_hi − z_lo) / 65535, also in 4 × 4 blocks: 4 bytes per node.
+  // The index of (a, b) in a side × side array so laid out. It is separable, a column
+  // part plus a row part, so a cell's four corners take two of each, not four full indices.
   // Forced inline: GCC otherwise kept height() a call in intersect's node walk (three calls
   // per cell visited), which is too large a function for its inlining limits.
+  [[gnu::always_inline]] static std::size_t blocked_column(std::size_t a, std::size_t side) {
+    return (side & 3) != 0 ? a : (a >> 2) * 16 + (a & 3);
+  }
+  [[gnu::always_inline]] static std::size_t blocked_row(std::size_t b, std::size_t side) {
+    return (side & 3) != 0 ? b * side : (b >> 2) * (4 * side) + (b & 3) * 4;
+  }
   [[gnu::always_inline]] static std::size_t blocked(std::size_t a, std::size_t b, std::size_t side) {
-    if ((side & 3) != 0) return a + side * b;
-    return ((b >> 2) * (side >> 2) + (a >> 2)) * 16 + (b & 3) * 4 + (a & 3);
+    return blocked_column(a, side) + blocked_row(b, side);
   }
-  [[gnu::always_inline]] float height(int i, int j) const { return z_[blocked(std::size_t(i), std::size_t(j), std::size_t(n_))]; }
-  // The layout is separable, blocked(a, b, side) = column(a) + row(b): a cell's four corners
-  // take two of each instead of four full indices.
-  [[gnu::always_inline]] std::size_t height_column(int i) const {
-    const std::size_t a = std::size_t(i);
-    return (n_ & 3) != 0 ? a : (a >> 2) * 16 + (a & 3);
-  }
-  [[gnu::always_inline]] std::size_t height_row(int j) const {
-    const std::size_t b = std::size_t(j), side = std::size_t(n_);
-    return (n_ & 3) != 0 ? b * side : (b >> 2) * (4 * side) + (b & 3) * 4;
-  }
+  [[gnu::always_inline]] std::size_t height_column(int i) const { return blocked_column(std::size_t(i), std::size_t(n_)); }
+  [[gnu::always_inline]] std::size_t height_row(int j) const { return blocked_row(std::size_t(j), std::size_t(n_)); }
+  [[gnu::always_inline]] float height(int i, int j) const { return z_[height_column(i) + height_row(j)]; }
   const std::uint16_t* node(int level, int a, int b) const {  // level ≥ 1
     const std::size_t m = std::size_t(n_ >> level);
     return &codes_[offsets_[std::size_t(level - 1)] + 2 * blocked(std::size_t(a), std::size_t(b), m)];
