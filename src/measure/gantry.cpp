@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <span>
 #include <string>
 
 #include <nlohmann/json.hpp>
@@ -78,6 +79,36 @@ struct BlockResult {
   std::vector<std::uint64_t> hits;
 };
 
+// The rings of detectors (one per θo) a direction with a given cos θ may fall in.
+class DetectorRings {
+ public:
+  DetectorRings(const GantrySpec& spec, double cos_beta) {
+    const double beta = std::acos(cos_beta), slack = 1e-4;
+    std::vector<std::vector<std::uint32_t>> lists(kBuckets);
+    for (std::size_t a = 0; a < spec.theta_o.size(); ++a) {
+      const double theta = spec.theta_o[a] * kDegree;
+      const double z_hi = std::cos(std::max(0.0, theta - beta)) + slack;
+      const double z_lo = std::cos(std::min(kPiD, theta + beta)) - slack;
+      for (int k = bucket(z_lo), last = bucket(z_hi); k <= last; ++k) lists[std::size_t(k)].push_back(std::uint32_t(a));
+    }
+    start_.push_back(0);
+    for (const auto& l : lists) {
+      rings_.insert(rings_.end(), l.begin(), l.end());
+      start_.push_back(rings_.size());
+    }
+  }
+  std::span<const std::uint32_t> near(double z) const {
+    const std::size_t k = std::size_t(bucket(z));
+    return {rings_.data() + start_[k], rings_.data() + start_[k + 1]};
+  }
+
+ private:
+  static constexpr int kBuckets = 512;
+  static int bucket(double z) { return std::clamp(int((z + 1) * (kBuckets / 2)), 0, kBuckets - 1); }
+  std::vector<std::uint32_t> rings_;
+  std::vector<std::size_t> start_;
+};
+
 }  // namespace
 
 GantrySpec parse_gantry(std::string_view json_text, std::string_view source) {
@@ -146,14 +177,15 @@ GantryReading run_gantry(const Microsurface& surface, const GantrySpec& spec, co
   const double cos_beta = std::cos(spec.aperture * kDegree);
   std::vector<Vec3> axis(n_det);
   std::vector<double> omega(n_det);
-  std::vector<bool> below(n_det);
-  for (std::size_t a = 0; a < spec.theta_o.size(); ++a)
+  std::vector<char> below(spec.theta_o.size());  // per θo: a transmission detector
+  for (std::size_t a = 0; a < spec.theta_o.size(); ++a) {
+    below[a] = spec.theta_o[a] > 90;
     for (std::size_t b = 0; b < spec.phi_o.size(); ++b) {
       const std::size_t d = a * spec.phi_o.size() + b;
       axis[d] = spherical_direction(spec.theta_o[a] * kDegree, spec.phi_o[b] * kDegree);
       omega[d] = cone_projected_solid_angle(spec.theta_o[a] * kDegree, spec.aperture * kDegree);
-      below[d] = spec.theta_o[a] > 90;
     }
+  }
 
   std::vector<Vec3> light(n_inc);
   out.incidences.resize(n_inc);
@@ -164,6 +196,13 @@ GantryReading run_gantry(const Microsurface& surface, const GantrySpec& spec, co
       out.incidences[i].theta_i = spec.theta_i[a];
       out.incidences[i].phi_i = spec.phi_i[b];
     }
+
+  // Which detectors a leaving ray can be in, by its cos θ: a cone of half-angle β about θc
+  // holds only polar angles in [θc − β, θc + β], so each ring of detectors (one θo) covers
+  // a band of cos θ. The band's buckets list the rings that overlap them (widened by far
+  // more than the float dot product's rounding), and the cone test itself decides, as for
+  // every detector: a ray checks the few detectors near its polar angle, not all of them.
+  const DetectorRings rings(spec, cos_beta);
 
   // Per incidence: the sums, merged block by block in order.
   std::vector<BlockResult> total(n_inc);
@@ -190,11 +229,14 @@ GantryReading run_gantry(const Microsurface& surface, const GantrySpec& spec, co
           if (t.fate != Fate::Up && t.fate != Fate::Down) continue;
           const bool up = t.fate == Fate::Up;
           (up ? r.up : r.down).add(t.weight);
-          for (std::size_t d = 0; d < n_det; ++d)
-            if (below[d] != up && dot(t.direction, axis[d]) >= cos_beta) {
-              r.det[d].add(t.weight);
-              ++r.hits[d];
-            }
+          for (const std::uint32_t a : rings.near(t.direction.z)) {
+            if (below[a] == up) continue;  // a reflection detector sees only rays going up
+            for (std::size_t d = a * spec.phi_o.size(), e = d + spec.phi_o.size(); d < e; ++d)
+              if (dot(t.direction, axis[d]) >= cos_beta) {
+                r.det[d].add(t.weight);
+                ++r.hits[d];
+              }
+          }
         }
       },
       [&](std::uint64_t block, const BlockResult& r) {
