@@ -17,13 +17,15 @@ void entry_point(std::uint64_t k, bool full_block, Pcg32& rng, double& u, double
     return;
   }
   // De-interleave the 13 bits of k: even bits give the column (7 bits, 128), odd bits
-  // the row (6 bits, 64).
+  // the row (6 bits, 64); each half is gathered by halving the gaps between its bits.
   const auto i = static_cast<unsigned>(k % kBlockRays);
-  unsigned x = 0, y = 0;
-  for (unsigned b = 0; b < 13; ++b) {
-    if (b % 2 == 0) x |= ((i >> b) & 1u) << (b / 2);
-    else y |= ((i >> b) & 1u) << (b / 2);
-  }
+  auto even_bits = [](unsigned b) {
+    b &= 0x5555u;
+    b = (b | (b >> 1)) & 0x3333u;
+    b = (b | (b >> 2)) & 0x0F0Fu;
+    return (b | (b >> 4)) & 0x00FFu;
+  };
+  const unsigned x = even_bits(i), y = even_bits(i >> 1);
   u = (x + ju) / 128.0;
   v = (y + jv) / 64.0;
 }

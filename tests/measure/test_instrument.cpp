@@ -3,14 +3,17 @@
 // the conductor) and Snell's law.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <complex>
+#include <vector>
 
 #include "../test_common.h"
 #include "../unit/test_scale.h"
 #include "gonio/error.h"
 #include "gonio/material.h"
 #include "gonio/measure/gantry.h"
+#include "gonio/measure/instrument.h"
 #include "surfaces_for_tests.h"
 
 namespace gonio::measure {
@@ -25,6 +28,25 @@ double fresnel(double theta, std::complex<double> n) {
   const double rs = std::norm((c - root) / (c + root));
   const double rp = std::norm((n * n * c - root) / (n * n * c + root));
   return (rs + rp) / 2;
+}
+
+// A full block puts one ray in each cell of the 128 × 64 strata, in Morton order: ray k's
+// cell is k's even bits (column) and odd bits (row), gathered here bit by bit.
+TEST(EntryPoint, FullBlockVisitsEveryStratumOnceInMortonOrder) {
+  Pcg32 rng(5, 9);
+  std::vector<int> seen(kBlockRays, 0);
+  for (std::uint64_t k = 0; k < kBlockRays; ++k) {
+    double u, v;
+    entry_point(k, true, rng, u, v);
+    ASSERT_TRUE(u >= 0 && u < 1 && v >= 0 && v < 1) << k;
+    const int col = int(std::floor(u * 128)), row = int(std::floor(v * 64));
+    int want_col = 0, want_row = 0;
+    for (int b = 0; b < 13; ++b) (b % 2 == 0 ? want_col : want_row) |= int((k >> b) & 1) << (b / 2);
+    EXPECT_EQ(col, want_col) << k;
+    EXPECT_EQ(row, want_row) << k;
+    ++seen[std::size_t(row * 128 + col)];
+  }
+  EXPECT_EQ(std::count(seen.begin(), seen.end(), 1), std::ptrdiff_t(kBlockRays));
 }
 
 TEST(Gantry, ConeProjectedSolidAngle) {
