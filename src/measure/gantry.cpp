@@ -104,7 +104,10 @@ class DetectorRings {
 
  private:
   static constexpr int kBuckets = 512;
-  static int bucket(double z) { return std::clamp(int((z + 1) * (kBuckets / 2)), 0, kBuckets - 1); }
+  static int bucket(double z) {  // z in [−1, 1] (a unit vector's); NaN: bucket 0
+    const double x = (std::clamp(z, -1.0, 1.0) + 1) * (kBuckets / 2);
+    return x > 0 ? std::min(int(x), kBuckets - 1) : 0;
+  }
   std::vector<std::uint32_t> rings_;
   std::vector<std::size_t> start_;
 };
