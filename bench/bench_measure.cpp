@@ -8,6 +8,8 @@
 #include <cmath>
 #include <map>
 #include <memory>
+#include <thread>
+#include <vector>
 
 #include "gonio/material.h"
 #include "gonio/measure/gantry.h"
@@ -171,6 +173,44 @@ void BM_HeightFieldWork(benchmark::State& state) {
 }
 BENCHMARK(BM_HeightFieldWork)->ArgsProduct({{512, 2048}, {0, 30, 60, 80}})
     ->Unit(benchmark::kMillisecond)->Iterations(1);
+
+// The tracer alone: first-hit queries (Microsurface::probe, one query as trace() makes it,
+// no material, no detectors) from the instrument's entry points (entry_point's strata, in
+// blocks) just above the highest facet at 0°, 30°, 60° and 80°, 100,000 per incidence per thread, on 1 or 2 threads. The ceiling of any
+// measurement on this surface: every scattered ray needs at least one such query (the
+// exit queries are shorter, docs/benchmarks.md). Args: resolution, threads, tracer.
+void BM_EntryQueries(benchmark::State& state) {
+  const Microsurface& s = surface(int(state.range(0)), int(state.range(2)));
+  const int threads = int(state.range(1));
+  static constexpr std::uint64_t kPerIncidence = 100000;
+  double queries = 0;
+  for (auto _ : state) {
+    std::vector<std::thread> pool;
+    std::vector<int> facets(std::size_t(threads), 0);
+    for (int t = 0; t < threads; ++t)
+      pool.emplace_back([&s, &facets, t] {
+        for (const double theta : {0.0, 30.0, 60.0, 80.0}) {
+          const Vec3 dir = -spherical_direction(theta * kPiD / 180, 0);
+          for (std::uint64_t first = 0; first < kPerIncidence; first += kBlockRays) {
+            const std::uint64_t last = std::min<std::uint64_t>(kPerIncidence, first + kBlockRays);
+            Pcg32 rng(4 + std::uint64_t(t), first);
+            for (std::uint64_t k = first; k < last; ++k) {
+              double u, v;
+              entry_point(k - first, last - first == kBlockRays, rng, u, v);
+              const double p[3] = {u * s.size(), v * s.size(), s.z_max() + 1e-6};
+              facets[std::size_t(t)] += s.probe(p, dir).facet ? 1 : 0;
+            }
+          }
+        }
+      });
+    for (auto& th : pool) th.join();
+    queries += 4.0 * double(kPerIncidence) * threads;
+    benchmark::DoNotOptimize(facets.data());
+  }
+  state.counters["queries/s"] = benchmark::Counter(queries, benchmark::Counter::kIsRate);
+}
+BENCHMARK(BM_EntryQueries)->ArgsProduct({{512, 2048}, {1, 2}, {0, 1}})
+    ->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
 
 // The MERL table mode (uniform incidences, every exit binned), 2 M rays; args: threads, tracer.
 void BM_TableRays(benchmark::State& state) {

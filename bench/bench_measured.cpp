@@ -87,6 +87,16 @@ void BM_measured_eval(benchmark::State& state) {
   }
   state.SetItemsProcessed(std::int64_t(state.iterations() * kCalls));
 }
+// eval at one pair every call: its arithmetic alone, as BM_measured_f_cached for f.
+void BM_measured_eval_cached(benchmark::State& state) {
+  Fixture& fx = fixture();
+  std::vector<BSDFEval> out(kQueries);
+  for (auto _ : state) {
+    for (std::uint32_t q : fx.order) out[q] = fx.model.eval(fx.wo[0], fx.wi[0]);
+    escape(out.data());
+  }
+  state.SetItemsProcessed(std::int64_t(state.iterations() * kCalls));
+}
 void BM_measured_sample(benchmark::State& state) {
   Fixture& fx = fixture();
   std::vector<Vec3> out(kQueries);
@@ -113,6 +123,7 @@ void BM_measured_load(benchmark::State& state) {
 BENCHMARK(BM_measured_f);
 BENCHMARK(BM_measured_f_cached);
 BENCHMARK(BM_measured_eval);
+BENCHMARK(BM_measured_eval_cached);
 BENCHMARK(BM_measured_sample);
 BENCHMARK(BM_measured_load)->Unit(benchmark::kMillisecond);
 

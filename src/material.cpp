@@ -285,7 +285,7 @@ class Params {
     const ParamSpec& s = spec(key);
     if (!s.range.present) return;
     if (!s.range.contains(d))
-      fail(std::string(key) + " must be " + range_requirement(s.range, s.unit) + ", got " + format_number(d));
+      fail(std::string(key) + " must be " + range_requirement(s.range, s.unit, d) + ", got " + format_number(d));
     // An open lower end at 0 means "positive", which must survive the cast to float.
     if (s.range.lo_open && s.range.lo == 0 && !positive_float(d))
       fail(std::string(key) + " must be > 0, got " + format_number(d) + kTooSmallForFloat);

@@ -215,6 +215,17 @@ std::string range_requirement(const ParamRange& r, std::string_view unit) {
   return s;
 }
 
+std::string range_requirement(const ParamRange& r, std::string_view unit, double value) {
+  if (!r.lo_open || r.contains(value)) return range_requirement(r, unit);
+  std::string s;
+  if (value <= r.lo)
+    s.append("> ").append(number_text(r.lo));
+  else
+    s.append(r.hi_open ? "< " : "<= ").append(number_text(r.hi));
+  if (!unit.empty()) s.append(" ").append(unit);
+  return s;
+}
+
 std::string param_names(const MaterialTypeSpec& type) {
   std::string s;
   for (const auto& p : type.params) s += (s.empty() ? "" : ", ") + std::string(p.name);

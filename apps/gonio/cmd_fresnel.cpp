@@ -36,7 +36,7 @@ struct FresnelLine {
 };
 
 FresnelLine fresnel_at(double eta, double k, double theta_deg) {
-  const double cos_i = theta_deg == 90 ? 0.0 : std::cos(theta_deg * kPiD / 180);
+  const double cos_i = cos_degrees(theta_deg);
   const bool conductor = k > 0;
   const FresnelTerms<double> t = fresnel_terms(cos_i, eta, k);
   const double r = t.r();

@@ -67,6 +67,10 @@ const ParamSpec* find_param(const MaterialTypeSpec& type, std::string_view name)
 std::string range_text(const ParamRange& range, std::string_view unit = {});
 // What an error says a value must be: "in [0, 1]", "> 0 and <= 10", "in [0, 90) degrees".
 std::string range_requirement(const ParamRange& range, std::string_view unit = {});
+// The same for a value the range does not contain, naming the bound it breaks where the
+// range is open below: "> 0" for alpha = -0.1 (SPEC §2's example, "alpha must be > 0, got
+// -0.1"), "<= 10" for alpha = 11; a closed range is named whole ("in [0, 1]").
+std::string range_requirement(const ParamRange& range, std::string_view unit, double value);
 // "alpha, distribution, fresnel, ..." in the table's order.
 std::string param_names(const MaterialTypeSpec& type);
 

@@ -115,6 +115,15 @@ TEST(CliBsdfErrors, DielectricEtaOutOfRange) {
   expect_bsdf_rejected(R"({"type":"dielectric","eta":0})", {"eta", "0"});
 }
 
+// SPEC §2's own example of an error that names the field, word for word; a value above
+// the range names the upper bound.
+TEST(CliBsdfErrors, RangeErrorNamesTheBoundBroken) {
+  expect_bsdf_rejected(R"({"type":"roughconductor","alpha":-0.1})", {"roughconductor: alpha must be > 0, got -0.1"});
+  expect_bsdf_rejected(R"({"type":"roughconductor","alpha":0})", {"roughconductor: alpha must be > 0, got 0"});
+  expect_bsdf_rejected(R"({"type":"roughconductor","alpha":11})", {"roughconductor: alpha must be <= 10, got 11"});
+  expect_bsdf_rejected(R"({"type":"diffuse","reflectance":1.5})", {"reflectance must be in [0, 1], got 1.5"});
+}
+
 TEST(CliBsdfErrors, ConductorOutOfRange) {
   expect_bsdf_rejected(R"({"type":"conductor","eta":1.2,"k":-1})", {"k", "-1"});
   expect_bsdf_rejected(R"({"type":"conductor","eta":[0.2,0.3,0.4],"k":[3,-1,2]})", {"k", "-1"});

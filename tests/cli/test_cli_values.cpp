@@ -163,6 +163,30 @@ TEST(CliFresnel, TotalInternalReflection) {
   EXPECT_GT(num(below, "cos_t"), 0);
 }
 
+// SPEC §1: at the critical angle itself the reflection is total. For η = ½ it is 30°
+// exactly (sin 30° = ½), an angle a user types (a --theta-range line is its --theta run,
+// test_cli_conveniences.cpp). And cos 60° = ½ exactly, so 60° onto η = 2 has the closed
+// form below, cos θt = √(1 − ¾/4) = √13/4.
+TEST(CliFresnel, ExactlyAtTheCriticalAngleIsTotal) {
+  const json at = fresnel({"--eta", "0.5", "--theta", "30", "--schlick"});
+  EXPECT_TRUE(at["cos_t"].is_null()) << at.dump();
+  EXPECT_EQ(num(at, "R"), 1);
+  EXPECT_EQ(num(at, "T"), 0);
+  EXPECT_EQ(num(at, "schlick"), 1);
+  // Just inside the critical angle the light still refracts, at a grazing cos θt.
+  const json below = fresnel({"--eta", "0.5", "--theta", "29.999"});
+  const Fres f = dielectric_ref(29.999, 0.5);
+  ASSERT_FALSE(f.tir);
+  EXPECT_NEAR(num(below, "cos_t"), f.cos_t, 1e-9);
+  EXPECT_LT(num(below, "R"), 1);
+  // r_s = (c − η ct)/(c + η ct), r_p = (η c − ct)/(η c + ct) with c = ½ (Hecht's cos form).
+  const json sixty = fresnel({"--eta", "2", "--theta", "60"});
+  const double c = 0.5, ct = std::sqrt(13.0) / 4, e = 2;
+  EXPECT_NEAR(num(sixty, "cos_t"), ct, 4e-16);
+  EXPECT_NEAR(num(sixty, "Rs"), std::pow((c - e * ct) / (c + e * ct), 2), 1e-15);
+  EXPECT_NEAR(num(sixty, "Rp"), std::pow((e * c - ct) / (e * c + ct), 2), 1e-15);
+}
+
 TEST(CliFresnel, ConductorMatchesComplexIndexFormula) {
   struct NK { double n, k; };
   const NK indices[] = {{0.2, 3.0},      {0.3504, 2.7141}, {0.1678, 3.1378}, {1.5085, 1.8789},
