@@ -91,17 +91,6 @@ std::unique_ptr<MaterialAtWavelength> load_bsdf_at_wavelength(const std::string&
   return m;
 }
 
-double cos_degrees(double degrees) {
-  int quadrant = 0;
-  const double r = std::remquo(degrees, 90.0, &quadrant);  // degrees = 90 q + r, |r| <= 45
-  const double rad = r * (kPiD / 180);
-  const double s = std::abs(r) == 30 ? std::copysign(0.5, r) : std::sin(rad);
-  const double c = std::abs(r) == 30 ? std::sqrt(3.0) / 2 : std::cos(rad);
-  const int q = quadrant & 3;  // the low bits of q: cos(90 q + r)
-  const double v = q == 0 ? c : q == 1 ? -s : q == 2 ? -c : s;
-  return v + 0.0;  // 90° gives −sin 0 = −0: +0, as the cosine of a grazing angle
-}
-
 CLI::Validator decimal_in_range(std::int64_t lo, std::int64_t hi) {
   // A transform, not a check: leading zeros are dropped from the text before CLI11
   // converts it, since CLI11 would read 010 as octal 8.

@@ -43,14 +43,6 @@ struct MaterialAtWavelength {
 // that the model's pointers into the scratch stay valid.
 std::unique_ptr<MaterialAtWavelength> load_bsdf_at_wavelength(const std::string& arg, Float nm);
 
-// cos of an angle given in degrees, exact where an exact value exists: the angle is
-// reduced to [−45°, 45°] in degrees (std::remquo: exact for any double) before it becomes
-// radians, and ±30° takes its sine ½ exactly (Niven: 0, ±½ and ±1 are the only rational
-// sines of rational degrees). So 90° gives 0, 60° gives ½ and 30° the correctly rounded √3/2,
-// where cos(30 · π/180) rounds up past √3/2 and put the critical angle of η = ½ (30°, where
-// SPEC §1 makes the reflection total) on the refracting side.
-double cos_degrees(double degrees);
-
 // SPEC §3's ranges of the integer options, shared by every command that has them.
 inline constexpr std::int64_t kMaxSamples = 1'000'000'000'000;  // --samples 1 to 10^12
 inline constexpr std::int64_t kMaxSeed = 2'147'483'647;         // --seed 0 to 2^31 - 1

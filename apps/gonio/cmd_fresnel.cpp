@@ -13,6 +13,7 @@
 #include "cli_mueller.h"
 #include "commands.h"
 #include "gonio/fresnel.h"
+#include "gonio/math/degrees.h"
 #include "gonio/named_index.h"
 #include "gonio/polarization/interface.h"
 

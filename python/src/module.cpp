@@ -26,6 +26,7 @@
 
 #include "gonio/batch.h"
 #include "gonio/fresnel.h"
+#include "gonio/math/degrees.h"
 #include "gonio/json_text.h"
 #include "gonio/material.h"
 #include "gonio/merl.h"
@@ -490,8 +491,7 @@ py::dict fresnel(const DoubleArray& theta_a, double eta, double k, const std::op
   for (std::size_t i = 0; i < n; ++i)
     for (std::size_t c = 0; c < ch; ++c) {
       const auto [e, kk] = index[c];
-      // 90° exactly has cos 0 (std::cos(π/2) is 6e-17), as the CLI.
-      const double cos_i = theta[i] == 90 ? 0.0 : std::cos(theta[i] * kPiD / 180);
+      const double cos_i = cos_degrees(theta[i]);  // as the CLI: exact at 30°, 60°, 90°
       const FresnelTerms<double> f = fresnel_terms(cos_i, e, kk);
       const std::size_t j = i * ch + c;
       rs.mutable_data()[j] = f.rs;

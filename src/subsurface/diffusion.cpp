@@ -243,6 +243,33 @@ C DiffusionProfileT<C>::Sp(Float r) const {
 template class DiffusionProfileT<Color>;
 template class DiffusionProfileT<SampledSpectrum>;
 
+// The dipole's exitance cΦ φ + cE D ∂φ/∂n over the plane, with the two integrals
+// (d = √(r² + z²), dA = 2π r dr = 2π d dd)
+//   ∫ e^{−σ d}/d dA = 2π e^{−σ|z|}/σ,   ∫ z (1 + σ d) e^{−σ d}/d³ dA = 2π sign(z) e^{−σ|z|}
+// for the real source at zr = z and the image at zv = 2 ze − z (above: |zv| = z + 2|ze|):
+//   ∫ φ = (e^{−σ z} − e^{−σ|zv|}) / (2 D σ),   ∫ D ∂φ/∂n = (e^{−σ z} + e^{−σ|zv|}) / 2.
+// As σ → 0 the first tends to |ze|/D = 2 (1 + 3 FM2)/(1 − 2 FM1), so P → (1 + 3 FM2)/2 +
+// (1 − 3 FM2)/2 = 1.
+DipoleEscape::DipoleEscape(const Medium& medium, Float eta) {
+  for (int c = 0; c < Color::size(); ++c) {
+    const double ss = medium.sigma_s[c], sa = medium.sigma_a[c];
+    if (!((1 - double(medium.g)) * ss + sa > 0)) continue;  // no interaction: no source either
+    const PbdMedium m(ss, sa, medium.g, eta);
+    const double x = 2 * m.sigma_tr * -m.ze;  // 2 σtr |ze|
+    const double spread = x > 0 ? -std::expm1(-x) / x : 1.0;  // (1 − e^{−x})/x → 1
+    const double p0 = m.c_phi * (-m.ze / m.D) * spread + 0.5 * m.c_e * (1 + std::exp(-x));
+    sigma_tr_[c] = Float(m.sigma_tr);
+    at_surface_[c] = Float(std::clamp(p0, 0.0, 1.0));
+  }
+}
+
+Color DipoleEscape::operator()(Float depth) const {
+  Color p;
+  const Float z = std::max(depth, Float(0));
+  for (int c = 0; c < Color::size(); ++c) p[c] = std::min(Float(1), at_surface_[c] * std::exp(-sigma_tr_[c] * z));
+  return p;
+}
+
 SlabResult slab_diffusion(const Subsurface& material) {
   const DiffusionProfile profile(material.medium, material.eta);
   // The quadrature's error: the same table at half the depths per radius.

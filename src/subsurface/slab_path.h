@@ -6,6 +6,7 @@
 #include <cstdint>
 
 #include "gonio/bxdf.h"
+#include "gonio/subsurface/diffusion.h"
 #include "gonio/subsurface/random_walk.h"
 #include "gonio/subsurface/slab_walk.h"
 
@@ -29,8 +30,12 @@ struct PlaneBoundary {
 // A path from the beam at the origin (normal incidence) to where it leaves: its
 // contribution to Rd (0 if the first-surface reflection, absorbed or dropped) and the
 // radius where it left in r_out (−1: it did not). stats.steps counts its scattering events.
+// With `tail`, a path stopped at max_steps brings its weight times the share of a point
+// source at its depth that would leave (diffusion.h, DipoleEscape) to Rd, and nothing to
+// the profile (r_out = −1: where it would leave is not known; after 65,536 events about
+// √65536 = 256 mean free paths away, beyond the profile's 20). Without, it is dropped.
 inline Color trace_slab_path(const BxDF& boundary, const Medium& medium, Pcg32& rng, Float& r_out, WalkStats& stats,
-                             std::uint32_t max_steps = kMaxWalkSteps) {
+                             std::uint32_t max_steps = kMaxWalkSteps, const DipoleEscape* tail = nullptr) {
   r_out = -1;
   // Entering: light arriving along −z, so wo = +z on the outside; particles carry power,
   // hence importance transport (SPEC §1: transmission weighted without the η² factor).
@@ -43,7 +48,12 @@ inline Color trace_slab_path(const BxDF& boundary, const Medium& medium, Pcg32& 
   const PlaneBoundary plane;
   PlaneBoundary::Hit hit;
   for (int bounce = 0; bounce < kMaxSlabBounces; ++bounce) {
-    if (!walk_to_boundary_capped(medium, plane, p, d, beta, rng, hit, &stats, nullptr, max_steps)) return Color(0);
+    WalkCapped capped;
+    if (!walk_to_boundary_capped(medium, plane, p, d, beta, rng, hit, &stats, nullptr, max_steps, &capped)) {
+      if (!capped.reached || !tail) return Color(0);
+      const Color rest = beta * (*tail)(-capped.point.z);
+      return rest.is_finite() ? rest : Color(0);
+    }
     // At the surface from inside: wo = −d (wo.z < 0) in the frame of the outward normal.
     const Float vl = rng.next_float(), v1 = rng.next_float(), v2 = rng.next_float();
     const auto out = boundary.sample(-hit.d, vl, v1, v2, TransportMode::Importance);

@@ -49,6 +49,7 @@ SlabResult slab_random_walk(const Subsurface& s, std::uint64_t samples, std::uin
   const Float log_q = std::log(radii[1] / radii[0]);
   const Float inv_log_q = 1 / log_q;
 
+  const DipoleEscape tail(s.medium, s.eta);  // for the paths stopped at kMaxWalkSteps
   const std::uint64_t blocks = (samples + kSlabBlock - 1) / kSlabBlock;
   auto run_block = [&](std::uint64_t b, BlockSums& bs) {
     bs = BlockSums{};
@@ -57,7 +58,7 @@ SlabResult slab_random_walk(const Subsurface& s, std::uint64_t samples, std::uin
     const std::uint64_t begin = b * kSlabBlock, end = std::min(samples, begin + kSlabBlock);
     for (std::uint64_t i = begin; i < end; ++i) {
       Float r = -1;
-      const Color c = detail::trace_slab_path(s.boundary, s.medium, rng, r, stats);
+      const Color c = detail::trace_slab_path(s.boundary, s.medium, rng, r, stats, kMaxWalkSteps, &tail);
       for (int k = 0; k < kChannels; ++k) {
         bs.sum[size_t(k)] += c[k];
         bs.sum2[size_t(k)] += double(c[k]) * c[k];

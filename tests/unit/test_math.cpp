@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "gonio/math/cdf_guide.h"
+#include "gonio/math/degrees.h"
 #include "gonio/math/fast_atan.h"
 #include "gonio/math/frame.h"
 #include "gonio/math/select.h"
@@ -292,3 +293,27 @@ TEST(CdfGuide, GuidedSearchFindsTheBinarySearchesInterval) {
 }
 }  // namespace
 }  // namespace gonio
+
+// cos_degrees: exact at the angles whose cosines are 0, ½ and 1 (and the correctly rounded
+// √3/2 at 30°, below the true value, so that 1 − cos² rounds to ¼ or above), and within an
+// ulp of the cosine elsewhere, over several turns and both signs.
+TEST(Degrees, CosineIsExactWhereItCanBe) {
+  EXPECT_EQ(gonio::cos_degrees(0), 1.0);
+  EXPECT_EQ(gonio::cos_degrees(60), 0.5);
+  EXPECT_EQ(gonio::cos_degrees(-60), 0.5);
+  EXPECT_EQ(gonio::cos_degrees(120), -0.5);
+  EXPECT_EQ(gonio::cos_degrees(300), 0.5);
+  EXPECT_EQ(gonio::cos_degrees(90), 0.0);
+  EXPECT_FALSE(std::signbit(gonio::cos_degrees(90)));
+  EXPECT_EQ(gonio::cos_degrees(180), -1.0);
+  EXPECT_EQ(gonio::cos_degrees(360 * 7), 1.0);
+  EXPECT_EQ(gonio::cos_degrees(30), 0.8660254037844386);  // √3/2 = 0.86602540378443864676…
+  EXPECT_LE(gonio::cos_degrees(30), std::sqrt(3.0) / 2);
+  // The reference in x87 long double (64-bit mantissa): the radian angle of −740° has an
+  // error of 1e-15 in double, far above the one ulp (1.1e-16 near 1) allowed here.
+  const long double pi = 3.141592653589793238462643383279502884L;
+  for (int i = -2000; i <= 2000; ++i) {
+    const double deg = i * 0.37;
+    EXPECT_NEAR(gonio::cos_degrees(deg), double(std::cos(static_cast<long double>(deg) * pi / 180)), 1.2e-16) << deg;
+  }
+}

@@ -85,6 +85,24 @@ class DiffusionProfileT {
 };
 using DiffusionProfile = DiffusionProfileT<Color>;
 
+// The share of the power of an isotropic point source at depth z below the surface of a
+// semi-infinite medium that leaves it, per channel: the exitance of the profile's dipole
+// (d'Eon & Irving 2011's boundary; without Habel's near-source factor κ, which is 1 a few
+// mean free paths down) integrated over the whole surface, in closed form,
+//   P(z) = e^{−σtr z} [cΦ (|ze|/D) (1 − e^{−2σtr|ze|}) / (2σtr|ze|) + (cE/2)(1 + e^{−2σtr|ze|})],
+// which is exactly 1 where σa = 0: every particle of a conservative half-space comes back.
+// The random-walk slab counts with it the paths it stops at kMaxWalkSteps (hundreds of
+// mean free paths deep, where diffusion holds), which it used to drop (slab_walk.h).
+class DipoleEscape {
+ public:
+  DipoleEscape() = default;
+  DipoleEscape(const Medium& medium, Float eta);
+  Color operator()(Float depth) const;
+
+ private:
+  Color sigma_tr_{0}, at_surface_{0};  // P(z) = at_surface e^{−σtr z}
+};
+
 // `gonio subsurface` with method "diffusion": the semi-infinite slab at normal incidence.
 // Rd = (1 − F(0)) DiffusionProfile::Rd() — relative to the incident power: the entry loss
 // is included, the first-surface reflection F(0) is not counted, single scattering is —

@@ -31,11 +31,12 @@
 
 namespace gonio {
 
-// Scattering events after which a walk is terminated (its energy is lost). In a
-// semi-infinite slab with σa = 0 a walk that returns after n events has probability
-// ~ n^{-3/2} (a 3-D random walk's first return), so the cap drops a fraction ~ n^{-1/2}
-// of such light: measured 1 % at η = 1.33 (docs/subsurface.md). With any absorption ϖ^n
-// makes it negligible (ϖ = 0.999: e^{−65.5}). Inside a closed mesh walks leave long before.
+// Scattering events after which a walk is terminated. In a semi-infinite slab with σa = 0
+// a walk that returns after n events has probability ~ n^{-3/2} (a 3-D random walk's first
+// return), so the cap stops a fraction ~ n^{-1/2} of such paths: 0.6 % at ϖ = 1. The
+// slab of `gonio subsurface` counts them by their diffusion escape probability
+// (slab_path.h); elsewhere their energy is lost. With absorption ϖ^n makes them
+// negligible (ϖ = 0.999: e^{−65.5}). Inside a closed mesh walks leave long before.
 inline constexpr std::uint32_t kMaxWalkSteps = 1u << 16;
 
 struct WalkStats {
@@ -53,10 +54,18 @@ struct WalkStats {
 // crossing is the `d` of the last `nearest` call: a Boundary may record it (and the
 // point) in its Hit, or the caller passes `d_out` to receive it.
 // walk_to_boundary with its own cap on scattering events (the albedo table's walks,
-// albedo_inversion.h, stop earlier than kMaxWalkSteps).
+// albedo_inversion.h, stop earlier than kMaxWalkSteps). When the cap ends the walk and
+// `capped` is given, it receives the last scattering point (beta is the path's weight
+// there): a caller that knows its geometry may estimate what the path would still bring
+// (the slab's diffusion tail, slab_path.h).
+struct WalkCapped {
+  bool reached = false;
+  Vec3 point;
+};
 template <typename C, typename Boundary>
 bool walk_to_boundary_capped(const MediumT<C>& medium, const Boundary& boundary, Vec3 p, Vec3 d, C& beta, Pcg32& rng,
-                             typename Boundary::Hit& hit, WalkStats* stats, Vec3* d_out, std::uint32_t max_steps) {
+                             typename Boundary::Hit& hit, WalkStats* stats, Vec3* d_out, std::uint32_t max_steps,
+                             WalkCapped* capped = nullptr) {
   constexpr int N = C::size();
   const C sigma_t = medium.sigma_t();
   for (std::uint32_t step = 0; step <= max_steps; ++step) {
@@ -74,36 +83,44 @@ bool walk_to_boundary_capped(const MediumT<C>& medium, const Boundary& boundary,
     const Float u = rng.next_float();
     const Float t = sigma_t[ch] > 0 ? -std::log1p(-u) / sigma_t[ch] : std::numeric_limits<Float>::infinity();
 
+    // The weights' denominators Σ β_k X_k / Σ β_k are formed in double and each factor
+    // rounded to float once: with equal channels a factor that is 1 (σa = 0) then comes out
+    // exactly 1. In float, β_k/Σβ = 1/3 rounded up made it 1 − 3e-8 per event: over the
+    // ~1,300 events of a path in a conservative half-space, Rd fell 3e-5 short of 1.
+    const double total_d = double(total);
     const bool found = boundary.nearest(p, d, hit);
     if (found && hit.t <= t) {
       // Reached the boundary: weight e^{−σt_c t_b} / Σ p_k e^{−σt_k t_b}.
-      Float denom = 0;
+      double denom = 0;
       C tr;
       for (int c = 0; c < N; ++c) {
         tr[c] = std::exp(-sigma_t[c] * hit.t);
-        denom += std::max(beta[c], Float(0)) / total * tr[c];
+        denom += double(std::max(beta[c], Float(0))) * tr[c];
       }
+      denom /= total_d;
       if (!(denom > 0)) return false;
-      beta *= tr;
-      beta *= 1 / denom;
+      for (int c = 0; c < N; ++c) beta[c] *= Float(double(tr[c]) / denom);
       if (d_out) *d_out = d;
       return beta.is_finite();
     }
     if (!std::isfinite(t)) return false;  // no boundary ahead and nothing to scatter from
-    if (step == max_steps) return false;
+    if (step == max_steps) {
+      if (capped) capped->reached = true, capped->point = p;
+      return false;
+    }
 
     // A scattering event at p + t d: weight σs_c e^{−σt_c t} / Σ p_k σt_k e^{−σt_k t}.
     p = p + d * t;
-    Float denom = 0;
+    double denom = 0;
     C w;
     for (int c = 0; c < N; ++c) {
       const Float tr = std::exp(-sigma_t[c] * t);
       w[c] = medium.sigma_s[c] * tr;
-      denom += std::max(beta[c], Float(0)) / total * sigma_t[c] * tr;
+      denom += double(std::max(beta[c], Float(0))) * sigma_t[c] * tr;
     }
+    denom /= total_d;
     if (!(denom > 0)) return false;
-    beta *= w;
-    beta *= 1 / denom;
+    for (int c = 0; c < N; ++c) beta[c] *= Float(double(w[c]) / denom);
     if (stats) ++stats->steps;
 
     // Russian roulette (Arvo & Kirk 1990): a path whose largest channel fell below 1 goes
