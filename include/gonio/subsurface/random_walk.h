@@ -86,7 +86,7 @@ bool walk_to_boundary_capped(const MediumT<C>& medium, const Boundary& boundary,
     // The weights' denominators Σ β_k X_k / Σ β_k are formed in double and each factor
     // rounded to float once: with equal channels a factor that is 1 (σa = 0) then comes out
     // exactly 1. In float, β_k/Σβ = 1/3 rounded up made it 1 − 3e-8 per event: over the
-    // ~1,300 events of a path in a conservative half-space, Rd fell 3e-5 short of 1.
+    // ~1,300 events of a path in a conservative half-space, Rd fell 1.5–3.3e-5 short of 1.
     const double total_d = double(total);
     const bool found = boundary.nearest(p, d, hit);
     if (found && hit.t <= t) {
