@@ -83,8 +83,8 @@ bool walk_to_boundary_capped(const MediumT<C>& medium, const Boundary& boundary,
     const Float u = rng.next_float();
     const Float t = sigma_t[ch] > 0 ? -std::log1p(-u) / sigma_t[ch] : std::numeric_limits<Float>::infinity();
 
-    // The weights' denominators Σ β_k X_k / Σ β_k are formed in double and each factor
-    // rounded to float once: with equal channels a factor that is 1 (σa = 0) then comes out
+    // The weights' denominators Σ β_k X_k / Σ β_k are formed in double (one division per
+    // event) and each channel's factor rounded to float once: with equal channels a factor that is 1 (σa = 0) then comes out
     // exactly 1. In float, β_k/Σβ = 1/3 rounded up made it 1 − 3e-8 per event: over the
     // ~1,300 events of a path in a conservative half-space, Rd fell 1.5–3.3e-5 short of 1.
     const double total_d = double(total);
@@ -97,9 +97,9 @@ bool walk_to_boundary_capped(const MediumT<C>& medium, const Boundary& boundary,
         tr[c] = std::exp(-sigma_t[c] * hit.t);
         denom += double(std::max(beta[c], Float(0))) * tr[c];
       }
-      denom /= total_d;
       if (!(denom > 0)) return false;
-      for (int c = 0; c < N; ++c) beta[c] *= Float(double(tr[c]) / denom);
+      const double inv = total_d / denom;
+      for (int c = 0; c < N; ++c) beta[c] *= Float(tr[c] * inv);
       if (d_out) *d_out = d;
       return beta.is_finite();
     }
@@ -118,9 +118,9 @@ bool walk_to_boundary_capped(const MediumT<C>& medium, const Boundary& boundary,
       w[c] = medium.sigma_s[c] * tr;
       denom += double(std::max(beta[c], Float(0))) * sigma_t[c] * tr;
     }
-    denom /= total_d;
     if (!(denom > 0)) return false;
-    for (int c = 0; c < N; ++c) beta[c] *= Float(double(w[c]) / denom);
+    const double inv = total_d / denom;
+    for (int c = 0; c < N; ++c) beta[c] *= Float(w[c] * inv);
     if (stats) ++stats->steps;
 
     // Russian roulette (Arvo & Kirk 1990): a path whose largest channel fell below 1 goes
