@@ -29,11 +29,12 @@ namespace gonio::cli {
 
 namespace {
 struct MeasureArgs {
-  std::string surface, output, gantry, json, preview;
+  std::string surface, output, gantry, json, preview, stderr_table;
   std::int64_t samples = 10'000'000;
   int threads = 0;
   std::int64_t seed = 0;
   std::int64_t max_bounces = measure::Microsurface::kDefaultMaxBounces;
+  std::int64_t min_rays = std::int64_t(measure::kTableMinExpectedRays);
 };
 
 struct ArgText {
@@ -131,13 +132,22 @@ std::string gantry_json(const measure::GantryReading& g, const measure::Surface&
   return o + "]}";
 }
 
+// The keys of relative_stderr_above: measure::kTableErrorLevels as written in docs/cli.md.
+constexpr const char* kErrorLevelNames[3] = {"0.01", "0.05", "0.2"};
+
 std::string table_json(const measure::TableReading& t, const measure::Surface& s, const std::string& file,
-                       std::uint64_t seed, double seconds) {
+                       std::uint64_t seed, std::int64_t min_rays, double seconds) {
   std::string o = "{\"mode\":\"table\",\"file\":" + quoted(file) + ",\"surface\":" + quoted(s.type) +
                   ",\"material\":" + quoted(s.material.name()) + ",\"seed\":" + std::to_string(seed) +
                   ",\"entries\":" + std::to_string(MerlTable::kEntries) + ",\"filled\":" + std::to_string(t.filled) +
-                  ",\"missing\":" + std::to_string(t.missing) + ",\"rays\":" + counts_json(t.counts) +
-                  ",\"seconds\":" + json_number(seconds) + ",\"albedo\":[";
+                  ",\"missing\":" + std::to_string(t.missing) + ",\"zero\":" + std::to_string(t.zero) +
+                  ",\"filled_by_pilot\":" + std::to_string(t.filled_by_pilot) +
+                  ",\"min_expected_rays\":" + std::to_string(min_rays) +
+                  ",\"relative_stderr_above\":{";
+  for (int q = 0; q < 3; ++q)
+    o += std::string(q ? "," : "") + "\"" + kErrorLevelNames[q] + "\":" + json_number(t.fraction_above[q]);
+  o += "},\"rays\":" + counts_json(t.counts) + ",\"pilot_rays\":" + std::to_string(t.pilot_rays) +
+       ",\"seconds\":" + json_number(seconds) + ",\"albedo\":[";
   for (std::size_t b = 0; b < t.bands.size(); ++b) {
     const measure::AlbedoBand& a = t.bands[b];
     o += (b ? "," : "");
@@ -146,6 +156,14 @@ std::string table_json(const measure::TableReading& t, const measure::Surface& s
          "}";
   }
   return o + "]}";
+}
+
+// Each entry's standard error in the table's layout (missing where the table is).
+MerlTable stderr_table(const measure::TableReading& t) {
+  MerlTable e;
+  for (std::size_t q = 0; q < 3 * MerlTable::kEntries; ++q)
+    e.rgb[q] = t.table.rgb[q] < 0 ? MerlTable::kMissing : t.stderr_f[q];
+  return e;
 }
 
 void emit(const std::string& object, const std::string& json_file) {
@@ -177,6 +195,10 @@ void run_measure(const MeasureArgs& a) {
   }
   if (!a.output.empty()) check_writable(a.output, "-o");
   if (!a.json.empty()) check_writable(a.json, "--json");
+  if (!a.stderr_table.empty()) {
+    if (a.output.empty()) throw InputError("--stderr-table: give it with -o (a MERL table)");
+    check_writable(a.stderr_table, "--stderr-table");
+  }
   if (!a.preview.empty()) {
     const std::string ext = lower_extension(a.preview);
     if (ext != ".png" && ext != ".exr") throw InputError("--preview " + a.preview + ": must end in .png or .exr");
@@ -198,10 +220,13 @@ void run_measure(const MeasureArgs& a) {
     return;
   }
   options.progress = progress_reporter("measuring");
-  const measure::TableReading t = measure::measure_table(micro, options);
+  measure::TableOptions table;
+  table.min_expected_rays = double(a.min_rays);
+  const measure::TableReading t = measure::measure_table(micro, options, table);
   write_merl(a.output, t.table);
+  if (!a.stderr_table.empty()) write_merl(a.stderr_table, stderr_table(t));
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  emit(table_json(t, surface, a.output, options.seed, seconds), a.json);
+  emit(table_json(t, surface, a.output, options.seed, a.min_rays, seconds), a.json);
 }
 }  // namespace
 
@@ -217,6 +242,13 @@ void register_measure(CLI::App& app) {
   cmd->add_option("--gantry", args->gantry,
                   "detector readings instead of a table: JSON {theta_i, phi_i, theta_o, phi_o, aperture} or @file; "
                   "prints one JSON object");
+  cmd->add_option("--stderr-table", args->stderr_table,
+                  "with -o: also write each entry's standard error (1/sr) as a MERL table (.binary) of the same "
+                  "layout, missing where the table is");
+  cmd->add_option("--min-rays", args->min_rays,
+                  "with -o: the rays an entry must expect (for a Lambertian sample, or from the pilot's rays) to be "
+                  "written, 0 to 1000000 (default 25; 0: every bin above the horizon)")
+      ->transform(decimal_in_range(0, 1'000'000));
   cmd->add_option("--json", args->json, "write the JSON result to FILE instead of stdout");
   cmd->add_option("--preview", args->preview, "write a shaded image of the height field (.png or .exr)");
   cmd->add_option("--samples", args->samples,

@@ -75,7 +75,7 @@ py::dict gantry_dict(const measure::GantryReading& g) {
   return d;
 }
 
-py::dict table_dict(const measure::TableReading& t, const std::string& file) {
+py::dict table_dict(const measure::TableReading& t, const std::string& file, std::int64_t min_rays) {
   std::vector<double> edges, alb, s_alb;
   std::vector<std::uint64_t> band_rays;
   for (const measure::AlbedoBand& b : t.bands) {
@@ -88,8 +88,13 @@ py::dict table_dict(const measure::TableReading& t, const std::string& file) {
   d["mode"] = "table";
   d["file"] = file;
   d["entries"] = MerlTable::kEntries;
-  d["filled"] = t.filled, d["missing"] = t.missing;
+  d["filled"] = t.filled, d["missing"] = t.missing, d["zero"] = t.zero, d["filled_by_pilot"] = t.filled_by_pilot;
+  d["min_expected_rays"] = min_rays;
+  py::dict above;
+  above["0.01"] = t.fraction_above[0], above["0.05"] = t.fraction_above[1], above["0.2"] = t.fraction_above[2];
+  d["relative_stderr_above"] = above;
   d["rays"] = counts_dict(t.counts);
+  d["pilot_rays"] = t.pilot_rays;
   d["theta_i"] = array_of<double>({nb, 2}, edges);
   d["band_rays"] = array_of<std::uint64_t>({nb}, band_rays);
   d["albedo"] = array_of<double>({nb, 3}, alb), d["stderr_albedo"] = array_of<double>({nb, 3}, s_alb);
@@ -108,7 +113,8 @@ void check_signals(double) {
 }
 
 py::dict measure_surface(const py::object& surface_arg, const py::object& gantry_arg, const std::string& output,
-                         std::int64_t samples, int threads, std::int64_t seed, std::int64_t max_bounces) {
+                         std::int64_t samples, int threads, std::int64_t seed, std::int64_t max_bounces,
+                         std::int64_t min_rays) {
   // Every argument is checked before the first ray, in the CLI's words.
   if (gantry_arg.is_none() && output.empty())
     throw InputError("measure: give gantry= (detector readings) or output= (a MERL table to write)");
@@ -122,6 +128,8 @@ py::dict measure_surface(const py::object& surface_arg, const py::object& gantry
   options.threads = checked_threads(threads);
   options.seed = checked_count(seed, 0, 2'147'483'647, "seed");
   const auto bounces = std::uint32_t(checked_count(max_bounces, 1, 1'000'000, "max_bounces"));
+  measure::TableOptions table;
+  table.min_expected_rays = double(checked_count(min_rays, 0, 1'000'000, "min_rays"));
   options.progress = check_signals;
   try {
     if (gantry_arg.is_none()) {
@@ -129,10 +137,10 @@ py::dict measure_surface(const py::object& surface_arg, const py::object& gantry
       {
         py::gil_scoped_release release;
         const measure::Microsurface micro(surface.field, surface.material, bounces);
-        t = measure::measure_table(micro, options);
+        t = measure::measure_table(micro, options, table);
         write_merl(output, t.table);
       }
-      return table_dict(t, output);
+      return table_dict(t, output, min_rays);
     }
     measure::GantryReading g;
     {
@@ -152,6 +160,7 @@ void register_measure(py::module_& mod) {
   mod.def("measure", &measure_surface, py::arg("surface"), py::arg("gantry") = py::none(), py::kw_only(),
           py::arg("output") = "", py::arg("samples") = 10'000'000, py::arg("threads") = 0, py::arg("seed") = 0,
           py::arg("max_bounces") = std::int64_t(measure::Microsurface::kDefaultMaxBounces),
+          py::arg("min_rays") = std::int64_t(measure::kTableMinExpectedRays),
           R"doc(The virtual gonioreflectometer (SPEC §3 `gonio measure`; docs/gonioreflectometer.md).
 
 surface: the microsurface, JSON text or a dict ({"type": "flat"|"gaussian"|"vgroove"|"image",
@@ -162,8 +171,10 @@ surface: the microsurface, JSON text or a dict ({"type": "flat"|"gaussian"|"vgro
     stderr_transmittance (I, 3); theta_o, phi_o, solid_angle (D,); f, stderr (I, D, 3) in 1/sr;
     hits (I, D); rays (a list of I dicts of ray counts); aperture; rays_per_incidence.
   output: the path of a MERL table (.binary) to fill (isotropic surfaces). Returns file,
-    filled, missing, rays, and per 1° band of theta_i: theta_i (90, 2) edges, band_rays (90,),
-    albedo and stderr_albedo (90, 3).
+    filled, missing, zero, filled_by_pilot, min_expected_rays, relative_stderr_above, rays,
+    pilot_rays, and per 1° band of theta_i: theta_i (90, 2) edges, band_rays (90,), albedo and
+    stderr_albedo (90, 3). min_rays: the rays an entry must expect to be written (`gonio
+    measure --min-rays`, default 25; 0: every bin above the horizon).
 samples: total rays launched from the light (split evenly over the incidences); seed: the
 random seed (the result does not depend on threads); max_bounces: facet interactions allowed
 to a ray. The same numbers as `gonio measure` with the same arguments. Ctrl-C stops a run

@@ -70,12 +70,14 @@ def test_the_result_does_not_depend_on_the_thread_count():
 def test_table_equals_the_cli_file(tmp_path):
     surface = dict(SURFACE, resolution=32)
     mine, theirs = tmp_path / "py.binary", tmp_path / "cli.binary"
-    r = gonio.measure(surface, output=str(mine), samples=50000, seed=1, threads=2)
+    r = gonio.measure(surface, output=str(mine), samples=50000, seed=1, threads=2, min_rays=0)
     c = cli_json(["--surface", json.dumps(surface), "-o", str(theirs), "--samples", "50000", "--seed", "1",
-                  "--threads", "1"])
+                  "--threads", "1", "--min-rays", "0"])
     assert mine.read_bytes() == theirs.read_bytes()
     assert r["mode"] == "table" and r["file"] == str(mine)
-    assert (r["entries"], r["filled"], r["missing"]) == (c["entries"], c["filled"], c["missing"])
+    for key in ("entries", "filled", "missing", "zero", "filled_by_pilot", "min_expected_rays", "pilot_rays",
+                "relative_stderr_above"):
+        assert r[key] == c[key], key
     assert r["filled"] > 0 and r["rays"] == c["rays"]
     bands = c["albedo"]
     assert r["theta_i"].shape == (90, 2) and r["albedo"].shape == (90, 3)

@@ -87,6 +87,39 @@ struct Score {
   double value[3];  // w / (p cos θo): a float would overflow for an exit within 1e-38 of grazing
 };
 
+// One ray of the table's incidences: drawn, traced, and (for an upward exit) binned. The
+// pilot and the estimate draw their rays through this one function, so they sample the
+// same density.
+struct TableRay {
+  TraceResult trace;
+  int band = 0;           // the 1° band of θi as drawn
+  bool scored = false;    // left upwards with wo.z > 0: `score` holds its bin and value
+  Score score{};
+};
+
+TableRay trace_table_ray(const Microsurface& surface, const IncidenceSampler& incidence, std::uint64_t k_in_block,
+                         bool full_block, Pcg32& rng) {
+  TableRay r;
+  const double pick = rng.next_double(), u_cos = rng.next_double();
+  const double cos_i = incidence.draw(pick, u_cos), phi_i = 2 * kPiD * rng.next_double();
+  const double sin_i = std::sqrt(std::max(0.0, 1 - cos_i * cos_i));
+  const Vec3 wi{Float(sin_i * std::cos(phi_i)), Float(sin_i * std::sin(phi_i)), Float(cos_i)};
+  double u, v;
+  entry_point(k_in_block, full_block, rng, u, v);
+  r.trace = surface.trace(u, v, -wi, rng);
+  // The band of cos θi as drawn (rounding at a band's edge may move a ray drawn in one
+  // band to its neighbour, whose p is then used: a change of 10⁻¹⁶ in cos θi).
+  r.band = IncidenceSampler::band(cos_i);
+  const Vec3& wo = r.trace.direction;
+  if (r.trace.fate != Fate::Up || !(wo.z > 0)) return r;
+  const MerlBin bin = merl_bin_of(wo, wi);  // float angles (merl_bins.h)
+  const double scale = incidence.inv_p(r.band) / wo.z;
+  r.scored = true;
+  r.score.entry = std::uint32_t(MerlTable::index(bin.i, bin.j, bin.k));
+  for (int c = 0; c < 3; ++c) r.score.value[c] = double(r.trace.weight[c]) * scale;
+  return r;
+}
+
 struct BlockResult {
   RayCounts counts;
   std::vector<Score> scores;  // in ray order while tracing
@@ -95,55 +128,104 @@ struct BlockResult {
   std::vector<double> band;  // per band: rays, Σw (3), Σw² (3)
 };
 
+// The pilot's rays (table.h): each upward exit's entry and score (its channels' sum).
+struct PilotScore {
+  std::uint32_t entry;
+  double value;
+};
+struct PilotBlock {
+  std::vector<PilotScore> scores;
+};
+
+// The two passes' random streams (block_stream's task): the pilot's rays are independent
+// of the estimate's.
+constexpr std::uint64_t kEstimateTask = 0x7ab1e, kPilotTask = 0x7ab1e9170;
+
+// A lower bound on the rays of N that a Lambertian sample (any albedo) sends into entry
+// (i, j, k): N ∫∫_B p(ωi) cos θo/π dωi dωo with p(ωi) ≥ 1/(4π) (the uniform half of the
+// incidences), and ∫∫_B cos θo = ∫∫_B cos θh cos θd (zi + zo = 2 cos θh cos θd, and the
+// bin holds each pair with its swap) ≥ M_B cos θh1 cos θd1 at the bin's far corner.
+double reference_rays(double n, double measure, int i, int j) {
+  const double th1 = std::pow(double(i + 1) / MerlTable::kThetaH, 2) * kPiD / 2;
+  const double td1 = double(j + 1) / MerlTable::kThetaD * kPiD / 2;
+  return n * measure * std::cos(th1) * std::cos(td1) / (4 * kPiD * kPiD);
+}
+
+// The pilot's rule (table.h). Its scores s in the bin give an effective number of rays
+// n = (Σs)² / Σs² (the count, for equal scores; fewer where a few rays carry most of the
+// sum, as near the horizon or where the incidence density changes within the bin), which
+// scaled to the estimate's N must reach K even after taking off two of its standard
+// deviations (√n).
+bool pilot_expects(double sum, double sum2, double pilot_to_estimate, double k) {
+  const double n = sum2 > 0 ? sum * sum / sum2 : 0.0;
+  return (n - 3 * std::sqrt(n)) * pilot_to_estimate >= k;
+}
+
 }  // namespace
 
-TableReading measure_table(const Microsurface& surface, const RunOptions& options) {
+std::uint64_t table_pilot_rays(std::uint64_t samples) {
+  return std::max<std::uint64_t>(1, (std::max<std::uint64_t>(1, samples) + 3) / 4);
+}
+
+TableReading measure_table(const Microsurface& surface, const RunOptions& options, const TableOptions& table) {
   TableReading out;
   const std::uint64_t n = std::max<std::uint64_t>(1, options.samples);
   const std::uint64_t blocks = (n + kBlockRays - 1) / kBlockRays;
+  const std::uint64_t n_pilot = table_pilot_rays(n);
+  const std::uint64_t pilot_blocks = (n_pilot + kBlockRays - 1) / kBlockRays;
   const IncidenceSampler incidence;
   const std::vector<double>& measure = merl_bin_measures();
+  const std::uint64_t total_blocks = pilot_blocks + blocks;
+  auto progress = [&](std::uint64_t done_before) -> std::function<void(double)> {
+    if (!options.progress) return {};
+    return [&, done_before](double part) {
+      options.progress((double(done_before) + part * double(done_before == 0 ? pilot_blocks : blocks)) /
+                       double(total_blocks));
+    };
+  };
+
+  // The pilot: n/4 rays of their own, whose scores are summed per entry for the rule and
+  // used for nothing else.
+  ZeroedArray<double> pilot_sum(MerlTable::kEntries), pilot_sum2(MerlTable::kEntries);
+  detail::run_blocks<PilotBlock>(
+      pilot_blocks, options.threads, progress(0), [](PilotBlock& r) { r.scores.clear(); },
+      [&](std::uint64_t block, PilotBlock& r) {
+        Pcg32 rng(options.seed, block_stream(kPilotTask, block));
+        const std::uint64_t first = block * kBlockRays, last = std::min(n_pilot, first + kBlockRays);
+        r.scores.reserve(kBlockRays);
+        for (std::uint64_t k = first; k < last; ++k) {
+          const TableRay t = trace_table_ray(surface, incidence, k - first, last - first == kBlockRays, rng);
+          if (t.scored) r.scores.push_back({t.score.entry, t.score.value[0] + t.score.value[1] + t.score.value[2]});
+        }
+      },
+      [&](std::uint64_t, const PilotBlock& r) {
+        for (const PilotScore& s : r.scores) pilot_sum[s.entry] += s.value, pilot_sum2[s.entry] += s.value * s.value;
+      });
 
   ZeroedArray<double> sum(3 * MerlTable::kEntries), sum2(3 * MerlTable::kEntries);
-  ZeroedArray<std::uint32_t> count(MerlTable::kEntries);
   std::vector<double> band(7 * kBands, 0.0);
   std::vector<const BlockResult*> batch;  // the current batch's results, merged at its end
 
   detail::run_blocks<BlockResult>(
-      blocks, options.threads, options.progress,
+      blocks, options.threads, progress(pilot_blocks),
       [](BlockResult& r) {
         r.counts = {};
         r.scores.clear();
         r.band.assign(7 * kBands, 0.0);
       },
       [&](std::uint64_t block, BlockResult& r) {
-        Pcg32 rng(options.seed, block_stream(0x7ab1e, block));
+        Pcg32 rng(options.seed, block_stream(kEstimateTask, block));
         const std::uint64_t first = block * kBlockRays, last = std::min(n, first + kBlockRays);
         r.scores.reserve(kBlockRays);
         for (std::uint64_t k = first; k < last; ++k) {
-          const double pick = rng.next_double(), u_cos = rng.next_double();
-          const double cos_i = incidence.draw(pick, u_cos), phi_i = 2 * kPiD * rng.next_double();
-          const double sin_i = std::sqrt(std::max(0.0, 1 - cos_i * cos_i));
-          const Vec3 wi{Float(sin_i * std::cos(phi_i)), Float(sin_i * std::sin(phi_i)), Float(cos_i)};
-          double u, v;
-          entry_point(k - first, last - first == kBlockRays, rng, u, v);
-          const TraceResult t = surface.trace(u, v, -wi, rng);
-          r.counts.add(t);
-          // The band of cos θi as drawn (rounding at a band's edge may move a ray drawn in
-          // one band to its neighbour, whose p is then used: a change of 10⁻¹⁶ in cos θi).
-          const int b = IncidenceSampler::band(cos_i);
-          double* bd = &r.band[7 * std::size_t(b)];
+          const TableRay t = trace_table_ray(surface, incidence, k - first, last - first == kBlockRays, rng);
+          r.counts.add(t.trace);
+          double* bd = &r.band[7 * std::size_t(t.band)];
           bd[0] += 1;
-          if (t.fate != Fate::Up) continue;
-          for (int c = 0; c < 3; ++c) bd[1 + c] += t.weight[c], bd[4 + c] += double(t.weight[c]) * t.weight[c];
-          const Vec3& wo = t.direction;
-          if (!(wo.z > 0)) continue;
-          const MerlBin bin = merl_bin_of(wo, wi);  // float angles (merl_bins.h)
-          const double scale = incidence.inv_p(b) / wo.z;
-          Score s;
-          s.entry = std::uint32_t(MerlTable::index(bin.i, bin.j, bin.k));
-          for (int c = 0; c < 3; ++c) s.value[c] = double(t.weight[c]) * scale;
-          r.scores.push_back(s);
+          if (t.trace.fate != Fate::Up) continue;
+          for (int c = 0; c < 3; ++c)
+            bd[1 + c] += t.trace.weight[c], bd[4 + c] += double(t.trace.weight[c]) * t.trace.weight[c];
+          if (t.scored) r.scores.push_back(t.score);
         }
         // Group the scores by θh slab (a stable counting sort), so that the merge can give
         // each slab to its own thread and walk memory that fits in the caches.
@@ -171,30 +253,53 @@ TableReading measure_table(const Microsurface& surface, const RunOptions& option
                 sum[3 * std::size_t(s.entry) + c] += s.value[c];
                 sum2[3 * std::size_t(s.entry) + c] += s.value[c] * s.value[c];
               }
-              ++count[s.entry];
             }
         });
         batch.clear();
       });
 
+  out.pilot_rays = n_pilot;
   out.stderr_f.assign(3 * MerlTable::kEntries, 0.0f);
-  for (std::size_t e = 0; e < MerlTable::kEntries; ++e) {
-    float* f = &out.table.rgb[3 * e];
-    if (count[e] == 0 || !(measure[e] > 0)) {
-      f[0] = f[1] = f[2] = MerlTable::kMissing;
-      ++out.missing;
-      continue;
-    }
-    ++out.filled;
-    // The mean score over all N rays (zero for those elsewhere) and its standard error.
-    const double scale = 1 / measure[e];
-    for (int c = 0; c < 3; ++c) {
-      const double mean = sum[3 * e + c] / double(n);
-      const double var = n > 1 ? std::max(0.0, sum2[3 * e + c] / double(n) - mean * mean) / double(n - 1) : 0.0;
-      f[c] = float(mean * scale);
-      out.stderr_f[3 * e + c] = float(std::sqrt(var) * scale);
-    }
-  }
+  const double pilot_to_estimate = double(n) / double(n_pilot);
+  std::uint64_t above[3] = {0, 0, 0};
+  for (int i = 0; i < MerlTable::kThetaH; ++i)
+    for (int j = 0; j < MerlTable::kThetaD; ++j)
+      for (int k = 0; k < MerlTable::kPhiD; ++k) {
+        const std::size_t e = MerlTable::index(i, j, k);
+        float* f = &out.table.rgb[3 * e];
+        // Written or not is decided from the geometry and from the pilot's rays alone,
+        // both independent of the estimate's rays (table.h).
+        const bool by_geometry =
+            reference_rays(double(n), measure[e], i, j) >= table.min_expected_rays;
+        const bool by_pilot = pilot_expects(pilot_sum[e], pilot_sum2[e], pilot_to_estimate, table.min_expected_rays);
+        if (!(measure[e] > 0) || !(by_geometry || by_pilot)) {
+          f[0] = f[1] = f[2] = MerlTable::kMissing;
+          ++out.missing;
+          continue;
+        }
+        ++out.filled;
+        if (!by_geometry) ++out.filled_by_pilot;
+        // The mean score over all N rays (zero for those elsewhere) and its standard error.
+        const double scale = 1 / measure[e];
+        double worst = 0;  // the largest relative standard error over the channels
+        bool zero = true;
+        for (int c = 0; c < 3; ++c) {
+          const double mean = sum[3 * e + c] / double(n);
+          const double var =
+              n > 1 ? std::max(0.0, sum2[3 * e + c] / double(n) - mean * mean) / double(n - 1) : 0.0;
+          f[c] = float(mean * scale);
+          out.stderr_f[3 * e + c] = float(std::sqrt(var) * scale);
+          if (mean > 0) zero = false, worst = std::max(worst, std::sqrt(var) / mean);
+        }
+        if (zero) {
+          ++out.zero;
+          continue;
+        }
+        for (int q = 0; q < 3; ++q)
+          if (worst > kTableErrorLevels[q]) ++above[q];
+      }
+  for (int q = 0; q < 3; ++q)
+    out.fraction_above[q] = out.filled > out.zero ? double(above[q]) / double(out.filled - out.zero) : 0.0;
   out.bands.resize(kBands);
   for (int b = 0; b < kBands; ++b) {
     AlbedoBand& a = out.bands[std::size_t(b)];

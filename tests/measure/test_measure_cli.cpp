@@ -60,15 +60,32 @@ TEST(MeasureCli, GantryPrintsOneObject) {
 
 TEST(MeasureCli, TableWritesAMerlFile) {
   const std::string out = (std::filesystem::temp_directory_path() / "gonio_measure_cli_ok.binary").string();
-  const json j = run_object({"measure", "--surface", kFlat, "-o", out, "--samples", "20000", "--threads", "1"});
+  const std::string err = out + ".stderr";
+  const json j = run_object({"measure", "--surface", kFlat, "-o", out, "--samples", "20000", "--threads", "1",
+                             "--min-rays", "0", "--stderr-table", err});
   EXPECT_EQ(j["mode"], "table");
   EXPECT_EQ(j["rays"]["launched"], 20000);
+  EXPECT_EQ(j["pilot_rays"], 5000);
+  EXPECT_EQ(j["min_expected_rays"], 0);
   EXPECT_EQ(j["filled"].get<double>() + j["missing"].get<double>(), 1458000);
+  EXPECT_GT(j["filled"].get<double>(), 1000);
+  // Every written entry of so few rays is noisier than 1% and 5%.
+  EXPECT_EQ(j["relative_stderr_above"]["0.01"], 1);
+  EXPECT_EQ(j["relative_stderr_above"]["0.05"], 1);
+  const double above20 = j["relative_stderr_above"]["0.2"].get<double>();
+  EXPECT_GT(above20, 0);
+  EXPECT_LE(above20, 1);
+  // The standard errors' file: missing exactly where the table is, non-negative elsewhere.
+  const gonio::MerlTable e = gonio::read_merl(err);
+  std::filesystem::remove(err);
   const gonio::MerlTable t = gonio::read_merl(out);
   std::size_t measured = 0;
   for (int i = 0; i < 90; ++i)
     for (int jj = 0; jj < 90; ++jj)
-      for (int k = 0; k < 180; ++k) measured += t.measured(i, jj, k);
+      for (int k = 0; k < 180; ++k) {
+        measured += t.measured(i, jj, k);
+        ASSERT_EQ(t.measured(i, jj, k), e.measured(i, jj, k));
+      }
   EXPECT_EQ(double(measured), j["filled"].get<double>());
   std::filesystem::remove(out);
 }

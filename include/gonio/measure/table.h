@@ -17,10 +17,30 @@
 // and dividing by the bin's measure M_B = ∫∫_B dωi dωo (merl_bins.h, both directions
 // above the horizon) gives the bin average of f:
 //   f_B = Σ_{rays in B} w / (p(ωi) cos θo) / (N · M_B).
-// A bin no ray reached is written as missing (negative), as is a bin wholly below the
-// horizon. The directional albedo is also estimated per 1° band of θi (the mean of w
-// over that band's rays, which are uniform in solid angle within the band) with its
-// standard error.
+// This sum is unbiased for every bin, including the bins no ray reached (their estimate
+// is 0). What must not depend on the rays it averages is the choice of the entries that
+// are written: writing a bin only when some ray reached it keeps, in bins whose expected
+// count is below one, exactly the lucky estimates, each far too high (a flat Lambertian
+// read 580 ρ/π at θh ≈ 0.03°). So an entry is written (measured zeros as zeros) when
+//   - by the geometry: a Lambertian sample (any albedo) would send it at least K
+//     (default 25) of the N rays, by a lower bound on N ∫∫_B p(ωi) cos θo/π (table.cpp,
+//     reference_rays); or
+//   - by the pilot: a separate run of N/4 rays of their own (their own random streams,
+//     independent of the estimate's N) put c rays into it with 4 (c − 2√c) ≥ K — the
+//     expected count K reached even two Poisson deviations below what the pilot saw
+//     (this writes a glossy surface's peak, where it sends far more rays than a
+//     Lambertian would);
+// and is written as missing (negative) otherwise, or when the bin lies wholly below the
+// horizon. Both decisions are independent of the N rays of the estimate, so every written
+// entry is an unbiased estimate of its bin's average f. With ~25 rays of roughly equal
+// score, an entry's relative standard error is ~20%; each entry's own standard error is
+// computed from the per-ray variance of the scores (stderr_f), and the reading counts the
+// entries above 1%, 5% and 20%. The pilot's rays cost a quarter more tracing and enter
+// nothing but that decision.
+//
+// The directional albedo is also estimated per 1° band of θi (the mean of w over that
+// band's rays, which are uniform in solid angle within the band) with its standard
+// error.
 
 #include <cstdint>
 #include <vector>
@@ -38,17 +58,38 @@ struct AlbedoBand {
   Color albedo, stderr_albedo;
 };
 
+// The written-entry rule (above): the rays an entry must expect, by the geometry or by
+// the pilot, to be written (the default of TableOptions and of `gonio measure
+// --min-rays`). 0 writes every bin above the horizon.
+inline constexpr double kTableMinExpectedRays = 25;
+
+struct TableOptions {
+  double min_expected_rays = kTableMinExpectedRays;
+};
+// The relative standard errors the reading counts entries above.
+inline constexpr double kTableErrorLevels[3] = {0.01, 0.05, 0.20};
+
 struct TableReading {
   MerlTable table;
-  // The standard error of each filled entry's f (1/sr), rgb interleaved like table.rgb
+  // The standard error of each written entry's f (1/sr), rgb interleaved like table.rgb
   // (0 for a missing entry): from the per-ray variance of the scores, as the gantry's.
   std::vector<float> stderr_f;
-  RayCounts counts;
-  std::uint64_t filled = 0;   // bins with at least one ray
-  std::uint64_t missing = 0;  // bins written as missing (no ray, or below the horizon)
+  RayCounts counts;               // the estimate's N rays (not the pilot's)
+  std::uint64_t pilot_rays = 0;   // the pilot's rays, traced in addition to the N
+  std::uint64_t filled = 0;       // entries written (measured zeros included)
+  std::uint64_t filled_by_pilot = 0;  // of those, written by the pilot's rule alone
+  std::uint64_t zero = 0;         // of those, written as 0 (no ray of the estimate reached them)
+  std::uint64_t missing = 0;      // entries written as missing (see the rule), or below the horizon
+  // Of the written non-zero entries, the fraction whose relative standard error (largest
+  // over the channels) exceeds 1%, 5% and 20% (kTableErrorLevels).
+  double fraction_above[3] = {0, 0, 0};
   std::vector<AlbedoBand> bands;  // 90 bands of 1° in θi
 };
 
-TableReading measure_table(const Microsurface& surface, const RunOptions& options);
+TableReading measure_table(const Microsurface& surface, const RunOptions& options,
+                           const TableOptions& table = {});
+
+// The pilot's rays for a table of `samples` rays: a quarter of them, at least one.
+std::uint64_t table_pilot_rays(std::uint64_t samples);
 
 }  // namespace gonio::measure
