@@ -154,8 +154,9 @@ double reference_rays(double n, double measure, int i, int j) {
 // The pilot's rule (table.h). Its scores s in the bin give an effective number of rays
 // n = (Σs)² / Σs² (the count, for equal scores; fewer where a few rays carry most of the
 // sum, as near the horizon or where the incidence density changes within the bin), which
-// scaled to the estimate's N must reach K even after taking off two of its standard
-// deviations (√n).
+// scaled to the estimate's N must reach K even after taking off three of its standard
+// deviations (√n): among the many bins that expect few rays, some pilot counts come out
+// two deviations high.
 bool pilot_expects(double sum, double sum2, double pilot_to_estimate, double k) {
   const double n = sum2 > 0 ? sum * sum / sum2 : 0.0;
   return (n - 3 * std::sqrt(n)) * pilot_to_estimate >= k;
@@ -176,11 +177,11 @@ TableReading measure_table(const Microsurface& surface, const RunOptions& option
   const IncidenceSampler incidence;
   const std::vector<double>& measure = merl_bin_measures();
   const std::uint64_t total_blocks = pilot_blocks + blocks;
-  auto progress = [&](std::uint64_t done_before) -> std::function<void(double)> {
+  // The caller's progress over both passes: a pass of `span` blocks after `before` others.
+  auto progress = [&](std::uint64_t before, std::uint64_t span) -> std::function<void(double)> {
     if (!options.progress) return {};
-    return [&, done_before](double part) {
-      options.progress((double(done_before) + part * double(done_before == 0 ? pilot_blocks : blocks)) /
-                       double(total_blocks));
+    return [&, before, span](double part) {
+      options.progress((double(before) + part * double(span)) / double(total_blocks));
     };
   };
 
@@ -188,7 +189,7 @@ TableReading measure_table(const Microsurface& surface, const RunOptions& option
   // used for nothing else.
   ZeroedArray<double> pilot_sum(MerlTable::kEntries), pilot_sum2(MerlTable::kEntries);
   detail::run_blocks<PilotBlock>(
-      pilot_blocks, options.threads, progress(0), [](PilotBlock& r) { r.scores.clear(); },
+      pilot_blocks, options.threads, progress(0, pilot_blocks), [](PilotBlock& r) { r.scores.clear(); },
       [&](std::uint64_t block, PilotBlock& r) {
         Pcg32 rng(options.seed, block_stream(kPilotTask, block));
         const std::uint64_t first = block * kBlockRays, last = std::min(n_pilot, first + kBlockRays);
@@ -207,7 +208,7 @@ TableReading measure_table(const Microsurface& surface, const RunOptions& option
   std::vector<const BlockResult*> batch;  // the current batch's results, merged at its end
 
   detail::run_blocks<BlockResult>(
-      blocks, options.threads, progress(pilot_blocks),
+      blocks, options.threads, progress(pilot_blocks, blocks),
       [](BlockResult& r) {
         r.counts = {};
         r.scores.clear();
