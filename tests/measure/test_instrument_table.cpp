@@ -141,6 +141,9 @@ TEST(MeasureTable, FlatLambertianEveryWrittenEntryIsUnbiased) {
   TableOptions t;
   t.min_expected_rays = kTableMinExpectedRays * double(o.samples) / 20e6;
   const TableReading r = measure_table(s, o, t);
+  // At a reduced scale (the sanitizer pass) the entries expect fewer rays: the bounds that
+  // depend on that are looser there.
+  const bool full = o.samples >= 20000000;
   const std::vector<double>& m = merl_bin_measures();
   const double expect = 0.8 / kPiD;
   std::vector<double> ratio, pilot_ratio;
@@ -175,14 +178,14 @@ TEST(MeasureTable, FlatLambertianEveryWrittenEntryIsUnbiased) {
   // A written entry expects ≥ 25 rays of nearly equal scores: its median is about
   // 1/(3 · 25) below its mean (a Poisson count's), 1.3% at most (at a reduced scale,
   // with fewer rays per entry, more).
-  EXPECT_NEAR(ratio[ratio.size() / 2], 1, o.samples >= 20000000 ? 0.01 : 0.1);
+  EXPECT_NEAR(ratio[ratio.size() / 2], 1, full ? 0.01 : 0.1);
   // The own-error χ² of ~25-ray entries: E[z²] ≈ 1 + O(1/25) (the error is estimated from
-  // the same rays); 1.04 at 20 M rays over 68,000 entries.
+  // the same rays); 1.04 at 20 M rays over 68,000 entries (1.64 at a tenth of the scale).
   ASSERT_GT(dof, gonio::test::scaled(50000, 5000));
-  EXPECT_LT(chi2 / double(dof), 1.15) << dof;
+  EXPECT_LT(chi2 / double(dof), full ? 1.15 : 2) << dof;
   EXPECT_EQ(r.filled_by_pilot, pilot_ratio.size());
-  ASSERT_GT(pilot_ratio.size(), gonio::test::scaled(1000, 100));
-  EXPECT_NEAR(mean(pilot_ratio), 1, 0.03) << pilot_ratio.size();
+  ASSERT_GT(pilot_ratio.size(), full ? 1000u : 10u);
+  EXPECT_NEAR(mean(pilot_ratio), 1, full ? 0.03 : 0.15) << pilot_ratio.size();
   EXPECT_EQ(r.pilot_rays, o.samples / 4);
 }
 
