@@ -153,9 +153,9 @@ TEST(Multiscatter, WhiteFurnaceIsOneAtEveryAngle) {
   // for every θ (the issue's requirement), both distributions.
   const ReflectanceOptions opt{test::scaled(200000), 5};
   for (const char* dist : {"ggx", "beckmann"}) {
-    const std::string json = std::string(R"({"type":"roughconductor","alpha":1,"distribution":")") + dist +
+    const std::string material_json = std::string(R"({"type":"roughconductor","alpha":1,"distribution":")") + dist +
                              R"(","fresnel":"schlick","f0":1,"multiscatter":true})";
-    const BxDF m = parse_material(json);
+    const BxDF m = parse_material(material_json);
     for (double th = 0; th < 90; th += 10) {
       const auto a = directional_albedo(m, sph(th, 0), opt);
       EXPECT_GE(a.albedo[0] + 4 * a.se_albedo[0], 0.99) << dist << " " << th;
@@ -224,16 +224,16 @@ TEST(Multiscatter, RoughDielectricFurnaceIsOneFromBothSides) {
   struct Case { const char* dist; float alpha, eta; };
   for (const Case c : {Case{"ggx", 1, 1.5f}, Case{"ggx", 0.55f, 0.7f}, Case{"beckmann", 0.8f, 1.33f},
                        Case{"ggx", 1, 1.05f}, Case{"beckmann", 0.37f, 2.4f}}) {
-    const std::string json = std::string(R"({"type":"roughdielectric","distribution":")") + c.dist +
+    const std::string material_json = std::string(R"({"type":"roughdielectric","distribution":")") + c.dist +
                              R"(","alpha":)" + std::to_string(c.alpha) + R"(,"eta":)" + std::to_string(c.eta) +
                              R"(,"multiscatter":true})";
-    const BxDF m = parse_material(json);
+    const BxDF m = parse_material(material_json);
     for (double th : {0.0, 30.0, 60.0, 80.0, 88.0}) {
       for (bool inside : {false, true}) {
         Vec3 wo = sph(th, 0.3);
         if (inside) wo.z = -wo.z;
         const auto a = directional_albedo(m, wo, opt);
-        EXPECT_NEAR(a.albedo[0], 1.0, 0.01 + 4 * a.se_albedo[0]) << json << " theta " << th << (inside ? " inside" : "");
+        EXPECT_NEAR(a.albedo[0], 1.0, 0.01 + 4 * a.se_albedo[0]) << material_json << " theta " << th << (inside ? " inside" : "");
       }
     }
   }
