@@ -15,7 +15,12 @@ std::string json_4x4(Entry&& entry) {
   std::string s = "[";
   for (int i = 0; i < 4; ++i) {
     s += i ? ",[" : "[";
-    for (int j = 0; j < 4; ++j) s += (j ? "," : "") + json_number(entry(i, j));
+    // Appended piece by piece: `"," + std::string` makes GCC 12 report a false -Wrestrict
+    // (its inlined insert at position 0).
+    for (int j = 0; j < 4; ++j) {
+      if (j) s += ',';
+      s += json_number(entry(i, j));
+    }
     s += "]";
   }
   return s + "]";
@@ -31,8 +36,10 @@ template <typename C>
 std::string json_mueller_channels(const MuellerT<C>& m) {
   const int n = std::is_same_v<C, SampledSpectrum> ? 1 : C::size();
   std::string s = "[";
-  for (int ch = 0; ch < n; ++ch)
-    s += (ch ? "," : "") + json_4x4([&](int i, int j) { return m(i, j)[ch]; });
+  for (int ch = 0; ch < n; ++ch) {
+    if (ch) s += ',';
+    s += json_4x4([&](int i, int j) { return m(i, j)[ch]; });
+  }
   return s + "]";
 }
 

@@ -74,21 +74,30 @@ RgbIlluminantSpectrum::RgbIlluminantSpectrum(Float r, Float g, Float b) {
   check_component(r, kMaxComponent, "an RGB emission");
   check_component(g, kMaxComponent, "an RGB emission");
   check_component(b, kMaxComponent, "an RGB emission");
+  set(r, g, b);
+}
+
+RgbIlluminantSpectrum RgbIlluminantSpectrum::clamped(const Color& rgb) {
+  const auto clean = [](Float v) { return v > 0 ? std::min(v, kMaxComponent) : Float(0); };  // NaN -> 0
+  RgbIlluminantSpectrum e;
+  e.set(clean(rgb[0]), clean(rgb[1]), clean(rgb[2]));
+  return e;
+}
+
+void RgbIlluminantSpectrum::set(Float r, Float g, Float b) {
   const Float m = 2 * std::max(r, std::max(g, b));
   scale_ = m;
   poly_ = m > 0 ? rgb_to_sigmoid_polynomial(r / m, g / m, b / m) : rgb_to_sigmoid_polynomial(0, 0, 0);
 }
 
 SampledSpectrum rgb_unbounded(const Color& rgb, const SampledWavelengths& w) {
-  const auto clean = [](Float v) { return v > 0 ? std::min(v, RgbIlluminantSpectrum::kMaxComponent) : Float(0); };
-  const Float r = clean(rgb[0]), g = clean(rgb[1]), b = clean(rgb[2]);
-  const Float m = 2 * std::max(r, std::max(g, b));
-  if (!(m > 0)) return SampledSpectrum(0);
-  return m * rgb_to_sigmoid_polynomial(r / m, g / m, b / m).eval(w);
+  // The illuminant's scaled sigmoid without its D65 factor.
+  const RgbIlluminantSpectrum e = RgbIlluminantSpectrum::clamped(rgb);
+  return e.scale() * e.polynomial().eval(w);
 }
 
 SampledSpectrum rgb_illuminant(const Color& rgb, const SampledWavelengths& w) {
-  return rgb_unbounded(rgb, w) * d65(w);
+  return RgbIlluminantSpectrum::clamped(rgb).eval(w);
 }
 
 }  // namespace gonio

@@ -16,8 +16,10 @@
 
 #include "../data_csv.h"
 #include "../unit/test_scale.h"
+#include "gonio/render/image.h"
 #include "gonio/spectrum/rgb_to_spectrum.h"
 #include "render_test_util.h"
+#include "scratch_dir.h"
 
 namespace gonio::render::test {
 namespace {
@@ -127,6 +129,24 @@ TEST(SpectralRender, WhiteFurnaceSpectrumInputs) {
   expect_furnace(render_text(furnace_scene(R"({"type": "diffuse", "reflectance": )" + flat + "}",
                                            R"({"spectrum": [[360, 2], [830, 2]]})", spp(256, 64))),
                  e, "diffuse, flat environment spectrum of radiance 2");
+}
+
+// The same furnace lit by an environment map (a lat-long EXR whose texels are all white):
+// a texel's RGB is an emission like any other, m S(rgb/m) D65 (Jakob & Hanika 2019 §5;
+// pbrt-v4's RGBIlluminantSpectrum), so the image is D65's white again. The map's path in
+// the renderer (lights.cpp, Environment::radiance per texel) is not the constant
+// environment's; without D65 it would render the equal-energy spectrum's reddish colour.
+TEST(SpectralRender, WhiteFurnaceEnvironmentMap) {
+  const gonio::test::ScratchDir dir("gonio_spectral_env");
+  Image map(8, 4);
+  for (int y = 0; y < map.height(); ++y)
+    for (int x = 0; x < map.width(); ++x) map.at(x, y) = Color(1);
+  const std::string path = dir.path("white.exr");
+  write_exr(map, path);
+  std::string scene = furnace_scene(R"({"type": "diffuse", "reflectance": 1})", "1", spp(256, 64));
+  const std::string constant = R"("environment": {"radiance": 1})";
+  scene.replace(scene.find(constant), constant.size(), R"("environment": {"file": ")" + path + R"("})");
+  expect_furnace(render_text(scene), d65_white(), "diffuse, white environment map");
 }
 
 // A dispersive glass sphere (SF11, named glass) in the furnace: a closed non-absorbing

@@ -136,10 +136,10 @@ TEST(AdversarialRegression, AshikhminShirleyWeightsBounded) {
 TEST(AdversarialRegression, MultiscatterLobeWeightsBounded) {
   for (const char* dist : {"ggx", "beckmann"})
     for (const char* alpha : {"0.001", "0.00101", "0.3"}) {
-      const std::string json = std::string(R"({"type":"roughconductor","fresnel":"schlick","f0":1,"multiscatter":true,"distribution":")") +
+      const std::string material_json = std::string(R"({"type":"roughconductor","fresnel":"schlick","f0":1,"multiscatter":true,"distribution":")") +
                                dist + R"(","alpha":)" + alpha + "}";
-      const BxDF m = parse_material(json);
-      EXPECT_LE(max_grazing_weight(m), 10.0) << json;
+      const BxDF m = parse_material(material_json);
+      EXPECT_LE(max_grazing_weight(m), 10.0) << material_json;
     }
   // The sweep's worst case before the fix: 1814 (Beckmann, α = 1e-3).
   const BxDF m = parse_material(
@@ -159,12 +159,12 @@ TEST(AdversarialRegression, MultiscatterLobeWeightsBounded) {
 TEST(AdversarialRegression, PlasticWeightsBounded) {
   for (const char* eta : {"1", "1.000001", "1.5", "10000"})
     for (const char* alpha : {"", R"(,"alpha":0.0001)", R"(,"alpha":0.001)", R"(,"alpha":0.2)", R"(,"alpha":1)"}) {
-      const std::string json = std::string(R"({"type":"plastic","reflectance":1,"eta":)") + eta + alpha + "}";
-      const BxDF m = parse_material(json);
-      EXPECT_LE(max_grazing_weight(m), 10.0) << json;
+      const std::string material_json = std::string(R"({"type":"plastic","reflectance":1,"eta":)") + eta + alpha + "}";
+      const BxDF m = parse_material(material_json);
+      EXPECT_LE(max_grazing_weight(m), 10.0) << material_json;
     }
   struct Case {
-    const char* json;
+    const char* material_json;
     Vec3 wo;
     Float u0, u1, u2;
   };
@@ -174,10 +174,10 @@ TEST(AdversarialRegression, PlasticWeightsBounded) {
                         Case{R"({"type":"plastic","reflectance":1,"eta":1.5,"alpha":1})", {-0.0163722821f, -0.999865949f, -1.00000001e-07f}, 0.5f, 0.5f, 0.99999994f},
                         Case{R"({"type":"plastic","reflectance":1,"eta":10000})", {0.415673524f, 0, 0.909513891f}, 0.99999994f, 0.539954603f, 0.99999994f},
                         Case{R"({"type":"plastic","reflectance":1,"eta":10000,"alpha":0.001})", {1.78453199e-17f, 0.291436225f, 0.956589878f}, 0.99999994f, 0.99999994f, 0.357218206f}}) {
-    const BxDF m = parse_material(c.json);
+    const BxDF m = parse_material(c.material_json);
     const auto s = m.sample(c.wo, c.u0, c.u1, c.u2);
     if (s) {
-      EXPECT_LE(std::max({s->weight[0], s->weight[1], s->weight[2]}), 10.f) << c.json;
+      EXPECT_LE(std::max({s->weight[0], s->weight[1], s->weight[2]}), 10.f) << c.material_json;
     }
   }
 }
@@ -192,19 +192,19 @@ TEST(AdversarialRegression, IndexMatchedFresnelIsZeroAtGrazing) {
 // Oren–Nayar: a denormal cos θo gave tan β = ∞ (qualitative: NaN from ∞ · 0 when σ = 0);
 // a z rounded above 1 gave acos → NaN in the full model.
 TEST(AdversarialRegression, OrenNayarGrazingAndRoundedDirectionsFinite) {
-  for (const char* json : {R"({"type":"orennayar","reflectance":1,"sigma":0})",
+  for (const char* material_json : {R"({"type":"orennayar","reflectance":1,"sigma":0})",
                            R"({"type":"orennayar","reflectance":1,"sigma":30,"model":"full"})",
                            R"({"type":"orennayar","reflectance":1,"sigma":89.99,"model":"full"})"}) {
-    const BxDF m = parse_material(json);
+    const BxDF m = parse_material(material_json);
     const Vec3 grazing{1, 0, 1e-40f}, over{0, 0.000345267064f, 1.00000012f};
     for (const Vec3& wo : {grazing, over})
       for (const Vec3& wi : {grazing, over, Vec3{0.224009618f, -0.899318457f, 0.375560939f}}) {
         const Color f = m.f(wo, wi);
-        EXPECT_TRUE(std::isfinite(f[0]) && f[0] >= 0) << json << " f = " << f[0];
+        EXPECT_TRUE(std::isfinite(f[0]) && f[0] >= 0) << material_json << " f = " << f[0];
       }
     const auto s = m.sample(over, 0.5f, 0.3f, 0.7f);
-    ASSERT_TRUE(s) << json;
-    EXPECT_TRUE(std::isfinite(s->weight[0])) << json;
+    ASSERT_TRUE(s) << material_json;
+    EXPECT_TRUE(std::isfinite(s->weight[0])) << material_json;
   }
 }
 

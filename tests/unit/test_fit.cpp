@@ -206,6 +206,34 @@ TEST(Fit, ReportedErrorIsTheDocumentedMetricOverTheWholeTable) {
   }
 }
 
+// The metrics compare f cos θi (Ngan et al. 2005, §4: "cosine-weighted"; Löw et al. 2012,
+// eq. 11, ln(1 + f cos θi)) whatever the weights are: against a table whose every entry is
+// K / cos θi (θi of the entry's wi, from Rusinkiewicz's angles as `directions` above), a
+// black model's error is exactly K (ngan) or ln(1 + K) (log), since each counted entry
+// contributes the same. Without the cosine, or with θo's, the entries differ and the
+// weighted mean is not K. A sparse table (every 3rd θd and φd bin) keeps it cheap.
+TEST(Fit, MetricsCompareFTimesCosThetaI) {
+  const double K = 0.4;
+  MerlTable t;
+  for (int i = 0; i < 90; ++i)
+    for (int j = 0; j < 90; ++j)
+      for (int k = 0; k < 180; ++k) {
+        double wo[3], wi[3];
+        directions(theta_h(i), theta_d(j), phi_d(k), wo, wi);
+        if (j % 3 != 1 || k % 3 != 1 || wo[2] <= 1e-3 || wi[2] <= 1e-3) {
+          t.set_missing(i, j, k);
+          continue;
+        }
+        t.set(i, j, k, Color(Float(K / wi[2])));
+      }
+  const BxDF black = parse_material(R"({"type":"diffuse","reflectance":0})");
+  EXPECT_NEAR(fit_error(t, black, FitMetric::Ngan), K, 1e-4 * K);
+  EXPECT_NEAR(fit_error(t, black, FitMetric::Log), std::log1p(K), 1e-4 * K);
+  // The transform itself (metric.h): f cos θi and ln(1 + f cos θi).
+  EXPECT_DOUBLE_EQ(fit_transform(FitMetric::Ngan, 2.0, 0.25), 0.5);
+  EXPECT_DOUBLE_EQ(fit_transform(FitMetric::Log, 2.0, 0.25), std::log(1.5));
+}
+
 // Σ over the bins with both directions up of the weight × the constant factors dropped
 // (4 · 2π · Δθd · Δφd, × 2 for φd folded into [0, π)) is the measure of the pairs (ωi, ωo)
 // of two hemispheres, (2π)², up to the bins cut by the horizon.

@@ -33,7 +33,7 @@ TEST(Material, EachTypeWithDefaults) {
 
 TEST(Material, ConductorForms) {
   const Vec3 n{0, 0, 1};
-  auto weight = [&](const char* json) { return parse_material(json).sample(n, 0.5f, 0.5f, 0.5f)->weight; };
+  auto weight = [&](const char* material_json) { return parse_material(material_json).sample(n, 0.5f, 0.5f, 0.5f)->weight; };
   // Gold's measured index at 550 nm, (0.3504, 2.7141): ((n−1)² + k²)/((n+1)² + k²).
   const double f0g = ((0.3504 - 1) * (0.3504 - 1) + 2.7141 * 2.7141) / ((1.3504 * 1.3504) + 2.7141 * 2.7141);
   EXPECT_NEAR(weight(R"({"type":"conductor","eta":0.3504,"k":2.7141})")[1], f0g, 1e-5);
@@ -50,11 +50,11 @@ TEST(Material, ConductorForms) {
   EXPECT_NEAR(s[0], 0.04 + 0.96 * std::pow(0.5, 5), 1e-6);
 }
 
-// Parses `json` expecting an InputError whose message contains every one of `parts`.
-void expect_error(const std::string& json, std::vector<std::string> parts) {
+// Parses `material_json` expecting an InputError whose message contains every one of `parts`.
+void expect_error(const std::string& material_json, std::vector<std::string> parts) {
   try {
-    parse_material(json);
-    ADD_FAILURE() << "no error for " << json;
+    parse_material(material_json);
+    ADD_FAILURE() << "no error for " << material_json;
   } catch (const InputError& e) {
     const std::string msg = e.what();
     EXPECT_EQ(msg.find('\n'), std::string::npos) << msg;

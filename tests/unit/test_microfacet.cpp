@@ -153,13 +153,63 @@ TEST(Multiscatter, WhiteFurnaceIsOneAtEveryAngle) {
   // for every θ (the issue's requirement), both distributions.
   const ReflectanceOptions opt{test::scaled(200000), 5};
   for (const char* dist : {"ggx", "beckmann"}) {
-    const std::string json = std::string(R"({"type":"roughconductor","alpha":1,"distribution":")") + dist +
+    const std::string material_json = std::string(R"({"type":"roughconductor","alpha":1,"distribution":")") + dist +
                              R"(","fresnel":"schlick","f0":1,"multiscatter":true})";
-    const BxDF m = parse_material(json);
+    const BxDF m = parse_material(material_json);
     for (double th = 0; th < 90; th += 10) {
       const auto a = directional_albedo(m, sph(th, 0), opt);
       EXPECT_GE(a.albedo[0] + 4 * a.se_albedo[0], 0.99) << dist << " " << th;
       EXPECT_LE(a.albedo[0] - 4 * a.se_albedo[0], 1.002) << dist << " " << th;
+    }
+  }
+}
+
+// The compensation lobe's colour, away from the F = 1 furnace (where F_avg² = F_avg and
+// most errors in F_ms vanish): with Schlick's F0 coloured, the lobe (the multiscatter
+// model's f minus the single-scattering one's) reflects F_ms (1 − E(μo)) at every μo, with
+// Kulla & Conty 2017 ("Revisiting Physically Based Shading at Imageworks", energy
+// compensation): F_ms = F_avg² E_avg / (1 − F_avg (1 − E_avg)), and Schlick's F_avg =
+// 2 ∫ F(μ) μ dμ = F0 + (1 − F0)/21 in closed form (2 ∫ (1 − μ)⁵ μ dμ = 2 B(2, 6) = 1/21).
+// E(μ) and E_avg = 2 ∫ E μ dμ are integrated here from the F = 1 single-scattering BRDF
+// (whose albedo RoughConductorAlbedoMatchesPublishedFigures checks), not read from the tables.
+TEST(Multiscatter, ColouredLobeReflectsKullaContyFms) {
+  const std::string base = R"({"type":"roughconductor","distribution":"ggx","alpha":0.8,"fresnel":"schlick",)";
+  const BxDF white = parse_material(base + R"("f0":1})");
+  const BxDF single = parse_material(base + R"("f0":[0.2,0.5,0.9]})");
+  const BxDF multi = parse_material(base + R"("f0":[0.2,0.5,0.9],"multiscatter":true})");
+  const double f0[3] = {0.2, 0.5, 0.9};
+  auto albedo_white = [&](double mu) {
+    const Vec3 wo{Float(std::sqrt(1 - mu * mu)), 0, Float(mu)};
+    return integrate_hemisphere([&](const Vec3& wi) { return double(white.f(wo, wi)[0]) * wi.z; }, 400, 96);
+  };
+  // E_avg by 8-point Gauss–Legendre on [0, 1] (Abramowitz & Stegun 25.4.30).
+  const double x[4] = {0.1834346424956498, 0.5255324099163290, 0.7966664774136267, 0.9602898564975363};
+  const double w[4] = {0.3626837833783620, 0.3137066458778873, 0.2223810344533745, 0.1012285362903763};
+  double e_avg = 0;
+  for (int k = 0; k < 4; ++k)
+    for (const double sgn : {-1.0, 1.0}) {
+      const double mu = 0.5 + 0.5 * sgn * x[k];
+      e_avg += 2 * 0.5 * w[k] * albedo_white(mu) * mu;
+    }
+  EXPECT_GT(e_avg, 0.4);
+  EXPECT_LT(e_avg, 0.9);
+  for (const double mu_o : {1.0, 0.6, 0.25}) {
+    const double e_o = albedo_white(mu_o);
+    const Vec3 wo{Float(std::sqrt(1 - mu_o * mu_o)), 0, Float(mu_o)};
+    // The lobe's albedo, 2π ∫ (f_multi − f_single) μi dμi (the lobe does not depend on φi).
+    double lobe[3] = {0, 0, 0};
+    constexpr int n = 2000;
+    for (int k = 0; k < n; ++k) {
+      const double mu = (k + 0.5) / n;
+      const Vec3 wi{Float(-0.6 * std::sqrt(1 - mu * mu)), Float(0.8 * std::sqrt(1 - mu * mu)), Float(mu)};
+      const Color d = multi.f(wo, wi) - single.f(wo, wi);
+      for (int c = 0; c < 3; ++c) lobe[c] += 2 * kPiD * d[c] * mu / n;
+    }
+    for (int c = 0; c < 3; ++c) {
+      const double f_avg = f0[c] + (1 - f0[c]) / 21;
+      const double f_ms = f_avg * f_avg * e_avg / (1 - f_avg * (1 - e_avg));
+      const double want = f_ms * (1 - e_o);
+      EXPECT_NEAR(lobe[c], want, 0.015 * want + 1e-3) << "mu_o " << mu_o << ", channel " << c;
     }
   }
 }
@@ -174,16 +224,16 @@ TEST(Multiscatter, RoughDielectricFurnaceIsOneFromBothSides) {
   struct Case { const char* dist; float alpha, eta; };
   for (const Case c : {Case{"ggx", 1, 1.5f}, Case{"ggx", 0.55f, 0.7f}, Case{"beckmann", 0.8f, 1.33f},
                        Case{"ggx", 1, 1.05f}, Case{"beckmann", 0.37f, 2.4f}}) {
-    const std::string json = std::string(R"({"type":"roughdielectric","distribution":")") + c.dist +
+    const std::string material_json = std::string(R"({"type":"roughdielectric","distribution":")") + c.dist +
                              R"(","alpha":)" + std::to_string(c.alpha) + R"(,"eta":)" + std::to_string(c.eta) +
                              R"(,"multiscatter":true})";
-    const BxDF m = parse_material(json);
+    const BxDF m = parse_material(material_json);
     for (double th : {0.0, 30.0, 60.0, 80.0, 88.0}) {
       for (bool inside : {false, true}) {
         Vec3 wo = sph(th, 0.3);
         if (inside) wo.z = -wo.z;
         const auto a = directional_albedo(m, wo, opt);
-        EXPECT_NEAR(a.albedo[0], 1.0, 0.01 + 4 * a.se_albedo[0]) << json << " theta " << th << (inside ? " inside" : "");
+        EXPECT_NEAR(a.albedo[0], 1.0, 0.01 + 4 * a.se_albedo[0]) << material_json << " theta " << th << (inside ? " inside" : "");
       }
     }
   }

@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -261,6 +262,44 @@ TEST(Models, UserModelGoesWhereBuiltInsGo) {
   const BSDF bsdf(m, Frame{});
   EXPECT_TRUE(bsdf.sample(dir(10, 0), 0.5f, 0.5f, 0.5f).has_value());
   EXPECT_FALSE(m.exact_albedo(dir(10, 0), TransportMode::Radiance).has_value());
+}
+
+// Oren & Nayar 1994's full model ("Generalization of Lambert's Reflectance Model",
+// SIGGRAPH '94, eqs. 26–29 for the direct term L1 with its coefficients C1, C2, C3, and
+// eq. 30's companion interreflection term L2), written here in the paper's angles
+// (θ, φ, α = max(θi, θr), β = min(θi, θr), σ in radians), radiance over E0 cos θi.
+double oren_nayar_full_paper(double ti, double pi_, double tr, double pr, double sigma, double rho) {
+  const double s2 = sigma * sigma, a = std::max(ti, tr), b = std::min(ti, tr), c = std::cos(pr - pi_);
+  const double C1 = 1 - 0.5 * s2 / (s2 + 0.33);
+  const double C2 = c >= 0 ? 0.45 * s2 / (s2 + 0.09) * std::sin(a)
+                           : 0.45 * s2 / (s2 + 0.09) * (std::sin(a) - std::pow(2 * b / kPiD, 3));
+  const double C3 = 0.125 * s2 / (s2 + 0.09) * std::pow(4 * a * b / (kPiD * kPiD), 2);
+  const double L1 = rho / kPiD * (C1 + c * C2 * std::tan(b) + (1 - std::abs(c)) * C3 * std::tan((a + b) / 2));
+  const double L2 = 0.17 * rho * rho / kPiD * s2 / (s2 + 0.13) * (1 - c * std::pow(2 * b / kPiD, 2));
+  return L1 + L2;
+}
+
+// gonio's full model against the paper's formula written above, in particular where the
+// C3 term carries weight: azimuths 90° apart (cos Δφ = 0 leaves C1, C3 and L2) towards
+// grazing, where tan((α + β)/2) is large. Also Δφ = 0 and 180° (C2's two branches).
+TEST(Models, OrenNayarFullModelIsThePapersEquations) {
+  struct Pair { double ti, tr, dphi; };
+  const Pair pairs[] = {{50, 70, 90}, {80, 85, 90}, {20, 60, 90}, {75, 40, 90}, {60, 30, 45},
+                        {30, 60, 0},  {40, 40, 180}, {10, 70, 135}, {85, 80, 270}};
+  for (const double sigma_deg : {10.0, 30.0, 60.0}) {
+    const double sigma = sigma_deg * kPiD / 180;
+    const OrenNayarBxDF m{Color(0.3f, 0.6f, 0.9f), Float(sigma), true};
+    for (const Pair& p : pairs) {
+      const Vec3 wi = dir(float(p.ti), 20), wo = dir(float(p.tr), float(20 + p.dphi));
+      for (int c = 0; c < 3; ++c) {
+        const double rho = 0.3 * (c + 1);
+        const double want = oren_nayar_full_paper(p.ti * kPiD / 180, 20 * kPiD / 180, p.tr * kPiD / 180,
+                                                  (20 + p.dphi) * kPiD / 180, sigma, rho);
+        EXPECT_NEAR(m.f(wo, wi)[c], want, 2e-4 * want)
+            << "sigma " << sigma_deg << ", theta_i " << p.ti << ", theta_r " << p.tr << ", dphi " << p.dphi;
+      }
+    }
+  }
 }
 
 }  // namespace

@@ -39,13 +39,13 @@ TEST(Plastic, WhiteFurnaceIsOneAtEveryAngle) {
                         {"ggx", 0.47, 1.05}, {"ggx", 1e-3, 1.5}, {"ggx", 1e-3, 1.00001}, {"ggx", 0.01, 1.01},
                         {"beckmann", 1.5e-3, 1.0003}};
   for (const auto& c : cases) {
-    const std::string json = std::string(R"({"type":"plastic","reflectance":1,"distribution":")") + c.dist +
+    const std::string material_json = std::string(R"({"type":"plastic","reflectance":1,"distribution":")") + c.dist +
                              R"(","alpha":)" + std::to_string(c.alpha) + R"(,"eta":)" + std::to_string(c.eta) + "}";
-    const BxDF m = parse_material(json);
+    const BxDF m = parse_material(material_json);
     for (double th : {0.0, 30.0, 60.0, 75.0, 85.0, 88.0, 89.0, 89.5, 89.8, 89.9, 89.97}) {
       const auto a = directional_albedo(m, direction_from_angles(Float(th * kDeg), 0.4f), opt);
-      EXPECT_GE(a.albedo[0] + 4 * a.se_albedo[0], 0.99) << json << " theta " << th;
-      EXPECT_LE(a.albedo[0] - 4 * a.se_albedo[0], 1.005) << json << " theta " << th;
+      EXPECT_GE(a.albedo[0] + 4 * a.se_albedo[0], 0.99) << material_json << " theta " << th;
+      EXPECT_LE(a.albedo[0] - 4 * a.se_albedo[0], 1.005) << material_json << " theta " << th;
     }
   }
 }
@@ -77,9 +77,9 @@ TEST(Microfacet, FiniteAtTinyCosines) {
       for (Float v : {d.Lambda(w), d.G1(w), d.G2(w, up), d.G2(up, w), d.D_visible(w, normalize(w + up)), d.smith_t(w)})
         ASSERT_TRUE(std::isfinite(v) && v >= 0) << int(type) << " z " << z << " value " << v;
     }
-  for (const char* json : materials) {
-    const BxDF m = parse_material(json);
-    const std::string name = json;
+  for (const char* material_json : materials) {
+    const BxDF m = parse_material(material_json);
+    const std::string name = material_json;
     for (Float z : zs)
       for (Float sign : {1.f, -1.f}) {
         const Vec3 tiny{0.6f, 0.8f, sign * z};

@@ -146,13 +146,13 @@ TEST(SpectralMaterial, EveryTypeConvertsAndGreyGivesTheRgbModelAtEveryWavelength
     for (auto name : material_type_names())
       EXPECT_TRUE(materials.count(std::string(name))) << "no test material for type " << name;
     SpectralScratch scratch;
-    for (const auto& [name, json] : materials) {
-      const MaterialWithSpectra m = parse_material_with_spectra(json);
+    for (const auto& [name, material_json] : materials) {
+      const MaterialWithSpectra m = parse_material_with_spectra(material_json);
       for (double lambda : {360.0, 455.5, 550.0, 700.0, 829.0}) {
         SampledWavelengths w = at(lambda);
         const SpectralBxDF s = spectral(m, w, scratch);
-        EXPECT_EQ(s.name(), m.bxdf.name()) << json;
-        EXPECT_FALSE(w.secondary_terminated()) << json << ": a constant index must not terminate";
+        EXPECT_EQ(s.name(), m.bxdf.name()) << material_json;
+        EXPECT_FALSE(w.secondary_terminated()) << material_json << ": a constant index must not terminate";
         for (double to : {0.0, 30.0, 75.0, 89.0, 150.0}) {
           for (double ti : {10.0, 45.0, 85.0, 120.0, 179.0}) {
             const Vec3 wo = dir_deg(to, 20), wi = dir_deg(ti, 200);
@@ -160,19 +160,19 @@ TEST(SpectralMaterial, EveryTypeConvertsAndGreyGivesTheRgbModelAtEveryWavelength
             const SampledSpectrum fs = s.f(wo, wi);
             for (int j = 0; j < 4; ++j)
               EXPECT_NEAR(fs[j], fr[0], 2e-5 * std::max(1.0, double(fr[0])))
-                  << json << " λ=" << w[j] << " θo=" << to << " θi=" << ti;
-            EXPECT_NEAR(s.pdf(wo, wi), m.bxdf.pdf(wo, wi), 2e-5 * std::max(1.0, double(m.bxdf.pdf(wo, wi)))) << json;
+                  << material_json << " λ=" << w[j] << " θo=" << to << " θi=" << ti;
+            EXPECT_NEAR(s.pdf(wo, wi), m.bxdf.pdf(wo, wi), 2e-5 * std::max(1.0, double(m.bxdf.pdf(wo, wi)))) << material_json;
           }
           // Sampling with the same random numbers: same direction, same weight per λ.
           for (double u : {0.1, 0.5, 0.93}) {
             const Vec3 wo = dir_deg(to, 20);
             const auto r = m.bxdf.sample(wo, Float(u), Float(0.3), Float(0.7));
             const auto q = s.sample(wo, Float(u), Float(0.3), Float(0.7));
-            ASSERT_EQ(bool(r), bool(q)) << json;
+            ASSERT_EQ(bool(r), bool(q)) << material_json;
             if (!r) continue;
-            EXPECT_NEAR(q->wi.z, r->wi.z, 1e-5) << json;
+            EXPECT_NEAR(q->wi.z, r->wi.z, 1e-5) << material_json;
             for (int j = 0; j < 4; ++j)
-              EXPECT_NEAR(q->weight[j], r->weight[0], 2e-5 * std::max(1.0, double(r->weight[0]))) << json;
+              EXPECT_NEAR(q->weight[j], r->weight[0], 2e-5 * std::max(1.0, double(r->weight[0]))) << material_json;
           }
         }
       }
@@ -317,16 +317,16 @@ TEST(SpectralMaterial, NamedGlassUsesSellmeierAtTheHeroAndTerminatesTheOthers) {
   // BK7's table (data/glasses/BK7.csv, 22 nm rows) interpolated linearly is within
   // h²/8 max|n''| ≈ 9e-5 of the formula over 360–830 nm.
   SpectralScratch scratch;
-  for (const char* json : {R"({"type":"dielectric","eta":"BK7"})", R"({"type":"roughdielectric","alpha":0.2,"eta":"BK7"})",
+  for (const char* material_json : {R"({"type":"dielectric","eta":"BK7"})", R"({"type":"roughdielectric","alpha":0.2,"eta":"BK7"})",
                            R"({"type":"dielectric","eta":{"sellmeier":{"B":[1.03961212,0.231792344,1.01046945],"C":[0.00600069867,0.0200179144,103.560653]}}})"}) {
-    const auto m = parse_material_with_spectra(json);
+    const auto m = parse_material_with_spectra(material_json);
     for (double lambda : {360.0, 404.7, 486.1, 587.6, 656.3, 706.5, 829.9}) {
       SampledWavelengths w = at(lambda);
       const Float hero_pdf = w.pdf(0);
       const SpectralBxDF s = spectral(m, w, scratch);
-      EXPECT_TRUE(w.secondary_terminated()) << json;
-      EXPECT_FLOAT_EQ(w.pdf(0), hero_pdf / 4) << json;
-      EXPECT_NEAR(s.relative_eta(), bk7_sellmeier(w[0]), 1.5e-4) << json << " λ=" << w[0];
+      EXPECT_TRUE(w.secondary_terminated()) << material_json;
+      EXPECT_FLOAT_EQ(w.pdf(0), hero_pdf / 4) << material_json;
+      EXPECT_NEAR(s.relative_eta(), bk7_sellmeier(w[0]), 1.5e-4) << material_json << " λ=" << w[0];
     }
   }
   // A plastic's coat keeps its index at 550 nm (spectral_material.h): no termination.
@@ -339,14 +339,14 @@ TEST(SpectralMaterial, NamedGlassUsesSellmeierAtTheHeroAndTerminatesTheOthers) {
   // Published: N-BK7 n_d (587.56 nm) = 1.51680 (SCHOTT data sheet).
   EXPECT_NEAR(bk7_sellmeier(587.5618), 1.51680, 1e-5);
   // A constant index: nothing dropped, the same index at every wavelength.
-  for (const char* json : {R"({"type":"dielectric","eta":1.5})", R"({"type":"roughdielectric","alpha":0.2,"eta":1.33})"}) {
-    const auto m = parse_material_with_spectra(json);
+  for (const char* material_json : {R"({"type":"dielectric","eta":1.5})", R"({"type":"roughdielectric","alpha":0.2,"eta":1.33})"}) {
+    const auto m = parse_material_with_spectra(material_json);
     SampledWavelengths w = at(420);
     const SampledSpectrum pdf = w.pdf();
     const SpectralBxDF s = spectral(m, w, scratch);
-    EXPECT_FALSE(w.secondary_terminated()) << json;
-    for (int j = 0; j < 4; ++j) EXPECT_EQ(w.pdf(j), pdf[j]) << json;
-    EXPECT_FLOAT_EQ(s.relative_eta(), m.bxdf.relative_eta()) << json;
+    EXPECT_FALSE(w.secondary_terminated()) << material_json;
+    for (int j = 0; j < 4; ++j) EXPECT_EQ(w.pdf(j), pdf[j]) << material_json;
+    EXPECT_FLOAT_EQ(s.relative_eta(), m.bxdf.relative_eta()) << material_json;
   }
 }
 
@@ -477,7 +477,7 @@ TEST(SpectralMaterial, GoldSpectralAlbedoMatchesTheMeasuredSpectrum) {
 
 TEST(SpectralMaterial, FiniteAtTheEndsOfTheRangeAtGrazingAndBelowTheHorizon) {
   std::vector<std::string> all = coloured_materials();
-  for (const auto& [name, json] : grey_materials(0.5)) all.push_back(json);
+  for (const auto& [name, material_json] : grey_materials(0.5)) all.push_back(material_json);
   // Directions: normal, grazing (cos θ = 1e-7 and exactly 0), below the horizon, straight
   // down, and a general one.
   const Vec3 dirs[] = {{0, 0, 1}, {0.9999999f, 0, 1e-7f}, {1, 0, 0}, {0, 1, 0}, {0.6f, 0, -0.8f},
@@ -494,33 +494,33 @@ TEST(SpectralMaterial, FiniteAtTheEndsOfTheRangeAtGrazingAndBelowTheHorizon) {
       if (!std::isfinite(s[j]) || s[j] < 0) return false;
     return true;
   };
-  for (const auto& json : all) {
-    const auto m = parse_material_with_spectra(json);
+  for (const auto& material_json : all) {
+    const auto m = parse_material_with_spectra(material_json);
     for (const auto& w0 : ws) {
       SampledWavelengths w = w0;
       const SpectralBxDF s = spectral(m, w, scratch);
       for (const Vec3& wo : dirs) {
         for (const Vec3& wi : dirs) {
           for (auto mode : {TransportMode::Radiance, TransportMode::Importance}) {
-            EXPECT_TRUE(finite(s.f(wo, wi, mode))) << json << " λ0=" << w[0];
+            EXPECT_TRUE(finite(s.f(wo, wi, mode))) << material_json << " λ0=" << w[0];
             const Float p = s.pdf(wo, wi, mode);
-            EXPECT_TRUE(std::isfinite(p) && p >= 0) << json << " λ0=" << w[0];
+            EXPECT_TRUE(std::isfinite(p) && p >= 0) << material_json << " λ0=" << w[0];
           }
         }
         for (float ul : {0.0f, 0.3f, 0.7f, kOneMinusEpsilon}) {
           for (float u1 : {0.0f, 0.5f, kOneMinusEpsilon}) {
             const auto smp = s.sample(wo, ul, u1, 0.25f);
             if (!smp) continue;
-            EXPECT_TRUE(finite(smp->weight) && std::isfinite(smp->pdf) && smp->pdf >= 0) << json << " λ0=" << w[0];
-            EXPECT_TRUE(std::isfinite(smp->wi.x) && std::isfinite(smp->wi.y) && std::isfinite(smp->wi.z)) << json;
+            EXPECT_TRUE(finite(smp->weight) && std::isfinite(smp->pdf) && smp->pdf >= 0) << material_json << " λ0=" << w[0];
+            EXPECT_TRUE(std::isfinite(smp->wi.x) && std::isfinite(smp->wi.y) && std::isfinite(smp->wi.z)) << material_json;
             // A non-delta sample is consistent with pdf() and f() (contract.h): weight =
             // f |cos θi| / pdf, checked where the numbers are well conditioned.
             if (smp->delta || !(smp->pdf > 1e-3f) || std::abs(wo.z) < 1e-3f || std::abs(smp->wi.z) < 1e-3f) continue;
-            EXPECT_NEAR(s.pdf(wo, smp->wi), smp->pdf, 1e-3 * smp->pdf) << json << " λ0=" << w[0];
+            EXPECT_NEAR(s.pdf(wo, smp->wi), smp->pdf, 1e-3 * smp->pdf) << material_json << " λ0=" << w[0];
             const SampledSpectrum f = s.f(wo, smp->wi);
             for (int j = 0; j < 4; ++j)
               EXPECT_NEAR(smp->weight[j], f[j] * std::abs(smp->wi.z) / smp->pdf, 1e-3 * std::max(1.0f, smp->weight[j]))
-                  << json << " λ=" << w[j];
+                  << material_json << " λ=" << w[j];
           }
         }
       }

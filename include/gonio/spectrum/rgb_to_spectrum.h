@@ -60,21 +60,30 @@ class RgbIlluminantSpectrum {
   static constexpr Float kMaxComponent = 1e9f;
   // Throws InputError unless every component is finite and within [0, kMaxComponent].
   RgbIlluminantSpectrum(Float r, Float g, Float b);
+  // Without the validation, for values met per shading point (an environment map's
+  // texel): negative or NaN components count as 0, those above kMaxComponent as it.
+  static RgbIlluminantSpectrum clamped(const Color& rgb);
+  // The one implementation of E(λ) = m · S_{rgb/m}(λ) · D65(λ); rgb_illuminant() and the
+  // scene's RGB emissions all come here.
   Float eval(Float lambda) const { return scale_ * poly_.eval(lambda) * d65(lambda); }
   SampledSpectrum eval(const SampledWavelengths& w) const { return scale_ * poly_.eval(w) * d65(w); }
+  Float scale() const { return scale_; }
+  const SigmoidPolynomial& polynomial() const { return poly_; }
 
  private:
+  RgbIlluminantSpectrum() = default;
+  void set(Float r, Float g, Float b);  // components already in [0, kMaxComponent]
+
   Float scale_ = 0;  // m = 2 max(rgb)
   SigmoidPolynomial poly_;
 };
 
-// An RGB emission at the wavelengths w, as RgbIlluminantSpectrum evaluates it, without
-// building (and validating) one: for values met per shading point (an environment map's
-// texel). Negative or NaN components count as 0.
+// RgbIlluminantSpectrum::clamped(rgb).eval(w): an RGB emission at the wavelengths w without
+// building (and validating) one. Negative or NaN components count as 0.
 SampledSpectrum rgb_illuminant(const Color& rgb, const SampledWavelengths& w);
 
 // An unbounded RGB quantity ≥ 0 (a measured BRDF value, 1/sr) at the wavelengths w: the
-// same scaled sigmoid without the illuminant (pbrt-v4's RGBUnboundedSpectrum). Negative or
+// same scaled sigmoid without the illuminant D65 (pbrt-v4's RGBUnboundedSpectrum). Negative or
 // NaN components count as 0.
 SampledSpectrum rgb_unbounded(const Color& rgb, const SampledWavelengths& w);
 
