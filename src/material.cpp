@@ -539,6 +539,24 @@ std::string albedo_table_key(const BxDF& boundary, Float eta, Float g) {
 
 // Every form of the medium; `invert` false skips the albedo table (material_from_json
 // needs only the boundary, and the values are checked without it).
+// Every length the slab and the renderer derive from a medium is a multiple of its
+// transport mean free path 1/σt′, σt′ = σa + (1 − g) σs (the similarity relation): the
+// profile's radii reach 20 of them, the diffusion table 10⁴, and squares of such radii are
+// taken in float. Where σt′ is tiny but not 0, 1/σt′ overflowed a float (σs = σa = 1e-38:
+// infinite radii, NaN in the output). (10⁴/σt′)² < FLT_MAX needs σt′ > 5.4e-16; the
+// bound is 1e-15 per unit. A channel with σt′ = 0 scatters nothing and is clear (Rd 0).
+void check_transport_coefficients(Params& p, const Medium& medium) {
+  constexpr double kMinTransport = 1e-15;
+  static constexpr const char* kChannel[] = {"red", "green", "blue"};
+  for (int c = 0; c < Color::size(); ++c) {
+    const double t = double(medium.sigma_a[c]) + (1 - double(medium.g)) * double(medium.sigma_s[c]);
+    if (t > 0 && t < kMinTransport)
+      p.fail("the transport coefficient sigma_a + (1 - g) sigma_s of the " + std::string(kChannel[c]) +
+             " channel is " + format_number(t) + " 1/unit: it must be 0 or at least " + format_number(kMinTransport) +
+             " (a transport mean free path beyond 1e15 units overflows the slab's radii)");
+  }
+}
+
 Subsurface parse_subsurface(Params& p, bool invert) {
   Subsurface s;
   const bool has_sigma_s = p.has("sigma_s"), has_sigma_a = p.has("sigma_a");
@@ -616,6 +634,7 @@ Subsurface parse_subsurface(Params& p, bool invert) {
       s.medium.sigma_a[c] = Float(sa);
     }
   }
+  check_transport_coefficients(p, s.medium);
   return s;
 }
 

@@ -163,13 +163,15 @@ constexpr MaterialTypeSpec kTypes[] = {
      "Two parts that both refract must have the same eta."},
     {"measured", "A measured isotropic BRDF: a MERL table, interpolated in half/difference angles and importance-sampled.",
      "Matusik et al. 2003 (MERL format); Rusinkiewicz 1998 (half/difference angles)", kMeasured,
-     "Reflection only; docs/measured.md says how it interpolates, treats unmeasured entries and samples."},
+     "Reflection only; an entry whose f (stored x scale) exceeds 1e30 1/sr is refused. docs/measured.md says how it "
+     "interpolates, treats unmeasured entries and samples."},
     {"subsurface", "Dielectric boundary (smooth or rough) over a homogeneous scattering medium (a BSSRDF).",
      "Henyey & Greenstein 1941 (phase function); Jensen et al. 2001 (measured media); Chiang, Kutz & Burley 2016 "
      "(random walk, albedo and mfp)",
      kSubsurface,
      "The medium is exactly one of: sigma_s + sigma_a (and g), albedo + mfp (and g), or medium (with scale, and g: "
-     "sigma_s = sigma_s' / (1 - g)). As a BSDF (eval, sample, check) it is its boundary; the medium belongs to the "
+     "sigma_s = sigma_s' / (1 - g)). Per channel the transport coefficient sigma_a + (1 - g) sigma_s is 0 (a clear "
+     "channel) or at least 1e-15 per unit. As a BSDF (eval, sample, check) it is its boundary; the medium belongs to the "
      "renderer and gonio subsurface. docs/subsurface.md."},
 };
 

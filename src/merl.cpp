@@ -11,7 +11,9 @@
 #include <fstream>
 #include <system_error>
 #include <filesystem>
+#include <limits>
 #include <new>
+#include <optional>
 #include <cstdlib>
 
 #if defined(__linux__)
@@ -45,6 +47,28 @@ void to_little_endian(T v, unsigned char* p) {
 }
 
 std::string quoted(const std::string& path) { return escape_control(path); }
+
+// "MERL entry (i, j, k) of channel c" for entry e of channel c.
+std::string entry_name(std::size_t e, int c) {
+  const std::size_t i = e / (MerlTable::kThetaD * MerlTable::kPhiD), j = e / MerlTable::kPhiD % MerlTable::kThetaD,
+                    k = e % MerlTable::kPhiD;
+  return "MERL entry (" + std::to_string(i) + ", " + std::to_string(j) + ", " + std::to_string(k) + ") of channel " +
+         "rgb"[c];
+}
+
+// Why an entry of f = `f` (1/sr) cannot be in a table, or nothing. A negative entry is
+// "not measured", whatever its size.
+std::optional<std::string> f_problem(double f) {
+  if (!std::isfinite(f)) return "f = " + format_number(f);
+  // Compared as the float the table holds, so that a value rounding to the bound is the
+  // bound (a table written at it reads back); float(f) is taken only where it exists.
+  if (f > double(std::numeric_limits<float>::max()) || float(f) > MerlTable::kMaxValue) {
+    char bound[16];  // the float bound as it was typed (1e+30), not to 9 digits
+    std::snprintf(bound, sizeof bound, "%g", double(MerlTable::kMaxValue));
+    return "f = " + format_number(f) + " 1/sr, above the largest a table may hold (" + bound + ")";
+  }
+  return std::nullopt;
+}
 
 }  // namespace
 
@@ -96,6 +120,43 @@ std::pair<Vec3, Vec3> merl_directions(double theta_h, double theta_d, double phi
   return {Vec3{Float(ox), Float(oy), Float(oz)}, Vec3{Float(ix), Float(iy), Float(iz)}};
 }
 
+MerlTable parse_merl(std::span<const unsigned char> bytes, const std::string& name) {
+  if (bytes.size() < kHeaderBytes) throw InputError(name + ": not a MERL table: shorter than its 12-byte header");
+  const std::int32_t dims[3] = {from_little_endian<std::int32_t>(bytes.data()),
+                                from_little_endian<std::int32_t>(bytes.data() + 4),
+                                from_little_endian<std::int32_t>(bytes.data() + 8)};
+  if (dims[0] != MerlTable::kThetaH || dims[1] != MerlTable::kThetaD || dims[2] != MerlTable::kPhiD)
+    throw InputError(name + ": not a MERL table: header says " + std::to_string(dims[0]) + " x " +
+                     std::to_string(dims[1]) + " x " + std::to_string(dims[2]) + ", expected 90 x 90 x 180");
+  if (bytes.size() < kFileBytes)
+    throw InputError(name + ": truncated MERL table: " + std::to_string(bytes.size()) + " bytes, expected " +
+                     std::to_string(kFileBytes));
+  if (bytes.size() > kFileBytes)
+    throw InputError(name + ": MERL table longer than " + std::to_string(kFileBytes) + " bytes (trailing data)");
+  MerlTable table;
+  for (int c = 0; c < 3; ++c) {
+    const unsigned char* channel = bytes.data() + kHeaderBytes + std::size_t(c) * MerlTable::kEntries * sizeof(double);
+    for (std::size_t e = 0; e < MerlTable::kEntries; ++e) {
+      const double v = from_little_endian<double>(channel + e * sizeof(double));
+      if (!std::isfinite(v)) throw InputError(name + ": " + entry_name(e, c) + " is " + format_number(v));
+      if (v < 0) {  // not measured, whatever its size
+        table.rgb[3 * e + c] = MerlTable::kMissing;
+        continue;
+      }
+      if (const auto problem = f_problem(v * MerlTable::kScale[c]))
+        throw InputError(name + ": " + entry_name(e, c) + " is " + format_number(v) + ": " + *problem);
+      table.rgb[3 * e + c] = float(v * MerlTable::kScale[c]);
+    }
+  }
+  // An entry missing in one channel is missing in all: an interpolation must not mix a
+  // measured red with an unmeasured blue.
+  for (std::size_t e = 0; e < MerlTable::kEntries; ++e) {
+    float* p = &table.rgb[3 * e];
+    if (p[0] < 0 || p[1] < 0 || p[2] < 0) p[0] = p[1] = p[2] = MerlTable::kMissing;
+  }
+  return table;
+}
+
 MerlTable read_merl(const std::string& path) {
   const std::string name = quoted(path);
   std::error_code ec;
@@ -105,47 +166,23 @@ MerlTable read_merl(const std::string& path) {
     throw InputError(name + ": not a regular file, cannot be a MERL table");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(name + ": cannot open the MERL table (" + std::string(std::strerror(errno)) + ")");
-  unsigned char header[kHeaderBytes];
-  if (!in.read(reinterpret_cast<char*>(header), kHeaderBytes))
-    throw InputError(name + ": not a MERL table: shorter than its 12-byte header");
-  const std::int32_t dims[3] = {from_little_endian<std::int32_t>(header), from_little_endian<std::int32_t>(header + 4),
-                                from_little_endian<std::int32_t>(header + 8)};
-  if (dims[0] != MerlTable::kThetaH || dims[1] != MerlTable::kThetaD || dims[2] != MerlTable::kPhiD)
-    throw InputError(name + ": not a MERL table: header says " + std::to_string(dims[0]) + " x " +
-                     std::to_string(dims[1]) + " x " + std::to_string(dims[2]) + ", expected 90 x 90 x 180");
-  std::vector<unsigned char> body(kFileBytes - kHeaderBytes);
-  in.read(reinterpret_cast<char*>(body.data()), std::streamsize(body.size()));
-  const std::size_t got = std::size_t(in.gcount());
-  if (got != body.size())
-    throw InputError(name + ": truncated MERL table: " + std::to_string(kHeaderBytes + got) + " bytes, expected " +
-                     std::to_string(kFileBytes));
-  if (in.peek() != std::ifstream::traits_type::eof())
-    throw InputError(name + ": MERL table longer than " + std::to_string(kFileBytes) + " bytes (trailing data)");
-  MerlTable table;
-  for (int c = 0; c < 3; ++c) {
-    const unsigned char* channel = body.data() + std::size_t(c) * MerlTable::kEntries * sizeof(double);
-    for (std::size_t e = 0; e < MerlTable::kEntries; ++e) {
-      const double v = from_little_endian<double>(channel + e * sizeof(double));
-      if (!std::isfinite(v)) {
-        const std::size_t i = e / (MerlTable::kThetaD * MerlTable::kPhiD),
-                          j = e / MerlTable::kPhiD % MerlTable::kThetaD, k = e % MerlTable::kPhiD;
-        throw InputError(name + ": MERL entry (" + std::to_string(i) + ", " + std::to_string(j) + ", " +
-                         std::to_string(k) + ") of channel " + "rgb"[c] + " is " + format_number(v));
-      }
-      // An entry missing in one channel is missing in all: an interpolation must not mix
-      // a measured red with an unmeasured blue.
-      table.rgb[3 * e + c] = v < 0 ? MerlTable::kMissing : float(v * MerlTable::kScale[c]);
-    }
-  }
-  for (std::size_t e = 0; e < MerlTable::kEntries; ++e) {
-    float* p = &table.rgb[3 * e];
-    if (p[0] < 0 || p[1] < 0 || p[2] < 0) p[0] = p[1] = p[2] = MerlTable::kMissing;
-  }
-  return table;
+  // One byte more than a table: enough to tell a longer file, never more.
+  std::vector<unsigned char> bytes(kFileBytes + 1);
+  in.read(reinterpret_cast<char*>(bytes.data()), std::streamsize(bytes.size()));
+  bytes.resize(std::size_t(in.gcount()));
+  return parse_merl(bytes, name);
 }
 
 void write_merl(const std::string& path, const MerlTable& table) {
   std::vector<unsigned char> bytes(kFileBytes);
+  // What read_merl would refuse is not written: a table gonio writes reads back.
+  for (int c = 0; c < 3; ++c)
+    for (std::size_t e = 0; e < MerlTable::kEntries; ++e) {
+      const float f = table.rgb[3 * e + c];
+      if (f < 0) continue;
+      if (const auto problem = f_problem(double(f)))
+        throw InputError(quoted(path) + ": cannot write " + entry_name(e, c) + ": " + *problem);
+    }
   const std::int32_t dims[3] = {MerlTable::kThetaH, MerlTable::kThetaD, MerlTable::kPhiD};
   for (int d = 0; d < 3; ++d) to_little_endian(dims[d], bytes.data() + 4 * d);
   for (int c = 0; c < 3; ++c) {

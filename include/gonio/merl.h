@@ -18,6 +18,7 @@
 #include <array>
 #include <cmath>
 #include <cstddef>
+#include <span>
 #include <string>
 #include <utility>
 #include <vector>
@@ -51,6 +52,16 @@ struct MerlTable {
   static constexpr std::array<double, 3> kScale = {1.0 / 1500, 1.15 / 1500, 1.66 / 1500};
   // The value stored for an entry that was not measured.
   static constexpr float kMissing = -1;
+  // The largest f (1/sr) a table may hold; read_merl refuses an entry above it, write_merl
+  // will not write one. Held as float, f must fit FLT_MAX = 3.4e38, and so must what is
+  // computed from it in float: the trilinear interpolation (a convex combination, rounded),
+  // the sampler's target (the three channels summed, times cos θi: ≤ 3 f), a sample's
+  // weight f cos θi / pdf (≤ π f / MeasuredData::kDefensive = 31.4 f, the defensive cosine
+  // tenth) and an albedo (a mean of such weights, summed in double, rounded to float). The
+  // largest of these, 3 · 31.4 f, stays below FLT_MAX up to f ≈ 3.6e36; 1e30 leaves a
+  // factor of 10⁶ besides, for blends and sums of a few lobes. (A MERL entry stores
+  // f / scale, so entries up to 1e30 · 1500 = 1.5e33 in the file.)
+  static constexpr float kMaxValue = 1e30f;
 
   // 3 × kEntries floats: f in 1/sr of entry e at rgb[3e .. 3e+2], or kMissing in all three;
   // then one float of padding (0), so that the lookup can load each entry as four floats.
@@ -130,9 +141,15 @@ void half_diff_angles(const Vec3& wo, const Vec3& wi, Atan2 atan2, T& theta_h, T
 std::pair<Vec3, Vec3> merl_directions(double theta_h, double theta_d, double phi_d);
 
 // Reads a MERL file. Throws InputError "PATH: ..." (one line) for a file that cannot be
-// read, a wrong header, a wrong size or a NaN/Inf entry.
+// read, a wrong header, a wrong size, a NaN/Inf entry or one whose f = stored × scale
+// exceeds MerlTable::kMaxValue (naming the entry, its channel and its value).
 MerlTable read_merl(const std::string& path);
-// Writes `table` (missing entries as -1 in the file). Throws InputError on I/O failure.
+// The same from the file's bytes in memory; `name` (the file, as messages show it)
+// prefixes every error.
+MerlTable parse_merl(std::span<const unsigned char> bytes, const std::string& name);
+// Writes `table` (missing entries as -1 in the file). Throws InputError on I/O failure and
+// for an entry read_merl would refuse (not finite, or above MerlTable::kMaxValue), so that
+// every table gonio writes reads back.
 void write_merl(const std::string& path, const MerlTable& table);
 
 }  // namespace gonio

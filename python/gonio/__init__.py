@@ -31,6 +31,7 @@ from ._gonio import (  # noqa: F401  (the public surface)
     half_diff_directions,
     material_types,
     named_index,
+    read_material_file,
     subsurface,
 )
 from . import _gonio
@@ -96,6 +97,7 @@ __all__ = [
     "half_diff_directions",
     "material_types",
     "named_index",
+    "read_material_file",
     "spherical",
     "subsurface",
 ] + [n for n in ("render", "measure", "fit") if hasattr(_gonio, n)]

@@ -50,6 +50,15 @@ def _material(bsdf):
     return bsdf if isinstance(bsdf, gonio.Material) else gonio.Material(bsdf)
 
 
+def _check_theta(value, name):
+    """value (degrees) if it is a direction on the outside, θ in [0, 90]; else ValueError
+    naming `name` (NaN and infinities included)."""
+    v = float(value)
+    if not 0 <= v <= 90:
+        raise ValueError("%s must be in [0, 90] degrees, got %s" % (name, value))
+    return v
+
+
 def _channel_labels(c):
     return ("",) if c == 1 else (" (R)", " (G)", " (B)")
 
@@ -66,6 +75,7 @@ def lobe(bsdf, thetas=(0, 30, 60), samples=720, surface3d=False):
     sampled directions, as long as the fraction of the incident power each carries
     (sample weight times the lobe's probability, importance mode).
     """
+    thetas = tuple(_check_theta(t, "theta") for t in thetas)
     m = _material(bsdf)
     if surface3d:
         return _lobe3d(m, thetas[0])
@@ -259,6 +269,7 @@ def sampling(bsdf, theta=45.0, samples=200_000, cells=(40, 80), seed=1):
     """sample() from wo at θ against pdf(): counts per cell of a (cos θ, φ) grid of the
     sphere beside the counts the pdf predicts (its integral over each cell, by a 3×3
     midpoint rule, times the number of samples)."""
+    theta = _check_theta(theta, "theta")
     m = _material(bsdf)
     rng = np.random.default_rng(seed)
     wo = gonio.direction(theta, 0.0)
@@ -301,9 +312,23 @@ def sampling(bsdf, theta=45.0, samples=200_000, cells=(40, 80), seed=1):
 # --- command line ------------------------------------------------------------------------
 
 
+class _OneLineParser(argparse.ArgumentParser):
+    """argparse with its usage errors as one line, `gonio.plot: <message>`, exit 2
+    (docs/python.md), instead of the usage text and the program's name."""
+
+    def error(self, message):
+        print("gonio.plot: %s" % _one_line(message), file=sys.stderr)
+        sys.exit(2)
+
+
+def _one_line(text):
+    """text with its control characters escaped, so that a message stays one line."""
+    return "".join(c if c.isprintable() else repr(c)[1:-1] for c in str(text))
+
+
 def _parser():
-    p = argparse.ArgumentParser(prog="python3 -m gonio.plot", description=__doc__.split("\n\n")[0],
-                                formatter_class=argparse.RawDescriptionHelpFormatter)
+    p = _OneLineParser(prog="python3 -m gonio.plot", description=__doc__.split("\n\n")[0],
+                       formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("kind", choices=KINDS, help="what to plot")
     p.add_argument("--bsdf", help="material JSON text, or @path to a file holding it (lobe, albedo, slice, sampling)")
     p.add_argument("--eta", type=float, help="fresnel: relative index n_t / n_i (default 1.5)")
@@ -322,8 +347,12 @@ def _bsdf_text(arg, kind):
     if arg is None:
         return DEFAULT_BSDF[kind]
     if arg.startswith("@"):
-        with open(arg[1:], encoding="utf-8") as f:
-            return f.read()
+        # The CLI's bounded reader (16 MiB, devices and pipes included): @/dev/zero is
+        # refused, not read until memory runs out.
+        try:
+            return gonio.read_material_file(arg[1:]).decode("utf-8")
+        except ValueError as e:
+            raise ValueError("--bsdf: %s" % e) from None
     return arg
 
 
@@ -340,6 +369,8 @@ def main(argv=None):
             fig = fresnel(eta=1.5 if args.eta is None else args.eta, k=args.k, material=args.material)
         else:
             m = gonio.Material(_bsdf_text(args.bsdf, args.kind))
+            for t in args.theta or ():
+                _check_theta(t, "--theta")
             if args.kind == "lobe":
                 fig = lobe(m, thetas=tuple(args.theta or (0, 30, 60)), surface3d=args.surface3d)
             elif args.kind == "albedo":
@@ -350,8 +381,8 @@ def main(argv=None):
                 fig = sampling(m, theta=(args.theta or [45.0])[0], samples=args.samples or 200_000)
         fig.savefig(args.output, dpi=args.dpi)
         plt.close(fig)
-    except (ValueError, OSError) as e:
-        print("gonio.plot: %s" % e, file=sys.stderr)
+    except (ValueError, OSError, MemoryError) as e:
+        print("gonio.plot: %s" % _one_line(e), file=sys.stderr)
         return 2
     print(args.output)
     return 0

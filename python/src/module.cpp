@@ -148,11 +148,18 @@ py::array_t<T> empty_array(std::vector<py::ssize_t> shape) {
   return py::array_t<T>(shape);
 }
 
-TransportMode parse_mode(const std::string& mode) {
+// `mode` as the CLI's --mode takes it. A str only: pybind11 would turn bytes (b"radiance")
+// into the same std::string, and a bytes value is not the text the docs name.
+TransportMode parse_mode(const py::object& mode_arg) {
+  if (!py::isinstance<py::str>(mode_arg))
+    throw InputError("mode must be the str \"radiance\" or \"importance\", got " +
+                     escape_control(py::repr(mode_arg).cast<std::string>()) + " (" +
+                     py::str(py::type::of(mode_arg).attr("__name__")).cast<std::string>() + ")");
+  const std::string mode = mode_arg.cast<std::string>();
   if (mode == "radiance") return TransportMode::Radiance;
   if (mode == "importance") return TransportMode::Importance;
   // CLI11's IsMember message for --mode, in the module's words.
-  throw InputError("mode must be \"radiance\" or \"importance\", got \"" + mode + "\"");
+  throw InputError("mode must be \"radiance\" or \"importance\", got \"" + escape_control(mode) + "\"");
 }
 
 // Chunk of directions normalised at a time: on the stack, then one batch call.
@@ -215,7 +222,7 @@ void store_colour(float* out, const C& c, int channels) {
   for (int k = 0; k < channels; ++k) out[k] = c[k];
 }
 
-py::tuple eval(const Material& m, const DoubleArray& wo_a, const DoubleArray& wi_a, const std::string& mode_name,
+py::tuple eval(const Material& m, const DoubleArray& wo_a, const DoubleArray& wi_a, const py::object& mode_name,
                int threads) {
   checked_threads(threads);
   const TransportMode mode = parse_mode(mode_name);
@@ -258,7 +265,7 @@ py::tuple eval(const Material& m, const DoubleArray& wo_a, const DoubleArray& wi
 }
 
 py::array_t<float> pdf(const Material& m, const DoubleArray& wo_a, const DoubleArray& wi_a,
-                       const std::string& mode_name, int threads) {
+                       const py::object& mode_name, int threads) {
   checked_threads(threads);
   const TransportMode mode = parse_mode(mode_name);
   const Rows3 wo = rows3(wo_a, "wo"), wi = rows3(wi_a, "wi");
@@ -287,9 +294,11 @@ py::array_t<float> pdf(const Material& m, const DoubleArray& wo_a, const DoubleA
   return pdf;
 }
 
-// u in [0, 1), kept below 1 after rounding to float (as `gonio sample`).
+// u in [0, 1), kept below 1 after rounding to float (as `gonio sample`). A broadcast view
+// (row stride 0: np.broadcast_to of one row) holds one row however many it shows.
 std::optional<std::string> check_u(const Rows3& u) {
-  for (std::size_t i = 0; i < u.n; ++i)
+  const std::size_t distinct = u.row_stride == 0 ? std::min<std::size_t>(u.n, 1) : u.n;
+  for (std::size_t i = 0; i < distinct; ++i)
     for (int c = 0; c < 3; ++c) {
       const double v = u.at(i, c);
       if (!(v >= 0 && v < 1))
@@ -298,19 +307,21 @@ std::optional<std::string> check_u(const Rows3& u) {
   return std::nullopt;
 }
 
-py::tuple sample(const Material& m, const DoubleArray& wo_a, const DoubleArray& u_a, const std::string& mode_name,
+py::tuple sample(const Material& m, const DoubleArray& wo_a, const DoubleArray& u_a, const py::object& mode_name,
                  int threads) {
   checked_threads(threads);
   const TransportMode mode = parse_mode(mode_name);
   const Rows3 wo = rows3(wo_a, "wo"), u = rows3(u_a, "u");
   const std::size_t n = broadcast(wo, u, "wo", "u");
-  if (const auto e = check_u(u)) throw InputError(*e);
+  // The outputs first, as eval and pdf do: rows too many for memory fail at once
+  // (MemoryError naming the size), not after every u was checked.
   const int ch = m.channels();
   auto wi = empty_array<float>({py::ssize_t(n), 3});
   auto weight = empty_array<float>({py::ssize_t(n), ch});
   auto pdf = empty_array<float>({py::ssize_t(n)});
   auto delta = empty_array<bool>({py::ssize_t(n)});
   auto lobe = empty_array<std::uint8_t>({py::ssize_t(n)});
+  if (const auto e = check_u(u)) throw InputError(*e);
   float* wip = wi.mutable_data();
   float* wp = weight.mutable_data();
   float* pp = pdf.mutable_data();
@@ -763,6 +774,13 @@ scale multiplies every sample count (< 1 for a quick look; thresholds follow).
     return v;
   }, "The material types this build knows, in SPEC §2's order.");
 
+  mod.def("read_material_file",
+          [](const std::string& path) { return py::bytes(read_text_file(path, kMaxJsonFileBytes, "a material file")); },
+          py::arg("path"), R"doc(
+The bytes of a material file, read as `--bsdf @PATH` reads it: at most 16 MiB whatever
+the file is (a regular file, a device such as /dev/zero, a pipe); larger, missing or
+unreadable files raise ValueError naming the path and the reason.
+)doc");
   mod.def("fresnel", &fresnel, py::arg("theta"), py::arg("eta") = 1.5, py::arg("k") = 0.0,
           py::arg("material") = py::none(), py::arg("wavelength") = py::none(), R"doc(
 Fresnel reflectance from the outside at incidence theta (degrees, a number or a 1-D

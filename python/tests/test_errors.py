@@ -89,6 +89,15 @@ def test_the_first_bad_row_is_named_whatever_the_threads():
 def test_bad_mode_and_u():
     with pytest.raises(ValueError, match="mode must be"):
         m.eval([0, 0, 1], [0, 0, 1], mode="backwards")
+    # Issue 39: bytes were taken as the str (pybind11 converts both to std::string).
+    for call in (lambda mode: m.eval([0, 0, 1], [0, 0, 1], mode=mode),
+                 lambda mode: m.pdf([0, 0, 1], [0, 0, 1], mode=mode),
+                 lambda mode: m.sample([0, 0, 1], [0.5, 0.5, 0.5], mode=mode)):
+        with pytest.raises(ValueError, match=r"^mode must be the str \"radiance\" or \"importance\", "
+                                             r"got b'radiance' \(bytes\)$"):
+            call(b"radiance")
+        with pytest.raises(ValueError, match=r"got 1 \(int\)$"):
+            call(1)
     with pytest.raises(ValueError, match=r"u\[1, 2\] must be in \[0, 1\), got 1"):
         m.sample(np.ones((2, 3)), np.array([[0.1, 0.2, 0.3], [0.1, 0.2, 1.0]]))
 
@@ -155,3 +164,31 @@ def test_threads_out_of_the_clis_range(threads):
                  lambda: m.albedo(10, samples=16, threads=threads)):
         with pytest.raises(ValueError, match=message):
             call()
+
+
+def test_sample_with_rows_beyond_memory_fails_at_once():
+    """Issue 39: broadcast rows of u were each checked before the outputs failed to
+    allocate (10^9 rows: seconds); now sample allocates first, as eval and pdf do, and
+    fails at once with numpy's MemoryError naming the size. 10^11 rows (1.1 TiB of wi)
+    fail on any machine, where 10^9 (12 GB) might be granted."""
+    import time
+    u = np.broadcast_to(np.array([0.5, 0.5, 0.5]), (10**11, 3))
+    start = time.monotonic()
+    with pytest.raises(MemoryError, match="Unable to allocate"):
+        m.sample([0, 0, 1], u)
+    assert time.monotonic() - start < 1.0
+    # A broadcast u is one row: its check costs nothing, a bad value is still named.
+    with pytest.raises(ValueError, match=r"u\[0, 1\] must be in \[0, 1\), got 1"):
+        m.sample([0, 0, 1], np.broadcast_to(np.array([0.5, 1.0, 0.5]), (10**6, 3)))
+
+
+def test_tiny_media_are_refused_with_their_range():
+    """Issue 39: gonio.subsurface returned infinite radii for sigma ~ 1e-38; the medium is
+    now refused with the CLI's message (its documented range)."""
+    text = '{"type":"subsurface","sigma_s":1e-38,"sigma_a":1e-38,"method":"diffusion"}'
+    status, out, err = run_gonio(["subsurface", "--bsdf", text])
+    assert status == 2 and out == ""
+    with pytest.raises(ValueError) as e:
+        gonio.subsurface(text)
+    assert str(e.value) == err[len("gonio: "):-1]
+    assert "transport coefficient" in str(e.value)

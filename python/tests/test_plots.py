@@ -9,6 +9,7 @@ import matplotlib.image
 import numpy as np
 import pytest
 
+import gonio
 from gonio import plot
 
 CASES = {
@@ -51,3 +52,51 @@ def test_module_command_writes_svg(tmp_path):
 def test_bad_input_exits_2(tmp_path):
     assert plot.main(["lobe", "--bsdf", '{"type":"nope"}', "-o", str(tmp_path / "x.png")]) == 2
     assert plot.main(["fresnel", "-o", str(tmp_path / "x.jpg")]) == 2
+
+
+def run_plot(args):
+    return subprocess.run([sys.executable, "-m", "gonio.plot"] + args, capture_output=True, text=True, timeout=60)
+
+
+def one_line_exit_2(p):
+    assert p.returncode == 2, p.stderr
+    assert p.stdout == ""
+    assert p.stderr.startswith("gonio.plot: ") and p.stderr.count("\n") == 1, p.stderr
+    return p.stderr
+
+
+def test_usage_errors_are_one_line(tmp_path):
+    """Issue 39: argparse's usage errors were five lines; docs/python.md promises one."""
+    out = str(tmp_path / "x.png")
+    assert "invalid choice" in one_line_exit_2(run_plot(["nosuchkind", "-o", out]))
+    assert "-o/--output" in one_line_exit_2(run_plot(["lobe"]))
+    assert "--theta" in one_line_exit_2(run_plot(["lobe", "--theta", "abc", "-o", out]))
+    assert "unrecognized" in one_line_exit_2(run_plot(["lobe", "--nope", "-o", out]))
+
+
+@pytest.mark.parametrize("args", [["lobe", "--theta", "1e9"], ["lobe", "--theta", "30", "--theta", "nan"],
+                                  ["sampling", "--theta", "95"], ["sampling", "--theta", "-1"]])
+def test_angles_out_of_range_are_refused(args, tmp_path):
+    """Issue 39: lobe --theta 1e9 and sampling --theta 95 drew a picture."""
+    out = tmp_path / "x.png"
+    err = one_line_exit_2(run_plot(args + ["-o", str(out)]))
+    assert "--theta must be in [0, 90] degrees" in err
+    assert not out.exists()
+    with pytest.raises(ValueError, match="theta must be in"):
+        if args[0] == "lobe":
+            plot.lobe('{"type":"diffuse"}', thetas=(30.0, float(args[-1])))
+        else:
+            plot.sampling('{"type":"diffuse"}', theta=float(args[-1]))
+
+
+def test_bsdf_files_are_read_through_the_clis_bound(tmp_path):
+    """Issue 39: @/dev/zero was read until memory ran out (a MemoryError traceback); the
+    CLI's bounded reader refuses it at 16 MiB."""
+    out = str(tmp_path / "x.png")
+    err = one_line_exit_2(run_plot(["lobe", "--bsdf", "@/dev/zero", "-o", out]))
+    assert "/dev/zero" in err and "too large" in err
+    err = one_line_exit_2(run_plot(["lobe", "--bsdf", "@" + str(tmp_path / "missing.json"), "-o", out]))
+    assert "missing.json" in err
+    good = tmp_path / "m.json"
+    good.write_text('{"type": "diffuse"}')
+    assert gonio.read_material_file(str(good)) == b'{"type": "diffuse"}'

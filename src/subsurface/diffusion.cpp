@@ -169,6 +169,19 @@ RadialProfile::RadialProfile(Float sigma_s, Float sigma_a, Float g, Float eta, i
     cdf_[static_cast<size_t>(k) + 1] =
         cdf_[static_cast<size_t>(k)] + kTwoPi * sp[static_cast<size_t>(k)] * rk * rk * segment_mass(slope_[static_cast<size_t>(k)], log_q_);
   }
+  // Energy conservation: a half-space cannot return more power than entered it. The exact
+  // transport returns all of it only without absorption (Chandrasekhar 1960, §26: the
+  // albedo 1 − H(1)√(1 − ϖ) of a semi-infinite medium is 1 at ϖ = 1 and below 1 else).
+  // PBD is an approximation that does not conserve energy: with little absorption its
+  // total overshoots (σa = 0: 2π ∫ Sp r dr = 1.093 at η = 1, 1.035 at η = 1.3,
+  // docs/subsurface.md). Where 2π ∫ Sp r dr > 1 the profile is divided by it, so that it returns
+  // exactly what entered (continuous in the medium: the factor is 1 at the threshold);
+  // below, PBD is left as Habel et al. give it.
+  if (cdf_.back() > 1) {
+    const double excess = cdf_.back(), shift = std::log(excess);
+    for (double& v : log_sp_) v -= shift;
+    for (double& v : cdf_) v /= excess;
+  }
   log_sp_f_.assign(log_sp_.begin(), log_sp_.end());
   step_f_.resize(log_sp_.size());
   for (size_t k = 0; k < slope_.size(); ++k) step_f_[k] = static_cast<float>(slope_[k] * log_q_);
@@ -228,7 +241,12 @@ Float RadialProfile::sample_r(Float u) const {
 template <typename C>
 DiffusionProfileT<C>::DiffusionProfileT(const MediumT<C>& medium, Float eta, int quadrature_points) : eta_(eta) {
   for (int c = 0; c < C::size(); ++c) {
-    ch_[static_cast<size_t>(c)] = RadialProfile(medium.sigma_s[c], medium.sigma_a[c], medium.g, eta, quadrature_points);
+    // A channel with the medium of an earlier one (every channel of a grey medium) takes
+    // its table: the same numbers, without the 2 × 1024 depths per radius again.
+    int same = 0;
+    while (same < c && !(medium.sigma_s[same] == medium.sigma_s[c] && medium.sigma_a[same] == medium.sigma_a[c])) ++same;
+    ch_[static_cast<size_t>(c)] = same < c ? ch_[static_cast<size_t>(same)]
+                                           : RadialProfile(medium.sigma_s[c], medium.sigma_a[c], medium.g, eta, quadrature_points);
     rd_[c] = ch_[static_cast<size_t>(c)].Rd();
   }
 }

@@ -74,5 +74,80 @@ TEST(CliMeasured, BadTablesGetOneLineNamingTheFile) {
                    {"no-such-table.binary"});
 }
 
+// Issue 39: entries that are finite doubles but whose f = stored × scale overflows a float
+// (or exceeds the documented bound, 1e30 1/sr: MerlTable::kMaxValue) were accepted, and
+// eval printed an internal error at those bins. Every command that reads a table refuses
+// it with one line naming the file and the entry; nothing is written.
+const std::string& absurd_table() {  // entry (3, 4, 5): red 1e42 1/sr; the rest 0.1
+  static const mf::TempTable table(mf::temp_path("cli_absurd"));
+  static const bool written = (mf::write_bytes(table.path, mf::table_bytes([](int i, int j, int k, int c) {
+                                 return i == 3 && j == 4 && k == 5 && c == 0 ? 1e42 : 0.1;
+                               })),
+                               true);
+  (void)written;
+  return table.path;
+}
+
+TEST(CliMeasured, EntriesBeyondTheBoundAreRefusedByEveryCommand) {
+  const std::string& path = absurd_table();
+  const std::string m = measured(path);
+  const std::initializer_list<std::string> names = {path, "(3, 4, 5)", "channel r", "1e+30"};
+  expect_bad_input(run_gonio({"eval", "--bsdf", m}, "0 0 1 0 0 1\n"), names);
+  expect_bad_input(run_gonio({"sample", "--bsdf", m}, "0 0 1 0.5 0.5 0.5\n"), names);
+  expect_bad_input(run_gonio({"albedo", "--bsdf", m, "--theta", "30", "--samples", "100"}), names);
+  expect_bad_input(run_gonio({"eval", "--bsdf", R"({"type":"blend","weight":0.5,"bsdfs":[{"type":"diffuse"},)" + m + "]}"},
+                             "0 0 1 0 0 1\n"),
+                   names);
+  const std::string out = mf::temp_path("cli_absurd_out");
+  expect_bad_input(run_gonio({"tabulate", "--bsdf", m, "-o", out}), names);
+  EXPECT_FALSE(std::filesystem::exists(out));
+}
+
+TEST(CliMeasured, EntriesBeyondTheBoundAreRefusedByFitSliceAndRender) {
+  const std::string& path = absurd_table();
+  const std::initializer_list<std::string> names = {path, "(3, 4, 5)", "channel r", "1e+30"};
+  expect_bad_input(run_gonio({"fit", "--data", path, "--model", "roughconductor"}), names);
+  const std::string png = mf::temp_path("cli_absurd_png") + ".png";
+  expect_bad_input(run_gonio({"slice", "--data", path, "-o", png}), names);
+  const TempFile scene(R"({"camera": {"position": [0, 1, 3], "look_at": [0, 0, 0], "fov": 40, "width": 8, "height": 8},
+    "shapes": [{"type": "sphere", "center": [0, 0, 0], "radius": 0.5, "material": )" + measured(path) + R"(}],
+    "environment": {"radiance": 1}})");
+  expect_bad_input(run_gonio({"render", scene.path(), "-o", png, "--spp", "1"}), {path, "(3, 4, 5)"});
+  EXPECT_FALSE(std::filesystem::exists(png));
+}
+
+// Blue 1e300 and green 5e41 (finite doubles both), written in turn over one entry of a
+// good table: each named with its channel (green is read before blue, channel-major).
+TEST(CliMeasured, EntriesBeyondTheBoundAreNamedInEveryChannel) {
+  const mf::TempTable table(mf::temp_path("cli_absurd_channels"));
+  mf::write_bytes(table.path, mf::table_bytes([](int, int, int, int) { return 0.1; }));
+  for (const auto& [f, channel] : {std::pair{1e300, 2}, std::pair{5e41, 1}}) {
+    const std::size_t entry = 179 + 16200 * 80;  // (80, 0, 179)
+    const double stored = f / mf::kScale[channel];
+    std::fstream file(table.path, std::ios::in | std::ios::out | std::ios::binary);
+    file.seekp(std::streamoff(12 + 8 * (std::size_t(channel) * mf::kN + entry)));
+    file.write(reinterpret_cast<const char*>(&stored), 8);  // little-endian hosts
+    file.close();
+    expect_bad_input(run_gonio({"eval", "--bsdf", measured(table.path)}, "0 0 1 0 0 1\n"),
+                     {table.path, "(80, 0, 179)", std::string("channel ") + "rgb"[channel], "1e+30"});
+  }
+}
+
+// At the bound itself a table is read, gives finite values where the commands look (an
+// albedo is a mean of sample weights up to 31.4 f), and `tabulate` writes it back as a
+// table gonio reads again.
+TEST(CliMeasured, EntriesAtTheBoundAreReadAndWrittenBack) {
+  const mf::TempTable table(mf::temp_path("cli_bound")), copy(mf::temp_path("cli_bound_copy"));
+  mf::write_bytes(table.path, mf::table_bytes([](int, int, int, int) { return 1e30; }));
+  const std::string m = measured(table.path);
+  const json e = run_one({"eval", "--bsdf", m}, "0.3 0.1 0.9 -0.2 0.3 0.8\n");
+  EXPECT_NEAR(color3(e["f"])[0], 1e30, 1e24);
+  const json a = run_one({"albedo", "--bsdf", m, "--theta", "60", "--samples", "1000"});
+  EXPECT_NEAR(color3(a["reflectance"])[1], 1e30 * mf::kPi, 0.1 * 1e30 * mf::kPi);
+  run_one({"tabulate", "--bsdf", m, "-o", copy.path});
+  const json back = run_one({"eval", "--bsdf", measured(copy.path)}, "0.3 0.1 0.9 -0.2 0.3 0.8\n");
+  EXPECT_NEAR(color3(back["f"])[0], 1e30, 1e24);
+}
+
 }  // namespace
 }  // namespace gonio_cli_test
