@@ -126,6 +126,28 @@ TEST(CliInputLimits, MaterialFromStdinDevice) {
 }
 
 // ---------------------------------------------------------------------------------------
+// A NUL byte in JSON text (issue 39): the parser took it for the end of the input and
+// silently ignored whatever followed it.
+
+TEST(CliInputLimits, NulByteInMaterialFileIsRefusedWithItsOffset) {
+  const std::string text = std::string(R"({"type":"diffuse"})") + '\0' + R"({"type":"mirror","x":1})";
+  const TempFile file(text);
+  expect_bad_input(run_gonio({"eval", "--bsdf", "@" + file.path()}, kLimitsGoodEvalLine),
+                   {file.path(), "NUL", "offset 18"});
+}
+
+TEST(CliInputLimits, NulByteInSceneAndSurfaceFilesIsRefused) {
+  // A NUL after a complete object, where the rest is no longer looked at.
+  const TempFile surface(std::string(R"({"type":"flat","material":{"type":"diffuse"}})") + '\0');
+  expect_bad_input(run_gonio({"measure", "--surface", "@" + surface.path(), "--preview", "/nonexistent/p.png"}),
+                   {surface.path(), "NUL", "offset 45"});
+  const TempFile scene(std::string("{}") + '\0' + "garbage");
+  const std::string image = scene.path() + ".png";
+  expect_bad_input(run_gonio({"render", scene.path(), "-o", image}), {scene.path(), "NUL", "offset 2"});
+  EXPECT_FALSE(std::filesystem::exists(image));
+}
+
+// ---------------------------------------------------------------------------------------
 // One line, whatever the user typed: control characters in echoed text are escaped.
 
 TEST(CliInputLimits, ControlCharactersInEchoedTextAreEscaped) {
