@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <type_traits>
-#include <charconv>
 #include <cmath>
 #include <cerrno>
 #include <cstdio>
@@ -13,6 +12,7 @@
 #include <unistd.h>
 #include <stdexcept>
 
+#include "cli_number.h"
 #include "gonio/batch.h"
 #include "gonio/json_text.h"
 #include "gonio/material.h"
@@ -69,13 +69,8 @@ CLI::Option* add_wavelength_option(CLI::App& cmd, std::string& text) {
 }
 
 Float parse_wavelength(const std::string& text) {
-  const char* first = text.data();
-  const char* last = first + text.size();
-  if (first != last && *first == '+') ++first;
-  double nm = 0;
-  const auto res = std::from_chars(first, last, nm);
-  const bool number = first != last && res.ec == std::errc() && res.ptr == last;
-  if (!number || !std::isfinite(nm) || nm < double(kLambdaMin) || nm > double(kLambdaMax))
+  const double nm = parse_decimal(text).value_or(NAN);
+  if (!std::isfinite(nm) || nm < double(kLambdaMin) || nm > double(kLambdaMax))
     throw InputError("--wavelength must be a number of nanometres in [" + format_number(double(kLambdaMin)) + ", " +
                      format_number(double(kLambdaMax)) + "], got '" + text + "'");
   return Float(nm);
@@ -136,14 +131,10 @@ std::vector<std::array<double, 6>> read_numbers(std::istream& in, size_t n, cons
       while (p < end && !(*p == ' ' || *p == '\t' || *p == '\r' || *p == ',')) ++p;
       const std::string token(tok, p);
       if (count == n) throw InputError(where + "expected " + std::to_string(n) + " numbers" + what + ", got more");
-      const char* first = tok;
-      if (*first == '+') ++first;
-      double v = 0;
-      const auto res = std::from_chars(first, p, v);
-      if (res.ec != std::errc() || res.ptr != p)
-        throw InputError(where + "'" + token + "' is not a number");
-      if (!std::isfinite(v)) throw InputError(where + "'" + token + "' is not a finite number");
-      row[count++] = v;
+      const std::optional<double> v = parse_decimal(token);
+      if (!v) throw InputError(where + "'" + token + "' is not a number");
+      if (!std::isfinite(*v)) throw InputError(where + "'" + token + "' is not a finite number");
+      row[count++] = *v;
     }
     if (count == 0) continue;  // blank line
     if (count != n)

@@ -8,7 +8,6 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <iostream>
 #include <memory>
 #include <string>
@@ -24,6 +23,7 @@
 #include "gonio/measure/preview.h"
 #include "gonio/measure/surface.h"
 #include "gonio/measure/table.h"
+#include "gonio/output_file.h"
 
 namespace gonio::cli {
 
@@ -63,6 +63,11 @@ void check_writable(const std::string& path, const std::string& option) {
   if (!std::filesystem::is_directory(dir, ec)) throw InputError(option + " " + path + ": no such directory");
   if (std::filesystem::is_directory(p, ec)) throw InputError(option + " " + path + ": is a directory");
   if (::access(dir.c_str(), W_OK) != 0) throw InputError(option + " " + path + ": directory not writable");
+  try {
+    check_output_target(path, "the output");  // a device or FIFO is never replaced
+  } catch (const InputError& e) {
+    throw InputError(option + " " + e.what());
+  }
 }
 
 std::string duration(double s) {
@@ -153,10 +158,11 @@ void emit(const std::string& object, const std::string& json_file) {
     std::cout << object << "\n";
     return;
   }
-  std::ofstream f(json_file, std::ios::binary | std::ios::trunc);
-  f << object << "\n";
-  f.close();
-  if (!f) throw InputError("--json " + json_file + ": cannot write the file");
+  try {
+    write_file_whole(json_file, object + "\n", "the JSON result");
+  } catch (const InputError& e) {
+    throw InputError(std::string("--json ") + e.what());
+  }
   std::cout << "{\"json\":" << quoted(json_file) << "}\n";
 }
 

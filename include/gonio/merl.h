@@ -27,6 +27,8 @@
 
 namespace gonio {
 
+class OutputFile;
+
 // The table's memory (merl.cpp): blocks of 2 MiB and more aligned to 2 MiB, which Linux is
 // asked to back with transparent huge pages (madvise MADV_HUGEPAGE, before the first touch).
 // A lookup's entries lie anywhere in the 17.5 MB; on 4 KiB pages (4,300 of them) most
@@ -132,7 +134,11 @@ std::pair<Vec3, Vec3> merl_directions(double theta_h, double theta_d, double phi
 // Reads a MERL file. Throws InputError "PATH: ..." (one line) for a file that cannot be
 // read, a wrong header, a wrong size or a NaN/Inf entry.
 MerlTable read_merl(const std::string& path);
-// Writes `table` (missing entries as -1 in the file). Throws InputError on I/O failure.
+// Writes `table` (missing entries as -1 in the file) through an OutputFile
+// (gonio/output_file.h): a target that is not a regular file is refused, and the table
+// takes its name only once written whole. Throws InputError "PATH: ..." on any failure.
 void write_merl(const std::string& path, const MerlTable& table);
+// The same into an output made earlier (so that a bad target is refused before the work).
+void write_merl(OutputFile& out, const MerlTable& table);
 
 }  // namespace gonio
