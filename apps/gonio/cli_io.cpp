@@ -86,22 +86,6 @@ std::unique_ptr<MaterialAtWavelength> load_bsdf_at_wavelength(const std::string&
   return m;
 }
 
-CLI::Validator decimal_in_range(std::int64_t lo, std::int64_t hi) {
-  // A transform, not a check: leading zeros are dropped from the text before CLI11
-  // converts it, since CLI11 would read 010 as octal 8.
-  const CLI::Validator decimal(
-      [](std::string& s) -> std::string {
-        const size_t first = (!s.empty() && (s[0] == '-' || s[0] == '+')) ? 1 : 0;
-        const bool ok = s.size() > first && s.find_first_not_of("0123456789", first) == std::string::npos;
-        if (!ok) return "'" + s + "' is not a decimal integer";
-        const size_t nonzero = std::min(s.find_first_not_of('0', first), s.size() - 1);
-        s = (s[0] == '-' ? "-" : "") + s.substr(nonzero);
-        return {};
-      },
-      "", "decimal");
-  return decimal & CLI::Range(lo, hi);
-}
-
 TransportMode parse_mode(const std::string& name) {
   return name == "importance" ? TransportMode::Importance : TransportMode::Radiance;
 }

@@ -1,5 +1,6 @@
 #include "cli_number.h"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <string>
@@ -28,7 +29,23 @@ CLI::Validator decimal_number() {
         if (!std::isfinite(*v)) return "'" + s + "' is not a finite number";
         return {};
       },
-      "NUMBER", "decimal");
+      "", "decimal");
+}
+
+CLI::Validator decimal_in_range(std::int64_t lo, std::int64_t hi) {
+  // A transform, not a check: leading zeros are dropped from the text before CLI11
+  // converts it, since CLI11 would read 010 as octal 8.
+  const CLI::Validator decimal(
+      [](std::string& s) -> std::string {
+        const size_t first = (!s.empty() && (s[0] == '-' || s[0] == '+')) ? 1 : 0;
+        const bool ok = s.size() > first && s.find_first_not_of("0123456789", first) == std::string::npos;
+        if (!ok) return "'" + s + "' is not a decimal integer";
+        const size_t nonzero = std::min(s.find_first_not_of('0', first), s.size() - 1);
+        s = (s[0] == '-' ? "-" : "") + s.substr(nonzero);
+        return {};
+      },
+      "", "decimal");
+  return decimal & CLI::Range(lo, hi);
 }
 
 }  // namespace gonio::cli

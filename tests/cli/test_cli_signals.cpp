@@ -10,8 +10,11 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <string>
 #include <thread>
 #include <vector>
@@ -110,7 +113,18 @@ TEST(CliSignals, RenderWaitingOnAFifoSceneEndsAtTheFirstSignal) {
     const std::string fifo = dir.path("scene.json"), err = dir.path("stderr.txt");
     ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
     BackgroundGonio gonio({"render", fifo, "-o", dir.path("out.png")}, err);
-    std::this_thread::sleep_for(std::chrono::milliseconds(300));  // now waiting in open()
+    // The output's temporary exists once the handler is installed: gonio then waits in
+    // open() (a fixed sleep could signal a slow start, under a sanitizer, too early).
+    const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+    const auto has_temporary = [&] {
+      for (const std::string& n : dir.names())
+        if (n.size() > 5 && n.compare(n.size() - 5, 5, ".part") == 0) return true;
+      return false;
+    };
+    while (!has_temporary() && std::chrono::steady_clock::now() < end)
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    ASSERT_TRUE(has_temporary()) << slurp(err);
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));  // into open()
     gonio.signal(sig);
     EXPECT_EQ(gonio.wait(2.0), 128 + sig) << slurp(err);
     const auto lines = split_lines(slurp(err));
