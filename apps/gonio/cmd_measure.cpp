@@ -10,11 +10,13 @@
 #include <filesystem>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include <nlohmann/json.hpp>
 
 #include "cli_io.h"
+#include "cli_signals.h"
 #include "commands.h"
 #include "gonio/error.h"
 #include "gonio/json_text.h"
@@ -205,7 +207,11 @@ void run_measure(const MeasureArgs& a) {
   }
   options.progress = progress_reporter("measuring");
   const measure::TableReading t = measure::measure_table(micro, options);
-  write_merl(a.output, t.table);
+  // A signal during the 35 MB write removes the temporary (cli_signals.h).
+  install_stop_signals();
+  std::optional<OutputFile> out;
+  create_removable([&] { return out.emplace(a.output, "the table").temporary_path(); });
+  write_merl(*out, t.table);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   emit(table_json(t, surface, a.output, options.seed, seconds), a.json);
 }
