@@ -127,6 +127,8 @@ void OutputFile::commit(const std::function<std::uint64_t(std::FILE*)>& encode) 
   const int closed = std::fclose(f);
   if (closed != 0 && error == 0) error = errno ? errno : EIO;
   if (error != 0) fail_output(path_, "write failed: " + errno_text(error));
+  // Again just before the rename: a render takes hours, and the target may have changed.
+  check_resolved_target(path_, target_, what_);
   if (std::rename(temp_.c_str(), target_.c_str()) != 0) fail_output(path_, "cannot write: " + errno_text(errno));
   committed_ = true;
 }
