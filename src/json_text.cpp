@@ -131,6 +131,11 @@ std::string read_text_file(const std::string& path, std::size_t limit, std::stri
 
 nlohmann::json parse_json_text(std::string_view text, std::string_view source) {
   using nlohmann::json;
+  // nlohmann's lexer reads a NUL byte as the end of the input, so whatever follows one
+  // would be ignored unseen; JSON text cannot hold one (RFC 8259 §7: only as \u0000).
+  if (const size_t nul = text.find('\0'); nul != std::string_view::npos)
+    throw InputError(std::string(source) + ": a NUL byte at byte offset " + std::to_string(nul) + " (" +
+                     line_column(text, nul) + "): JSON text cannot hold one");
   check_depth(text, source);
   try {
     json parsed = json::parse(text.begin(), text.end());

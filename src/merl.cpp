@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <cstring>
 #include <fstream>
+#include <string_view>
 #include <system_error>
 #include <filesystem>
 #include <limits>
@@ -21,6 +22,7 @@
 #endif
 
 #include "gonio/error.h"
+#include "gonio/output_file.h"
 #include "gonio/math/constants.h"
 
 namespace gonio {
@@ -174,6 +176,11 @@ MerlTable read_merl(const std::string& path) {
 }
 
 void write_merl(const std::string& path, const MerlTable& table) {
+  OutputFile out(path, "the table");
+  write_merl(out, table);
+}
+
+void write_merl(OutputFile& out, const MerlTable& table) {
   std::vector<unsigned char> bytes(kFileBytes);
   // What read_merl would refuse is not written: a table gonio writes reads back.
   for (int c = 0; c < 3; ++c)
@@ -181,7 +188,7 @@ void write_merl(const std::string& path, const MerlTable& table) {
       const float f = table.rgb[3 * e + c];
       if (f < 0) continue;
       if (const auto problem = f_problem(double(f)))
-        throw InputError(quoted(path) + ": cannot write " + entry_name(e, c) + ": " + *problem);
+        throw InputError(quoted(out.path()) + ": cannot write " + entry_name(e, c) + ": " + *problem);
     }
   const std::int32_t dims[3] = {MerlTable::kThetaH, MerlTable::kThetaD, MerlTable::kPhiD};
   for (int d = 0; d < 3; ++d) to_little_endian(dims[d], bytes.data() + 4 * d);
@@ -193,25 +200,9 @@ void write_merl(const std::string& path, const MerlTable& table) {
       to_little_endian(stored, channel + e * sizeof(double));
     }
   }
-  // Written beside the target and renamed over it: an interrupted or failed write never
-  // leaves a truncated table under the name.
-  const std::string partial = path + ".partial";
-  {
-    std::ofstream out(partial, std::ios::binary | std::ios::trunc);
-    if (!out) throw InputError(quoted(path) + ": cannot write (" + std::string(std::strerror(errno)) + ")");
-    out.write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
-    out.close();
-    if (!out) {
-      std::remove(partial.c_str());
-      throw InputError(quoted(path) + ": write failed (" + std::string(std::strerror(errno)) + ")");
-    }
-  }
-  std::error_code ec;
-  std::filesystem::rename(partial, path, ec);
-  if (ec) {
-    std::remove(partial.c_str());
-    throw InputError(quoted(path) + ": cannot write (" + ec.message() + ")");
-  }
+  // Written beside the target and renamed over it, every write checked (OutputFile): a
+  // failed write never leaves a truncated table under the name, nor a temporary.
+  out.commit(std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()));
 }
 
 }  // namespace gonio

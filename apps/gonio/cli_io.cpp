@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <type_traits>
-#include <charconv>
 #include <cmath>
 #include <cerrno>
 #include <cstdio>
@@ -13,6 +12,7 @@
 #include <unistd.h>
 #include <stdexcept>
 
+#include "cli_number.h"
 #include "gonio/batch.h"
 #include "gonio/json_text.h"
 #include "gonio/material.h"
@@ -69,13 +69,8 @@ CLI::Option* add_wavelength_option(CLI::App& cmd, std::string& text) {
 }
 
 Float parse_wavelength(const std::string& text) {
-  const char* first = text.data();
-  const char* last = first + text.size();
-  if (first != last && *first == '+') ++first;
-  double nm = 0;
-  const auto res = std::from_chars(first, last, nm);
-  const bool number = first != last && res.ec == std::errc() && res.ptr == last;
-  if (!number || !std::isfinite(nm) || nm < double(kLambdaMin) || nm > double(kLambdaMax))
+  const double nm = parse_decimal(text).value_or(NAN);
+  if (!std::isfinite(nm) || nm < double(kLambdaMin) || nm > double(kLambdaMax))
     throw InputError("--wavelength must be a number of nanometres in [" + format_number(double(kLambdaMin)) + ", " +
                      format_number(double(kLambdaMax)) + "], got '" + text + "'");
   return Float(nm);
@@ -89,22 +84,6 @@ std::unique_ptr<MaterialAtWavelength> load_bsdf_at_wavelength(const std::string&
   // wavelength as the hero, which is the only one printed.
   m->bxdf = to_spectral(m->material.bxdf, m->material.spectra, m->wavelengths, m->scratch);
   return m;
-}
-
-CLI::Validator decimal_in_range(std::int64_t lo, std::int64_t hi) {
-  // A transform, not a check: leading zeros are dropped from the text before CLI11
-  // converts it, since CLI11 would read 010 as octal 8.
-  const CLI::Validator decimal(
-      [](std::string& s) -> std::string {
-        const size_t first = (!s.empty() && (s[0] == '-' || s[0] == '+')) ? 1 : 0;
-        const bool ok = s.size() > first && s.find_first_not_of("0123456789", first) == std::string::npos;
-        if (!ok) return "'" + s + "' is not a decimal integer";
-        const size_t nonzero = std::min(s.find_first_not_of('0', first), s.size() - 1);
-        s = (s[0] == '-' ? "-" : "") + s.substr(nonzero);
-        return {};
-      },
-      "", "decimal");
-  return decimal & CLI::Range(lo, hi);
 }
 
 TransportMode parse_mode(const std::string& name) {
@@ -136,14 +115,10 @@ std::vector<std::array<double, 6>> read_numbers(std::istream& in, size_t n, cons
       while (p < end && !(*p == ' ' || *p == '\t' || *p == '\r' || *p == ',')) ++p;
       const std::string token(tok, p);
       if (count == n) throw InputError(where + "expected " + std::to_string(n) + " numbers" + what + ", got more");
-      const char* first = tok;
-      if (*first == '+') ++first;
-      double v = 0;
-      const auto res = std::from_chars(first, p, v);
-      if (res.ec != std::errc() || res.ptr != p)
-        throw InputError(where + "'" + token + "' is not a number");
-      if (!std::isfinite(v)) throw InputError(where + "'" + token + "' is not a finite number");
-      row[count++] = v;
+      const std::optional<double> v = parse_decimal(token);
+      if (!v) throw InputError(where + "'" + token + "' is not a number");
+      if (!std::isfinite(*v)) throw InputError(where + "'" + token + "' is not a finite number");
+      row[count++] = *v;
     }
     if (count == 0) continue;  // blank line
     if (count != n)

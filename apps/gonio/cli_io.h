@@ -12,6 +12,8 @@
 
 #include <CLI/CLI.hpp>
 
+#include "cli_number.h"  // decimal_number, decimal_in_range: every number option
+
 #include "gonio/bxdf.h"
 #include "gonio/error.h"
 #include "gonio/spectral_material.h"
@@ -48,14 +50,6 @@ inline constexpr std::int64_t kMaxSamples = 1'000'000'000'000;  // --samples 1 t
 inline constexpr std::int64_t kMaxSeed = 2'147'483'647;         // --seed 0 to 2^31 - 1
 inline constexpr std::int64_t kMaxSpp = 1'048'576;              // --spp 1 to 2^20
 inline constexpr std::int64_t kMaxThreads = 1024;               // --threads 0 to 1024
-
-// CLI11 transform for an integer option: decimal digits only (an optional sign, so that a
-// negative value is reported as out of range), leading zeros dropped, and
-// CLI::Range(lo, hi). CLI11's own conversion would also take 0x10, 0b11, 0o7 and 1e3,
-// and read 010 as octal. Use it as
-//   cmd.add_option("--seed", seed)->transform(decimal_in_range(0, kMaxSeed));
-// with an integer type that holds the whole range (std::int64_t).
-CLI::Validator decimal_in_range(std::int64_t lo, std::int64_t hi);
 
 // --mode radiance|importance (validated by CLI11's check; this only maps the name).
 TransportMode parse_mode(const std::string& name);

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "cli_io.h"
+#include "cli_number.h"
 #include "commands.h"
 #include "gonio/hemispherical_average.h"
 #include "gonio/math/spherical.h"
@@ -96,12 +97,15 @@ void register_albedo(CLI::App& app) {
       "Reflectance, transmittance (importance mode: energy) and albedo for light arriving along "
       "wo at --theta (and --phi), or their cosine-weighted average with --hemispherical");
   cmd->add_option("--bsdf", args->bsdf, "material JSON text, or @path to a file holding it")->required();
-  auto* theta = cmd->add_option("--theta", args->theta, "polar angle of wo in degrees, [0, 90]");
+  auto* theta = cmd->add_option("--theta", args->theta, "polar angle of wo in degrees, [0, 90]")
+                     ->check(decimal_number());
   auto* range = cmd->add_option("--theta-range", args->theta_range,
                                 "FROM TO COUNT: COUNT polar angles from FROM to TO degrees, evenly spaced, one line each")
-                    ->expected(3);
+                    ->expected(3)
+                    ->check(decimal_number());
   range->excludes(theta);
-  auto* phi = cmd->add_option("--phi", args->phi, "azimuth of wo in degrees (default 0)");
+  auto* phi = cmd->add_option("--phi", args->phi, "azimuth of wo in degrees (default 0)")
+                   ->check(decimal_number());
   auto* hemi = cmd->add_flag("--hemispherical", args->hemispherical,
                              "rho_hh: average over all wo on one side, cosine-weighted (theta ignored)");
   theta->excludes(hemi);

@@ -27,6 +27,7 @@ std::string seconds(double s) {
 }
 
 void run_fit(const FitArgs& a) {
+  quiet_solver_log();  // a failed fit is one line (ours), not Ceres's log before it
   FitOptions options;
   options.model = a.model;
   options.distribution = a.distribution;

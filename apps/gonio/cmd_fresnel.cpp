@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "cli_io.h"
+#include "cli_number.h"
 #include "cli_mueller.h"
 #include "commands.h"
 #include "gonio/fresnel.h"
@@ -118,17 +119,21 @@ void register_fresnel(CLI::App& app) {
       "Fresnel reflectance at incidence --theta (or each angle of --theta-range) from the outside onto "
       "relative index --eta (+ i --k for a conductor) or a named --material; prints "
       "{\"Rs\",\"Rp\",\"R\",\"T\",\"cos_t\"} per angle");
-  auto* eta = cmd->add_option("--eta", args->eta, "relative index n_inside / n_outside (> 0)");
-  auto* k = cmd->add_option("--k", args->k, "extinction coefficient (conductor); 0 or absent: dielectric");
+  auto* eta = cmd->add_option("--eta", args->eta, "relative index n_inside / n_outside (> 0)")
+                   ->check(decimal_number());
+  auto* k = cmd->add_option("--k", args->k, "extinction coefficient (conductor); 0 or absent: dielectric")
+                 ->check(decimal_number());
   auto* material = cmd->add_option(
       "--material", args->material,
       "a named metal (Au, Ag, Cu, Al, CuZn) or glass (BK7, ...) instead of --eta/--k: every field becomes "
       "[r, g, b], the RGB-mode index (a glass: at 650, 550, 450 nm; a metal: n there, k fitted to its colour)");
   material->excludes(eta)->excludes(k);
-  auto* theta = cmd->add_option("--theta", args->theta, "incidence angle in degrees, [0, 90]");
+  auto* theta = cmd->add_option("--theta", args->theta, "incidence angle in degrees, [0, 90]")
+                     ->check(decimal_number());
   auto* range = cmd->add_option("--theta-range", args->theta_range,
                                 "FROM TO COUNT: COUNT angles from FROM to TO degrees, evenly spaced, one line each")
-                    ->expected(3);
+                    ->expected(3)
+                    ->check(decimal_number());
   range->excludes(theta);
   cmd->add_flag("--schlick", args->schlick, "also print Schlick's approximation");
   cmd->add_flag("--mueller", args->mueller,

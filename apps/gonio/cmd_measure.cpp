@@ -8,14 +8,15 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include <nlohmann/json.hpp>
 
 #include "cli_io.h"
+#include "cli_signals.h"
 #include "commands.h"
 #include "gonio/error.h"
 #include "gonio/json_text.h"
@@ -24,6 +25,7 @@
 #include "gonio/measure/preview.h"
 #include "gonio/measure/surface.h"
 #include "gonio/measure/table.h"
+#include "gonio/output_file.h"
 
 namespace gonio::cli {
 
@@ -64,6 +66,11 @@ void check_writable(const std::string& path, const std::string& option) {
   if (!std::filesystem::is_directory(dir, ec)) throw InputError(option + " " + path + ": no such directory");
   if (std::filesystem::is_directory(p, ec)) throw InputError(option + " " + path + ": is a directory");
   if (::access(dir.c_str(), W_OK) != 0) throw InputError(option + " " + path + ": directory not writable");
+  try {
+    check_output_target(path, "the output");  // a device or FIFO is never replaced
+  } catch (const InputError& e) {
+    throw InputError(option + " " + e.what());
+  }
 }
 
 std::string duration(double s) {
@@ -171,10 +178,11 @@ void emit(const std::string& object, const std::string& json_file) {
     std::cout << object << "\n";
     return;
   }
-  std::ofstream f(json_file, std::ios::binary | std::ios::trunc);
-  f << object << "\n";
-  f.close();
-  if (!f) throw InputError("--json " + json_file + ": cannot write the file");
+  try {
+    write_file_whole(json_file, object + "\n", "the JSON result");
+  } catch (const InputError& e) {
+    throw InputError(std::string("--json ") + e.what());
+  }
   std::cout << "{\"json\":" << quoted(json_file) << "}\n";
 }
 
@@ -223,8 +231,14 @@ void run_measure(const MeasureArgs& a) {
   measure::TableOptions table;
   table.min_expected_rays = double(a.min_rays);
   const measure::TableReading t = measure::measure_table(micro, options, table);
-  write_merl(a.output, t.table);
-  if (!a.stderr_table.empty()) write_merl(a.stderr_table, stderr_table(t));
+  // A signal during the 35 MB writes removes the temporaries (cli_signals.h).
+  install_stop_signals();
+  std::optional<OutputFile> out, err;
+  create_removable([&] { return out.emplace(a.output, "the table").temporary_path(); });
+  if (!a.stderr_table.empty())
+    create_removable([&] { return err.emplace(a.stderr_table, "the standard errors' table").temporary_path(); });
+  write_merl(*out, t.table);
+  if (err) write_merl(*err, stderr_table(t));
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   emit(table_json(t, surface, a.output, options.seed, a.min_rays, seconds), a.json);
 }

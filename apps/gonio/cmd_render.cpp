@@ -4,7 +4,9 @@
 // The output file is created (under a temporary name) before the scene is rendered, so an
 // output that cannot be written costs no rendering time. SIGINT and SIGTERM stop the
 // render between tiles; the passes completed so far are written as an image with fewer
-// samples per pixel, and the exit status is 128 + the signal number (130, 143).
+// samples per pixel, and the exit status is 128 + the signal number (130, 143). Before
+// the render starts, or at a second signal, gonio ends at once and writes nothing
+// (cli_signals.h).
 
 #include <signal.h>
 #include <unistd.h>
@@ -22,6 +24,8 @@
 #include <thread>
 
 #include "cli_io.h"
+#include "cli_number.h"
+#include "cli_signals.h"
 #include "commands.h"
 #include "gonio/error.h"
 #include "gonio/render/image_output.h"
@@ -44,26 +48,6 @@ struct RenderArgs {
   std::int64_t seed = -1;  // -1: the scene's
 };
 
-// Set by the signal handler, read by the renderer between tiles. Only lock-free atomics
-// may be touched in a handler.
-std::atomic<bool> g_stop{false};
-std::atomic<int> g_signal{0};
-static_assert(std::atomic<bool>::is_always_lock_free && std::atomic<int>::is_always_lock_free);
-
-extern "C" void on_stop_signal(int sig) {
-  g_signal.store(sig, std::memory_order_relaxed);
-  g_stop.store(true, std::memory_order_release);  // publishes g_signal to the renderer's acquire
-}
-
-void install_stop_handlers() {
-  struct sigaction sa {};
-  sa.sa_handler = on_stop_signal;
-  sigemptyset(&sa.sa_mask);
-  sa.sa_flags = SA_RESTART;
-  sigaction(SIGINT, &sa, nullptr);
-  sigaction(SIGTERM, &sa, nullptr);
-}
-
 // "1.23 M" style figures for the closing line.
 std::string si(double v) {
   char buf[32];
@@ -80,14 +64,15 @@ void run_render(const RenderArgs& a) {
   if (ext != ".exr" && ext != ".png")
     throw InputError("-o " + a.output + ": the output must end in .exr (linear) or .png (sRGB)");
 
-  // From here on a signal only sets the flag, so the temporary file below is always
-  // removed or renamed; a signal during loading stops the render before it starts.
   if (!a.dop.empty() && lower_extension(a.dop) != ".png")
     throw InputError("--dop " + a.dop + ": the polarization image must end in .png");
-  install_stop_handlers();
-  render::ImageOutput out(a.output);  // an unwritable location fails here, before any work
-  std::optional<render::ImageOutput> dop_out;
-  if (!a.dop.empty()) dop_out.emplace(a.dop);
+  // Until the render starts, a signal ends gonio at once (reading a scene from a FIFO
+  // without a writer waits in open()), removing the temporaries (cli_signals.h).
+  install_stop_signals();
+  std::optional<render::ImageOutput> out, dop_out;
+  // An unwritable location fails here, before any work.
+  create_removable([&] { return out.emplace(a.output).temporary_path(); });
+  if (!a.dop.empty()) create_removable([&] { return dop_out.emplace(a.dop).temporary_path(); });
   render::Scene scene = a.scene.empty() ? render::parse_scene(render::default_scene_json(), "default scene", "")
                                         : render::load_scene_file(a.scene);
   if (a.spp > 0) scene.settings.spp = a.spp;
@@ -105,13 +90,13 @@ void run_render(const RenderArgs& a) {
     throw InputError((a.scene.empty() ? std::string("default scene") : a.scene) +
                      ": /camera/polarizer needs a polarized render (--polarized or \"render\": {\"polarized\": true})");
   // A full disk fails here; a polarized EXR holds four layers (S0..S3).
-  out.reserve(scene.camera.width, scene.camera.height, scene.settings.polarized ? 4 : 1);
+  out->reserve(scene.camera.width, scene.camera.height, scene.settings.polarized ? 4 : 1);
   if (dop_out) dop_out->reserve(scene.camera.width, scene.camera.height);
 
   const bool tty = isatty(STDERR_FILENO) == 1;
   render::RenderOptions options;
   options.threads = a.threads;
-  options.stop = &g_stop;
+  options.stop = &stop_requested();
   int last_step = -1;
   options.progress = [&](double done) {
     if (tty) {
@@ -130,9 +115,12 @@ void run_render(const RenderArgs& a) {
   };
   render::RenderStats stats;
   render::StokesImages stokes;
+  // From here on the first signal stops the render between tiles, and the passes done
+  // are written; a second one ends gonio at once.
+  set_interruptible(true);
   const render::Image image = render::render(scene, options, &stats, &stokes);
   if (tty && last_step >= 0) std::fprintf(stderr, "\n");
-  const int sig = g_signal.load() == SIGTERM ? SIGTERM : SIGINT;
+  const int sig = stop_signal() == SIGTERM ? SIGTERM : SIGINT;
   const char* sig_name = sig == SIGTERM ? "SIGTERM" : "SIGINT";
   if (stats.stopped) exit_status() = 128 + sig;
   if (stats.spp == 0) {
@@ -144,9 +132,9 @@ void run_render(const RenderArgs& a) {
   png.exposure_stops = scene.settings.exposure;
   png.tonemap = scene.settings.filmic ? render::ToneMap::Filmic : render::ToneMap::Clamp;
   if (scene.settings.polarized && ext == ".exr")
-    out.write_exr_layers({{"S0", &stokes[0]}, {"S1", &stokes[1]}, {"S2", &stokes[2]}, {"S3", &stokes[3]}});
+    out->write_exr_layers({{"S0", &stokes[0]}, {"S1", &stokes[1]}, {"S2", &stokes[2]}, {"S3", &stokes[3]}});
   else
-    out.write(image, png);  // a polarized PNG shows S0, the intensity through the polarizer
+    out->write(image, png);  // a polarized PNG shows S0, the intensity through the polarizer
   if (dop_out) dop_out->write_png(render::dop_image(stokes), {0, render::ToneMap::Clamp});
   const unsigned threads = a.threads > 0 ? static_cast<unsigned>(a.threads) : std::max(1u, std::thread::hardware_concurrency());
   if (stats.stopped)
@@ -185,7 +173,8 @@ void register_render(CLI::App& app) {
                 "{\"polarized\": true})");
   cmd->add_option("--polarizer", args->polarizer,
                   "DEG: a linear polarizer before the film, its axis DEG counter-clockwise from the image's +x, "
-                  "-360 to 360 (needs a polarized render; overrides the scene's camera \"polarizer\")");
+                  "-360 to 360 (needs a polarized render; overrides the scene's camera \"polarizer\")")
+      ->check(decimal_number());
   cmd->add_option("--dop", args->dop,
                   "with a polarized render, also write PNG: hue the angle, brightness the degree of linear polarization");
   cmd->callback([args] { run_render(*args); });

@@ -15,12 +15,15 @@
 #include <fstream>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
 #include "cli_io.h"
+#include "cli_number.h"
+#include "cli_signals.h"
 #include "commands.h"
 #include "gonio/error.h"
 #include "gonio/json_text.h"
@@ -38,7 +41,7 @@ struct SliceArgs {
   std::int64_t size = 180;
   bool sqrt_theta_h = false;
   std::vector<double> range;  // LO HI
-  double diff_range = 0;
+  std::optional<double> diff_range;  // absent: automatic
 };
 
 // The `measured` material of a MERL file (SPEC §2).
@@ -96,16 +99,22 @@ void run_slice(const SliceArgs& a) {
                        ": must be LOW HIGH with 0 < LOW < HIGH");
     o.lo = a.range[0], o.hi = a.range[1];
   }
-  if (!(a.diff_range >= 0 && std::isfinite(a.diff_range)))
-    throw InputError("--diff-range " + format_number(a.diff_range) + ": must be a positive fraction");
-  o.diff_range = a.diff_range;
+  if (a.diff_range) {
+    // 0 is the library's "automatic"; given on the command line it is a scale of no width.
+    if (!(*a.diff_range > 0 && std::isfinite(*a.diff_range)))
+      throw InputError("--diff-range " + format_number(*a.diff_range) + ": must be a positive fraction");
+    o.diff_range = *a.diff_range;
+  }
 
-  render::ImageOutput out(a.output);  // an unwritable location fails before any work
+  // An unwritable location fails before any work; a signal removes the temporary.
+  install_stop_signals();
+  std::optional<render::ImageOutput> out;
+  create_removable([&] { return out.emplace(a.output).temporary_path(); });
   const BxDF first = a.data.empty() ? load_bsdf(a.bsdf) : measured_material(a.data, "--data");
   std::unique_ptr<BxDF> other;
   if (!a.compare.empty()) other = std::make_unique<BxDF>(load_other(a.compare));
   const render::SliceFigure fig = render::make_slice(first, other.get(), o);
-  out.write_png(fig.image, {0, render::ToneMap::Clamp});
+  out->write_png(fig.image, {0, render::ToneMap::Clamp});
   std::cout << a.output << "\n";
 }
 }  // namespace
@@ -123,14 +132,17 @@ void register_slice(CLI::App& app) {
   cmd->add_option("--compare", args->compare,
                   "second material: JSON text, @path to a JSON file, or a MERL file; shown beside the first with "
                   "(B - A) / A");
-  cmd->add_option("--phi-d", args->phi_d, "difference azimuth φd in degrees, 0 to 180 (default 90)");
+  cmd->add_option("--phi-d", args->phi_d, "difference azimuth φd in degrees, 0 to 180 (default 90)")
+      ->check(decimal_number());
   cmd->add_option("--size", args->size, "side of each panel in pixels, 16 to 2048 (default 180)")
       ->transform(decimal_in_range(render::kMinSliceSize, render::kMaxSliceSize));
   cmd->add_flag("--sqrt-theta-h", args->sqrt_theta_h, "θh axis linear in √θh (the MERL bins' spacing)");
   cmd->add_option("--range", args->range, "LOW HIGH: the colour scale of f in 1/sr (default: whole decades around the values)")
-      ->expected(2);
+      ->expected(2)
+      ->check(decimal_number());
   cmd->add_option("--diff-range", args->diff_range,
-                  "half-width of the difference scale as a fraction, e.g. 0.1 for ±10% (default: automatic)");
+                  "half-width of the difference scale as a fraction > 0, e.g. 0.1 for ±10% (default: automatic)")
+      ->check(decimal_number());
   cmd->callback([args] { run_slice(*args); });
 }
 

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "cli_io.h"
+#include "cli_number.h"
 #include "commands.h"
 #include "gonio/spectrum/cie.h"
 #include "gonio/spectrum/rgb_to_spectrum.h"
@@ -58,6 +59,7 @@ void register_spectrum(CLI::App& app) {
       "{\"lambda\":[360,365,..,830],\"values\":[..],\"rgb\":[..]}, rgb being the round trip to linear sRGB");
   cmd->add_option("--rgb", args->rgb, "linear sRGB: R G B, each in [0, 1] for a reflectance, >= 0 for light")
       ->expected(3)
+      ->check(decimal_number())
       ->required();
   cmd->add_flag("--emission", args->emission,
                 "light: m S(rgb/m) D65 with m = 2 max(rgb), D65 of luminance 1 (white stays white)");

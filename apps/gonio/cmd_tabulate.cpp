@@ -3,12 +3,16 @@
 #include <chrono>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include <nlohmann/json.hpp>
 
 #include "cli_io.h"
+#include "cli_signals.h"
 #include "commands.h"
+#include "gonio/merl.h"
+#include "gonio/output_file.h"
 #include "gonio/tabulate.h"
 
 namespace gonio::cli {
@@ -20,8 +24,12 @@ struct TabulateArgs {
 
 void run_tabulate(const TabulateArgs& a) {
   const BxDF model = load_bsdf(a.bsdf);
+  // A target that cannot be written fails before the work; a signal removes the temporary.
+  install_stop_signals();
+  std::optional<OutputFile> out;
+  create_removable([&] { return out.emplace(a.output, "the table").temporary_path(); });
   const MerlTable table = tabulate(model);
-  write_merl(a.output, table);
+  write_merl(*out, table);
   std::size_t missing = 0;
   for (std::size_t e = 0; e < MerlTable::kEntries; ++e) missing += table.rgb[3 * e] < 0;
   std::cout << "{\"file\":" << nlohmann::json(a.output).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace) << ",\"entries\":" << MerlTable::kEntries

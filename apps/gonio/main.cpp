@@ -2,10 +2,12 @@
 // lines; errors go to stderr as one line, with exit status 2 for bad input.
 
 #include <cerrno>
+#include <csignal>
 #include <cstdio>
 #include <cstring>
 #include <exception>
 #include <iostream>
+#include <new>
 #include <string>
 
 #include <CLI/CLI.hpp>
@@ -24,6 +26,10 @@ int fail(int status, const std::string& message) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  // Past a file-size limit (ulimit -f) a write then fails with EFBIG, which the writers
+  // report as one line and clean up after, instead of the signal killing gonio with the
+  // temporary left behind.
+  std::signal(SIGXFSZ, SIG_IGN);
   CLI::App app{"gonio: physically based reflection models, evaluated, sampled and measured"};
   app.require_subcommand(1);
   // SPEC §3: `gonio --version` prints `gonio X.Y.Z` (the CMake project version) and exits 0.
@@ -77,6 +83,11 @@ int main(int argc, char** argv) {
     return fail(2, std::string(e.what()) + " (see gonio --help)");
   } catch (const gonio::InputError& e) {
     return fail(2, e.what());
+  } catch (const std::bad_alloc&) {
+    // The documented bounds keep a request within a few GB; one that still does not fit
+    // this machine (or a ulimit) is the request's size, not a bug.
+    return fail(2, "out of memory: the request needs more memory than this machine (or its limit) allows; "
+                   "ask for fewer samples, pixels, angles or detectors");
   } catch (const std::exception& e) {
     return fail(3, std::string("internal error: ") + e.what());
   }

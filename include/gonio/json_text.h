@@ -30,9 +30,10 @@ inline constexpr int kMaxJsonDepth = 64;
 // cannot be opened or read, or is a directory.
 std::string read_text_file(const std::string& path, std::size_t limit, std::string_view kind);
 
-// Parses JSON text; nesting deeper than kMaxJsonDepth, and a key that appears twice in
-// one object, are InputErrors naming the line and column (of the first bracket too deep,
-// of the second occurrence of the key).
+// Parses JSON text; a NUL byte (named by its byte offset), nesting deeper than
+// kMaxJsonDepth, and a key that appears twice in one object, are InputErrors naming the
+// line and column (of the NUL, of the first bracket too deep, of the second occurrence of
+// the key).
 nlohmann::json parse_json_text(std::string_view text, std::string_view source);
 
 // A value as error messages show it: compact JSON, cut to 60 characters.

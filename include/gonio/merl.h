@@ -28,6 +28,8 @@
 
 namespace gonio {
 
+class OutputFile;
+
 // The table's memory (merl.cpp): blocks of 2 MiB and more aligned to 2 MiB, which Linux is
 // asked to back with transparent huge pages (madvise MADV_HUGEPAGE, before the first touch).
 // A lookup's entries lie anywhere in the 17.5 MB; on 4 KiB pages (4,300 of them) most
@@ -147,9 +149,13 @@ MerlTable read_merl(const std::string& path);
 // The same from the file's bytes in memory; `name` (the file, as messages show it)
 // prefixes every error.
 MerlTable parse_merl(std::span<const unsigned char> bytes, const std::string& name);
-// Writes `table` (missing entries as -1 in the file). Throws InputError on I/O failure and
-// for an entry read_merl would refuse (not finite, or above MerlTable::kMaxValue), so that
-// every table gonio writes reads back.
+// Writes `table` (missing entries as -1 in the file) through an OutputFile
+// (gonio/output_file.h): a target that is not a regular file is refused, and the table
+// takes its name only once written whole. Throws InputError "PATH: ..." on any failure,
+// and for an entry read_merl would refuse (not finite, or above MerlTable::kMaxValue), so
+// that every table gonio writes reads back.
 void write_merl(const std::string& path, const MerlTable& table);
+// The same into an output made earlier (so that a bad target is refused before the work).
+void write_merl(OutputFile& out, const MerlTable& table);
 
 }  // namespace gonio

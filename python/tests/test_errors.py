@@ -50,6 +50,13 @@ def test_a_good_dict_is_the_same_material_as_its_text():
                                   .eval(wo, wi)[0])
 
 
+def test_nul_byte_in_material_text_is_refused():
+    # The JSON parser took a NUL for the end of the text and ignored what followed it.
+    for text in ['{"type":"diffuse"}\x00', '{"type":"diffuse"}\x00{"type":"mirror","x":1}']:
+        with pytest.raises(ValueError, match=r"^--bsdf: a NUL byte at byte offset 18 "):
+            gonio.Material(text)
+
+
 def test_wrong_description_type():
     with pytest.raises(ValueError, match="expected JSON text"):
         gonio.Material(3)

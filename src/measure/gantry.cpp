@@ -137,8 +137,14 @@ GantrySpec parse_gantry(std::string_view json_text, std::string_view source) {
       throw InputError(src + ": aperture must be a half-angle in [0.01, 30] degrees, got " + a.dump());
     g.aperture = a.get<double>();
   }
-  if (g.theta_i.size() * g.phi_i.size() > 100000 || g.theta_o.size() * g.phi_o.size() > 100000)
-    throw InputError(src + ": at most 100000 incidences and 100000 detectors");
+  const std::size_t incidences = g.theta_i.size() * g.phi_i.size(), detectors = g.theta_o.size() * g.phi_o.size();
+  if (incidences > kMaxGantryIncidences || detectors > kMaxGantryDetectors)
+    throw InputError(src + ": at most " + std::to_string(kMaxGantryIncidences) + " incidences and " +
+                     std::to_string(kMaxGantryDetectors) + " detectors");
+  if (incidences * detectors > kMaxGantryReadings)
+    throw InputError(src + ": " + std::to_string(incidences) + " incidences x " + std::to_string(detectors) +
+                     " detectors = " + std::to_string(incidences * detectors) + " readings, more than the " +
+                     std::to_string(kMaxGantryReadings) + " one run may take");
   return g;
 }
 

@@ -8,8 +8,8 @@
 #include "gonio/render/image_output.h"
 
 #include "exr_preflight.h"
+#include "gonio/output_file.h"
 
-#include <fcntl.h>
 #include <png.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -32,9 +32,7 @@
 #include <cstring>
 #include <filesystem>
 #include <functional>
-#include <mutex>
 #include <new>
-#include <random>
 #include <stdexcept>
 #include <system_error>
 #include <type_traits>
@@ -516,64 +514,14 @@ uint64_t encode_png(const Image& img, FILE* f, const std::string& path, const Pn
   return uint64_t(end);
 }
 
-// Letters and digits for temporary names, from a generator seeded once per process
-// from the system's entropy and the process id.
-std::string random_suffix() {
-  static std::mutex mutex;
-  static std::mt19937_64 engine(std::random_device{}() ^ (std::uint64_t(::getpid()) << 32));
-  const char digits[] = "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789";
-  std::lock_guard lock(mutex);
-  std::string s(6, 'x');
-  for (char& c : s) c = digits[engine() % 62];
-  return s;
-}
-
 }  // namespace
 
 // ---------------------------------------------------------------------------------------
 // The output file
 
-ImageOutput::ImageOutput(const std::string& path) : path_(path) {
-  namespace fs = std::filesystem;
+ImageOutput::ImageOutput(const std::string& path) : path_(path), file_(path, "the image") {
   const std::string ext = lower_extension(path);
   format_ = ext == ".exr" ? Format::Exr : ext == ".png" ? Format::Png : Format::Unknown;
-  if (path.empty()) fail(path, "empty output path");
-  // Through a symbolic link the image replaces the file it points to, not the link.
-  std::string target = path;
-  std::error_code ec;
-  if (fs::is_symlink(path, ec)) {
-    const fs::path real = fs::canonical(path, ec);
-    if (!ec) target = real.string();
-  }
-  struct stat st {};
-  if (::stat(target.c_str(), &st) == 0) {
-    if (S_ISDIR(st.st_mode)) fail(path, "cannot write the image: it is a directory");
-    if (!S_ISREG(st.st_mode)) fail(path, "cannot write the image: it exists and is not a regular file");
-    if (::access(target.c_str(), W_OK) != 0) fail(path, "cannot write the image: the file is read-only");
-  }
-  if (fs::path(target).filename().empty()) fail(path, "cannot write the image: it is a directory");
-  const std::string dir = fs::path(target).parent_path().string();
-  const std::string shown_dir = dir.empty() ? "." : dir;
-  struct stat ds {};
-  if (::stat(shown_dir.c_str(), &ds) != 0)
-    fail(path, "cannot open for writing: " + errno_text(errno) + " (directory " + shown_dir + ")");
-  if (!S_ISDIR(ds.st_mode)) fail(path, "cannot open for writing: " + shown_dir + " is not a directory");
-  // O_EXCL: a name another process holds is never opened twice; try another.
-  for (int attempt = 0;; ++attempt) {
-    temp_ = target + "." + random_suffix() + ".part";
-    fd_ = ::open(temp_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
-    if (fd_ >= 0) break;
-    const int e = errno;
-    temp_.clear();
-    if (e == EEXIST && attempt < 100) continue;
-    fail(path, "cannot open for writing: " + errno_text(e) + " (directory " + shown_dir + ")");
-  }
-  target_ = target;
-}
-
-ImageOutput::~ImageOutput() {
-  if (fd_ >= 0) ::close(fd_);
-  if (!committed_ && !temp_.empty()) ::unlink(temp_.c_str());
 }
 
 std::uint64_t ImageOutput::max_exr_bytes(int width, int height, int layers) {
@@ -593,18 +541,10 @@ std::uint64_t ImageOutput::max_png_bytes(int width, int height) {
 }
 
 void ImageOutput::reserve(int width, int height, int exr_layers) {
-  if (fd_ < 0) return;
   const std::uint64_t exr = max_exr_bytes(width, height, exr_layers);
-  const std::uint64_t bytes = format_ == Format::Exr   ? exr
-                              : format_ == Format::Png ? max_png_bytes(width, height)
-                                                       : std::max(exr, max_png_bytes(width, height));
-  const int e = ::posix_fallocate(fd_, 0, off_t(bytes));
-  // A file system that cannot reserve space (EOPNOTSUPP, EINVAL) leaves the check to the
-  // write itself, which reports a full disk as well, only later.
-  if (e == 0 || e == EOPNOTSUPP || e == EINVAL) return;
-  char size[32];
-  std::snprintf(size, sizeof size, "%.1f MB", double(bytes) / 1e6);
-  fail(path_, std::string("no room for the image (up to ") + size + "): " + errno_text(e));
+  file_.reserve(format_ == Format::Exr   ? exr
+                : format_ == Format::Png ? max_png_bytes(width, height)
+                                         : std::max(exr, max_png_bytes(width, height)));
 }
 
 void ImageOutput::write(const Image& img, const PngOptions& png) {
@@ -626,32 +566,8 @@ void ImageOutput::write_png(const Image& img, const PngOptions& png) {
   finish([&](FILE* f) { return encode_png(img, f, path_, png); });
 }
 
-// stdio buffers, so a full disk may show only at fflush: it, the length (the reservation
-// may have made the file longer), fsync and fclose are all checked before the file takes
-// its real name.
-void ImageOutput::finish(const std::function<std::uint64_t(FILE*)>& encode) {
-  if (fd_ < 0) fail(path_, "the image was already written");
-  FILE* f = ::fdopen(fd_, "wb");
-  if (!f) fail(path_, "cannot write: " + errno_text(errno));
-  fd_ = -1;  // f owns it now
-  std::uint64_t length = 0;
-  try {
-    length = encode(f);
-  } catch (...) {
-    std::fclose(f);
-    throw;
-  }
-  int error = 0;
-  if (std::fflush(f) != 0 || std::ferror(f)) error = errno ? errno : EIO;
-  if (error == 0 && ::ftruncate(::fileno(f), off_t(length)) != 0) error = errno;
-  if (error == 0 && ::fsync(::fileno(f)) != 0 && errno != EINVAL) error = errno;
-  errno = 0;
-  const int closed = std::fclose(f);
-  if (closed != 0 && error == 0) error = errno ? errno : EIO;
-  if (error != 0) fail(path_, "write failed: " + errno_text(error));
-  if (std::rename(temp_.c_str(), target_.c_str()) != 0) fail(path_, "cannot write: " + errno_text(errno));
-  committed_ = true;
-}
+// OutputFile checks every step of the write before the file takes its real name.
+void ImageOutput::finish(const std::function<std::uint64_t(FILE*)>& encode) { file_.commit(encode); }
 
 void write_exr(const Image& img, const std::string& path) {
   if (img.width() == 0 || img.height() == 0) fail(path, "cannot write an empty image");

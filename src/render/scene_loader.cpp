@@ -455,6 +455,11 @@ struct Loader {
     if (n.has("fov")) c.fov_deg = static_cast<Float>(n.at("fov").number(0, 179, true));
     if (n.has("width")) c.width = n.at("width").integer(1, 16384);
     if (n.has("height")) c.height = n.at("height").integer(1, 16384);
+    // The film and its per-pixel buffers take some 100 bytes a pixel: bounded so that a
+    // render that cannot have its memory is refused before it starts.
+    if (std::int64_t(c.width) * c.height > kMaxFilmPixels)
+      n.fail("width x height = " + std::to_string(std::int64_t(c.width) * c.height) + " pixels, more than the " +
+             std::to_string(kMaxFilmPixels) + " (2^25, e.g. 8192 x 4096) a film may have");
     if (n.has("polarizer")) c.polarizer_deg = static_cast<Float>(n.at("polarizer").number(-360, 360));
     const Vec3 forward = c.look_at - c.position;
     if (!(length_squared(forward) > 0)) n.fail("position and look_at must differ");

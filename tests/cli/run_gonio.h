@@ -8,6 +8,7 @@
 #include <fcntl.h>
 #include <poll.h>
 #include <signal.h>
+#include <sys/resource.h>
 #include <sys/types.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -73,11 +74,35 @@ class TempFile {
   std::string path_;
 };
 
+// Resource limits set in the child before it runs gonio (0: unlimited). A file-size
+// limit makes a write past it fail with EFBIG (gonio ignores SIGXFSZ itself; the child
+// keeps the default action, so that a gonio that did not would be killed and the test
+// fail), which tests a failed write without touching a device; an address-space limit
+// makes an allocation past it fail (std::bad_alloc).
+// AddressSanitizer reserves terabytes of address space for its shadow: under it (the
+// sanitizer build's tests) an address-space limit is not applied.
+#if defined(__SANITIZE_ADDRESS__)
+inline constexpr bool kCanLimitAddressSpace = false;
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+inline constexpr bool kCanLimitAddressSpace = false;
+#else
+inline constexpr bool kCanLimitAddressSpace = true;
+#endif
+#else
+inline constexpr bool kCanLimitAddressSpace = true;
+#endif
+
+struct ChildLimits {
+  rlim_t file_bytes = 0;
+  rlim_t address_space_bytes = 0;
+};
+
 // Runs GONIO_BINARY with `args` (argv[1..]) and `stdin_text` on its standard input.
 // A watchdog kills the child after `timeout_s` seconds (status then 128 + SIGKILL).
 // With `stdout_path`, the child's stdout is that file (e.g. /dev/full) and r.out stays empty.
 inline RunResult run_gonio(const std::vector<std::string>& args, const std::string& stdin_text = "",
-                           int timeout_s = 30, const char* stdout_path = nullptr) {
+                           int timeout_s = 30, const char* stdout_path = nullptr, ChildLimits limits = {}) {
   RunResult r;
   TempFile in(stdin_text, "gonio_cli_stdin");
   const int in_fd = ::open(in.path().c_str(), O_RDONLY | O_CLOEXEC);
@@ -103,6 +128,15 @@ inline RunResult run_gonio(const std::vector<std::string>& args, const std::stri
     ::dup2(in_fd, 0);
     ::dup2(file_out_fd >= 0 ? file_out_fd : out_pipe[1], 1);
     ::dup2(err_pipe[1], 2);
+    if (limits.file_bytes != 0) {
+      ::signal(SIGXFSZ, SIG_DFL);
+      const rlimit fsize{limits.file_bytes, limits.file_bytes};
+      ::setrlimit(RLIMIT_FSIZE, &fsize);
+    }
+    if (limits.address_space_bytes != 0 && kCanLimitAddressSpace) {
+      const rlimit as{limits.address_space_bytes, limits.address_space_bytes};
+      ::setrlimit(RLIMIT_AS, &as);
+    }
     ::execv(argv[0], argv.data());
     const char msg[] = "run_gonio: execv failed\n";
     (void)!::write(2, msg, sizeof msg - 1);
@@ -159,6 +193,11 @@ inline RunResult run_gonio(const std::vector<std::string>& args, const std::stri
 inline RunResult run_gonio_stdout_to(const std::string& stdout_path, const std::vector<std::string>& args,
                                      const std::string& stdin_text = "", int timeout_s = 30) {
   return run_gonio(args, stdin_text, timeout_s, stdout_path.c_str());
+}
+
+// As run_gonio, with resource limits in the child.
+inline RunResult run_gonio_limited(const std::vector<std::string>& args, ChildLimits limits, int timeout_s = 30) {
+  return run_gonio(args, "", timeout_s, nullptr, limits);
 }
 
 inline std::string describe(const RunResult& r) {

@@ -341,6 +341,43 @@ TEST(CliFresnelErrors, MissingOptions) {
 }
 
 // ---------------------------------------------------------------------------------------
+// Floating-point options are decimal, as stdin numbers and integer options are (issue 39):
+// CLI11 alone read "" as 0 and 0x10, 0x1p-2 as 16, 0.25.
+
+TEST(CliNumberErrors, EmptyHexAndHexFloatValuesAreRefused) {
+  const std::string diffuse = kDiffuse;
+  const std::vector<std::vector<std::string>> cases = {
+      {"fresnel", "--eta", "1.5", "--theta", ""},
+      {"fresnel", "--eta", "0x10", "--theta", "30"},
+      {"fresnel", "--eta", "1.5", "--k", "0x1p-2", "--theta", "30"},
+      {"fresnel", "--eta", "1.5", "--theta", "", "--mueller"},
+      {"fresnel", "--eta", "1.5", "--theta-range", "0", "0x10", "3"},
+      {"albedo", "--bsdf", diffuse, "--theta", "", "--samples", "16"},
+      {"albedo", "--bsdf", diffuse, "--theta", "30", "--phi", "0x10", "--samples", "16"},
+      {"spectrum", "--rgb", "", "0.5", "0.5"},
+      {"spectrum", "--rgb", "0x1p-1", "0.5", "0.5"},
+      {"slice", "--bsdf", diffuse, "-o", "/nonexistent/s.png", "--phi-d", ""},
+      {"slice", "--bsdf", diffuse, "-o", "/nonexistent/s.png", "--range", "0x1p-2", "1"},
+      {"slice", "--bsdf", diffuse, "-o", "/nonexistent/s.png", "--diff-range", ""},
+      {"render", "-o", "/nonexistent/r.png", "--polarized", "--polarizer", ""},
+      {"render", "-o", "/nonexistent/r.png", "--polarized", "--polarizer", "0x10"},
+  };
+  for (const auto& args : cases) {
+    SCOPED_TRACE(args[0] + " " + args[args.size() - 2] + " '" + args.back() + "'");
+    const std::string& bad = *std::find_if(args.begin(), args.end(), [](const std::string& a) {
+      return a.empty() || a.find("0x") != std::string::npos;
+    });
+    expect_bad_input(run_gonio(args), {"'" + bad + "'", "decimal"});
+  }
+}
+
+TEST(CliNumberErrors, SliceDiffRangeZeroIsRefused) {
+  // 0 was taken as "automatic"; the documented range is a fraction > 0.
+  expect_bad_input(run_gonio({"slice", "--bsdf", kDiffuse, "-o", "/nonexistent/s.png", "--diff-range", "0"}),
+                   {"--diff-range", "0"});
+}
+
+// ---------------------------------------------------------------------------------------
 // command line as a whole
 
 TEST(CliCommandErrors, NoSubcommand) {

@@ -6,7 +6,10 @@
 #include <unistd.h>
 
 #include <cmath>
+#include <cstring>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <string>
 
 #include "gonio/material.h"
@@ -106,6 +109,24 @@ TEST(CliFit, BadInputIsExitTwoWithOneLine) {
   // Not a MERL table: the reader's error, naming the file.
   TempFile junk("not a table", "gonio_cli_fit_junk");
   expect_bad_input(run_gonio({"fit", "--data", junk.path(), "--model", "ward"}), {junk.path()});
+}
+
+TEST(CliFit, FailedFitIsOneLineWithoutTheSolverLog) {
+  // Entries of 1e300 (a float's infinity once scaled) among those the fit reads: every
+  // start fails in Ceres's first iteration, which logged "WARNING: Logging before
+  // InitGoogleLogging() ..." and "trust_region_minimizer.cc:71] Terminating: ..." before
+  // gonio's own line.
+  std::ifstream in(table().path(), std::ios::binary);
+  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  ASSERT_EQ(bytes.size(), 12 + 3 * 1458000 * sizeof(double));
+  const double huge = 1e300;
+  for (int i = 0; i < 90; ++i)  // (θh i, θd 4, φd 9), read at --stride 9
+    std::memcpy(&bytes[12 + 8 * size_t(9 + 180 * 4 + 16200 * i)], &huge, sizeof huge);
+  const TempFile huge_table(bytes, "gonio_cli_fit_huge");
+  const RunResult r = run_gonio({"fit", "--data", huge_table.path(), "--model", "phong", "--stride", "9"});
+  expect_bad_input(r, {});
+  EXPECT_EQ(r.err.find("InitGoogleLogging"), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("Terminating"), std::string::npos) << r.err;
 }
 
 }  // namespace

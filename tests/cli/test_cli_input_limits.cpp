@@ -4,6 +4,7 @@
 // stdout. Every case keeps the SPEC §3 contract: exit 2, one stderr line, empty stdout.
 
 #include <chrono>
+#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -123,6 +124,67 @@ TEST(CliInputLimits, MaterialFromStdinDevice) {
   EXPECT_EQ(r.status, 0) << describe(r);
   EXPECT_NE(r.out.find("\"albedo\":[0.5,0.5,0.5]"), std::string::npos) << describe(r);
   expect_bad_input(run_gonio({"eval", "--bsdf", "@/tmp"}, kLimitsGoodEvalLine), {"/tmp", "directory"});
+}
+
+// ---------------------------------------------------------------------------------------
+// Requests that cannot have their memory (issue 39): refused before any work, naming the
+// bound; an allocation that fails anyway is "out of memory", exit 2, not an internal
+// error. The runs are limited to 2 GB of address space, so that a regression fails with
+// bad_alloc instead of taking the machine's memory.
+
+constexpr rlim_t kLimitsAddressSpace = rlim_t(2) << 30;
+
+TEST(CliInputLimits, GantryOfTooManyReadingsIsRefusedBeforeTheFirstRay) {
+  const std::string gantry =
+      R"({"theta_i":{"from":0,"to":80,"count":10000},"theta_o":{"from":0,"to":80,"count":10000}})";
+  const auto t0 = std::chrono::steady_clock::now();
+  const RunResult r = run_gonio_limited({"measure", "--surface", R"({"type":"flat","material":{"type":"diffuse"}})",
+                                         "--gantry", gantry, "--samples", "1000"},
+                                        {0, kLimitsAddressSpace}, 20);
+  expect_bad_input(r, {"--gantry", "100000000 readings", "1000000"});
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 2.0);
+}
+
+TEST(CliInputLimits, FilmOfTooManyPixelsIsRefusedBeforeRendering) {
+  const TempFile scene(R"({"camera":{"width":16384,"height":16384}})");
+  const std::string image = scene.path() + ".png";
+  const RunResult r = run_gonio_limited({"render", scene.path(), "-o", image}, {0, kLimitsAddressSpace}, 20);
+  expect_bad_input(r, {scene.path(), "/camera", "268435456 pixels", "33554432"});
+  EXPECT_FALSE(std::filesystem::exists(image));
+}
+
+TEST(CliInputLimits, AllocationThatFailsIsOutOfMemoryNotAnInternalError) {
+  // A film within the bound (8192 x 4096) needs over 1 GB; under a 512 MB limit its first
+  // buffer cannot be had, which was "internal error: std::bad_alloc", exit 3.
+  if (!kCanLimitAddressSpace) GTEST_SKIP() << "no address-space limit under AddressSanitizer";
+  const TempFile scene(R"({"camera":{"width":8192,"height":4096}})");
+  const std::string image = scene.path() + ".png";
+  const RunResult r =
+      run_gonio_limited({"render", scene.path(), "-o", image, "--spp", "1", "--threads", "1"}, {0, rlim_t(512) << 20});
+  expect_bad_input(r, {"out of memory"});
+  EXPECT_FALSE(std::filesystem::exists(image));
+}
+
+// ---------------------------------------------------------------------------------------
+// A NUL byte in JSON text (issue 39): the parser took it for the end of the input and
+// silently ignored whatever followed it.
+
+TEST(CliInputLimits, NulByteInMaterialFileIsRefusedWithItsOffset) {
+  const std::string text = std::string(R"({"type":"diffuse"})") + '\0' + R"({"type":"mirror","x":1})";
+  const TempFile file(text);
+  expect_bad_input(run_gonio({"eval", "--bsdf", "@" + file.path()}, kLimitsGoodEvalLine),
+                   {file.path(), "NUL", "offset 18"});
+}
+
+TEST(CliInputLimits, NulByteInSceneAndSurfaceFilesIsRefused) {
+  // A NUL after a complete object, where the rest is no longer looked at.
+  const TempFile surface(std::string(R"({"type":"flat","material":{"type":"diffuse"}})") + '\0');
+  expect_bad_input(run_gonio({"measure", "--surface", "@" + surface.path(), "--preview", "/nonexistent/p.png"}),
+                   {surface.path(), "NUL", "offset 45"});
+  const TempFile scene(std::string("{}") + '\0' + "garbage");
+  const std::string image = scene.path() + ".png";
+  expect_bad_input(run_gonio({"render", scene.path(), "-o", image}), {scene.path(), "NUL", "offset 2"});
+  EXPECT_FALSE(std::filesystem::exists(image));
 }
 
 // ---------------------------------------------------------------------------------------

@@ -225,5 +225,22 @@ TEST(Gantry, BadSpecIsOneLineInputError) {
   EXPECT_EQ(g.aperture, 2);
 }
 
+TEST(Gantry, ReadingsAreBoundedAtAMillion) {
+  // incidences x detectors: 1000 x 1000 is accepted, 1000 x 1001 refused before any ray
+  // (10^4 x 10^4 once traced for 96 s and then ran out of memory).
+  const GantrySpec at = parse_gantry(R"({"theta_i":{"from":0,"to":80,"count":1000},)"
+                                     R"("theta_o":{"from":0,"to":80,"count":1000}})");
+  EXPECT_EQ(at.theta_i.size() * at.theta_o.size(), kMaxGantryReadings);
+  try {
+    parse_gantry(R"({"theta_i":{"from":0,"to":80,"count":1000},"theta_o":{"from":0,"to":80,"count":1001}})");
+    ADD_FAILURE() << "1001000 readings were accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("--gantry: 1000 incidences x 1001 detectors = 1001000 readings"),
+              std::string::npos)
+        << e.what();
+    EXPECT_NE(std::string(e.what()).find("1000000"), std::string::npos) << e.what();
+  }
+}
+
 }  // namespace
 }  // namespace gonio::measure

@@ -54,4 +54,9 @@ void check_fit_options(const FitOptions& options);
 // distribution, a bad or mismatched init, or a table with no usable entry.
 FitResult fit_merl(const MerlTable& table, const FitOptions& options);
 
+// Silences the solver's own log (Ceres's glog messages on stderr, e.g. "Terminating: ..."
+// when a start fails) for the whole process, so that a failed fit is reported by the one
+// line of its InputError. A program that wants glog's messages does not call it.
+void quiet_solver_log();
+
 }  // namespace gonio

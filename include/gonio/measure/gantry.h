@@ -29,10 +29,18 @@ struct GantrySpec {
   double aperture = 2.0;  // detector half-angle β in degrees, (0, 30]
 };
 
+// Most incidences, detectors, and readings (incidences × detectors) of one run: every
+// reading holds its sums per block batch and in the result, some 200 bytes of memory and
+// of JSON output each, so a million readings take a few hundred MB, and 10^4 × 10^4
+// (tens of GB) is refused before the first ray instead of failing for memory after it.
+inline constexpr std::size_t kMaxGantryIncidences = 100'000;
+inline constexpr std::size_t kMaxGantryDetectors = 100'000;
+inline constexpr std::size_t kMaxGantryReadings = 1'000'000;
+
 // JSON: {"theta_i": A, "phi_i": A, "theta_o": A, "phi_o": A, "aperture": deg}, each A a
 // number, a list of numbers, or a range {"from": a, "to": b, "count": n} (both ends
 // included). theta_o is required; theta_i, phi_i, phi_o default to 0 and aperture to 2.
-// Throws InputError naming `source` and the field.
+// Throws InputError naming `source` and the field, or the bound exceeded (above).
 GantrySpec parse_gantry(std::string_view json_text, std::string_view source = "--gantry");
 
 // ∫ |cos θ| dω over the part of the cone (axis at polar angle theta_c, half-angle beta,

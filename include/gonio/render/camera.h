@@ -3,12 +3,17 @@
 // `fov_deg`. Pixel (0, 0) is the top-left corner of the image.
 
 #include <cmath>
+#include <cstdint>
 #include <optional>
 
 #include "gonio/math/vec3.h"
 #include "gonio/render/ray.h"
 
 namespace gonio::render {
+
+// Most pixels a film may have (width x height): its buffers take some 100 bytes a pixel,
+// so 2^25 pixels (e.g. 8192 x 4096) stay within a few GB; more is refused up front.
+inline constexpr std::int64_t kMaxFilmPixels = std::int64_t(1) << 25;
 
 struct Camera {
   Vec3 position{0, 1, 5}, look_at{0, 1, 0}, up{0, 1, 0};

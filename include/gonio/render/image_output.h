@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "gonio/output_file.h"
 #include "gonio/render/image.h"
 
 namespace gonio::render {
@@ -23,7 +24,7 @@ class ImageOutput {
   // "<path>: <problem>" when the extension is not .exr or .png, when `path` is a directory
   // or something else than a regular file, or when the file cannot be created.
   explicit ImageOutput(const std::string& path);
-  ~ImageOutput();  // removes the temporary unless the image was committed
+  // The temporary is removed unless the image was committed (OutputFile).
   ImageOutput(const ImageOutput&) = delete;
   ImageOutput& operator=(const ImageOutput&) = delete;
 
@@ -43,7 +44,7 @@ class ImageOutput {
   void write_exr_layers(const std::vector<ExrLayer>& layers);
 
   const std::string& path() const { return path_; }
-  const std::string& temporary_path() const { return temp_; }
+  const std::string& temporary_path() const { return file_.temporary_path(); }
 
   // Upper bounds of the file sizes of the two encoders (bytes), for reserve().
   static std::uint64_t max_exr_bytes(int width, int height, int layers = 1);
@@ -55,10 +56,9 @@ class ImageOutput {
   // renames.
   void finish(const std::function<std::uint64_t(std::FILE*)>& encode);
 
-  std::string path_, target_, temp_;  // target_: path_ with a symbolic link resolved
+  std::string path_;
+  OutputFile file_;  // the temporary, its checks and its rename (gonio/output_file.h)
   Format format_ = Format::Unknown;
-  int fd_ = -1;
-  bool committed_ = false;
 };
 
 }  // namespace gonio::render
