@@ -205,6 +205,19 @@ inline std::string describe(const RunResult& r) {
          "--- stderr ---\n" + r.err;
 }
 
+// The subcommands the tool knows, from its own error for an unknown one.
+inline std::vector<std::string> gonio_subcommands() {
+  const RunResult r = run_gonio({"no-such-subcommand"});
+  const auto open = r.err.find("(known: "), close = r.err.rfind(')');
+  EXPECT_NE(open, std::string::npos) << r.err;
+  std::vector<std::string> names;
+  if (open == std::string::npos) return names;
+  std::stringstream list(r.err.substr(open + 8, close - open - 8));
+  std::string name;
+  while (std::getline(list, name, ',')) names.push_back(name.substr(name.find_first_not_of(' ')));
+  return names;
+}
+
 inline std::vector<std::string> split_lines(const std::string& s) {
   std::vector<std::string> lines;
   std::string cur;

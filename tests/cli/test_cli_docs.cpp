@@ -21,19 +21,6 @@ std::string read_source_file(const std::string& rel) {
   return s.str();
 }
 
-// The subcommands the tool knows, from its own error for an unknown one.
-std::vector<std::string> subcommands() {
-  const RunResult r = run_gonio({"no-such-subcommand"});
-  const auto open = r.err.find("(known: "), close = r.err.rfind(')');
-  EXPECT_NE(open, std::string::npos) << r.err;
-  std::vector<std::string> names;
-  if (open == std::string::npos) return names;
-  std::stringstream list(r.err.substr(open + 8, close - open - 8));
-  std::string name;
-  while (std::getline(list, name, ',')) names.push_back(name.substr(name.find_first_not_of(' ')));
-  return names;
-}
-
 bool mentions_option(const std::string& text, const std::string& option) {
   for (size_t at = text.find(option); at != std::string::npos; at = text.find(option, at + 1)) {
     const size_t end = at + option.size();
@@ -45,7 +32,7 @@ bool mentions_option(const std::string& text, const std::string& option) {
 TEST(CliDocs, EverySubcommandAndOptionIsInDocsCliMd) {
   const std::string doc = read_source_file("docs/cli.md");
   ASSERT_FALSE(doc.empty());
-  const auto names = subcommands();
+  const auto names = gonio_subcommands();
   EXPECT_GE(names.size(), 8u);
   for (const auto& name : names) {
     EXPECT_NE(doc.find("\n## `gonio " + name), std::string::npos) << "docs/cli.md has no section for " << name;
