@@ -111,3 +111,43 @@ for name, data in exrs.items():
         f.write(data)
 with open(os.path.join(here, "data", "tex.exr"), "wb") as f:
     f.write(exrs["rgb_float"])
+
+# MERL tables for fuzz_merl (its header says how the bytes describe a table): byte 0 odd,
+# a base value for every entry, then runs (u32 first entry, u16 run length - 1, double).
+def merl_seed(base, runs=()):
+    return b"\x01" + struct.pack("<d", base) + b"".join(struct.pack("<IHd", *r) for r in runs)
+
+os.makedirs(os.path.join(corpus, "merl"), exist_ok=True)
+merl_seeds = {
+    "lambert": merl_seed(0.5 / 3.141592653589793 * 1500),           # red f = 0.5/pi everywhere
+    "missing-blocks": merl_seed(150.0, [(0, 65535, -1.0), (1458000 + 300000, 65535, -1.0)]),
+    "at-the-bound": merl_seed(1e30 * 1500, [(5, 0, 0.0)]),          # f = 1e30 1/sr in red
+    "above-the-bound": merl_seed(150.0, [(3 * 180 + 4, 0, 1e42 * 1500)]),  # issue 39
+    "overflow-1e300": merl_seed(150.0, [(2 * 1458000 + 7, 0, 1e300)]),
+    "denormal-peak": merl_seed(5e-324, [(0, 200, 1e6)]),
+    "negative-zero": merl_seed(-0.0, [(1000, 100, 1.0)]),
+    "nan-entry": merl_seed(1.0, [(17, 0, float("nan"))]),
+    "all-missing": merl_seed(-1.0),
+}
+for name, data in merl_seeds.items():
+    with open(os.path.join(corpus, "merl", f"seed-{name}"), "wb") as f:
+        f.write(data)
+# Byte 0 even: a file's bytes as they are (header and size checks).
+with open(os.path.join(corpus, "merl", "seed-file-header-only"), "wb") as f:
+    f.write(b"\x00" + struct.pack("<3i", 90, 90, 180))
+with open(os.path.join(corpus, "merl", "seed-file-wrong-header"), "wb") as f:
+    f.write(b"\x00" + struct.pack("<3i", 90, 90, 360) + struct.pack("<d", 1.0))
+
+# Surface descriptions for fuzz_surface (SPEC §3 `gonio measure --surface`).
+surfaces = [
+    '{"type":"flat","material":{"type":"diffuse"}}',
+    '{"type":"gaussian","alpha":0.3,"resolution":16,"material":{"type":"mirror"}}',
+    '{"type":"gaussian","alpha":[0.1,0.5],"resolution":32,"correlation":0.25,"seed":7,"size":2,'
+    '"material":{"type":"roughconductor","alpha":0.1,"material":"Au"}}',
+    '{"type":"vgroove","angle":45,"grooves":4,"material":{"type":"dielectric","eta":1.5}}',
+    '{"type":"image","file":"tex.png","height":0.1,"material":{"type":"diffuse","reflectance":0.8}}',
+]
+os.makedirs(os.path.join(corpus, "surface"), exist_ok=True)
+for i, s in enumerate(surfaces):
+    with open(os.path.join(corpus, "surface", f"seed-{i:02d}"), "wb") as f:
+        f.write(s.encode())

@@ -2,7 +2,7 @@
 # Executions so far per target of fuzz/run_long.sh: finished runs report
 # stat::number_of_executed_units, a running one its last "#N" status line.
 out="${1:-/tmp/gonio-fuzz-long}"
-for t in material scene obj png exr; do
+for t in material merl scene obj png exr surface; do
   total=0
   for log in "$out/$t"/run-*.log "$out/$t"/fuzz-0.log; do
     [ -f "$log" ] || continue

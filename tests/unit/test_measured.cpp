@@ -13,6 +13,7 @@
 #include <cstring>
 #include <filesystem>
 #include <functional>
+#include <limits>
 #include <fstream>
 #include <random>
 #include <string>
@@ -163,6 +164,41 @@ TEST(MerlFormat, RejectsBadFilesWithOneLine) {
     ADD_FAILURE() << "missing file accepted";
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("measured: "), std::string::npos) << e.what();
+  }
+}
+
+// Issue 39: the bound MerlTable::kMaxValue = 1e30 1/sr on f. In memory (parse_merl, the
+// bytes of a file): an entry just above it is refused naming entry and channel, one at it is
+// held; a negative entry of any size is "not measured". write_merl refuses to write what
+// the reader would refuse, so that every table gonio writes reads back.
+TEST(MerlFormat, ValuesAboveTheBoundAreNeitherReadNorWritten) {
+  auto bytes = mf::table_bytes([](int, int, int, int) { return 0.1; });
+  const auto store = [&bytes](int channel, std::size_t entry, double f) {
+    const double stored = f / mf::kScale[channel];
+    std::memcpy(&bytes[12 + 8 * (std::size_t(channel) * mf::kN + entry)], &stored, 8);
+  };
+  store(2, 7, 1e30);        // at the bound
+  store(0, 8, -1e300);      // not measured, however large
+  const MerlTable at = parse_merl(bytes, "t.binary");
+  EXPECT_EQ(at.rgb[3 * 7 + 2], 1e30f);
+  EXPECT_EQ(at.rgb[3 * 8 + 0], MerlTable::kMissing);
+  store(1, 9, 1.0001e30);   // just above it
+  try {
+    parse_merl(bytes, "t.binary");
+    ADD_FAILURE() << "1.0001e30 accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("t.binary: MERL entry (0, 0, 9) of channel g"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("1e+30"), std::string::npos) << e.what();
+  }
+  MerlTable t;
+  t.rgb[3 * 5 + 1] = 1e30f;
+  const mf::TempTable file(mf::temp_path("bound_write"));
+  write_merl(file.path, t);
+  EXPECT_EQ(read_merl(file.path).rgb[3 * 5 + 1], 1e30f);
+  for (const float bad : {1.0001e30f, std::numeric_limits<float>::infinity(), std::numeric_limits<float>::quiet_NaN()}) {
+    t.rgb[3 * 6 + 2] = bad;
+    EXPECT_THROW(write_merl(file.path, t), InputError) << bad;
+    EXPECT_EQ(read_merl(file.path).rgb[3 * 5 + 1], 1e30f);  // the file is left as it was
   }
 }
 
