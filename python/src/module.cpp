@@ -674,6 +674,7 @@ py::dict fit(const std::string& data, const std::string& model, const std::strin
   options.stride = stride;
   if (!init.is_none()) options.init = parse_json_text(json_text_of(init), "--init");
   check_fit_options(options);
+  quiet_solver_log();  // a failed fit is the one exception, not Ceres's log on stderr before it
   FitResult r;
   {
     py::gil_scoped_release release;
