@@ -5,23 +5,27 @@
 // them, and from the tests' cos 2φd patterns: this table has a sin 2φd term, which tells
 // −φd (folded: 180° − φd) from φd.
 //
-// Independence: the table is written by the tests' own writer (tests/merl_files.h); the
-// directions come from Rusinkiewicz's frame, written out below; the expected value is the
-// analytic pattern at φd taken modulo 180°.
+// Independence: the table's bin centres are SPEC §2's, the directions come from
+// Rusinkiewicz's frame, both written out below; the expected value is the analytic pattern
+// at φd taken modulo 180°.
 
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <string>
+#include <memory>
 #include <utility>
 
-#include "../merl_files.h"
-#include "gonio/material.h"
+#include "gonio/bxdf/measured.h"
+#include "gonio/measured_data.h"
+#include "gonio/merl.h"
 
 namespace gonio {
 namespace {
 
-namespace mfold = gonio_test_merl;
+// Bin centres (SPEC §2), radians: θh = ((i + ½)/90)² π/2, θd = (j + ½)°, φd = (k + ½)°.
+double fold_theta_h(int i) { return std::pow((i + 0.5) / 90, 2) * kPiD / 2; }
+double fold_theta_d(int j) { return (j + 0.5) * kPiD / 180; }
+double fold_phi_d(int k) { return (k + 0.5) * kPiD / 180; }
 
 // The pattern, a function of the table's angles: positive, with both parities in φd, and a
 // sum of one term per angle.
@@ -44,19 +48,19 @@ std::pair<Vec3, Vec3> fold_directions(double th, double td, double pd) {
 // and −φd (the pair mirrored through the plane of incidence) it must return the pattern at
 // φd, φd and 180° − φd respectively.
 TEST(Measured, FoldsPhiDByReciprocityNotByMirrorSymmetry) {
-  const mfold::TempTable file(mfold::temp_path("phid_fold"));
-  // The pattern's terms per axis, computed once (the writer asks for 3 · 90 · 90 · 180 values).
-  double by_i[mfold::kTH], by_j[mfold::kTD], by_k[mfold::kPD];
-  for (int i = 0; i < mfold::kTH; ++i) by_i[i] = fold_pattern(mfold::theta_h(i), 0, kPiD / 4) - fold_pattern(0, 0, kPiD / 4);
-  for (int j = 0; j < mfold::kTD; ++j) by_j[j] = fold_pattern(0, mfold::theta_d(j), kPiD / 4) - fold_pattern(0, 0, kPiD / 4);
-  for (int k = 0; k < mfold::kPD; ++k) by_k[k] = fold_pattern(0, 0, mfold::phi_d(k));
-  mfold::write_bytes(file.path, mfold::table_bytes([&](int i, int j, int k, int) { return by_i[i] + by_j[j] + by_k[k]; }));
-  const BxDF m = parse_material(R"({"type":"measured","file":")" + file.path + R"("})");
+  // The table in memory, as read_merl would make it (the MERL file format has tests of its
+  // own): writing and reading 35 MB would be most of this test's time.
+  MerlTable table;
+  for (int i = 0; i < MerlTable::kThetaH; ++i)
+    for (int j = 0; j < MerlTable::kThetaD; ++j)
+      for (int k = 0; k < MerlTable::kPhiD; ++k)
+        table.set(i, j, k, Color(Float(fold_pattern(fold_theta_h(i), fold_theta_d(j), fold_phi_d(k)))));
+  const MeasuredBxDF m = MeasuredBxDF::make(std::make_shared<const MeasuredData>(std::move(table)));
   int checked = 0;
   for (int i = 5; i < 90; i += 7)
     for (int j = 3; j < 90; j += 11)
       for (int k = 2; k < 180; k += 13) {
-        const double th = mfold::theta_h(i), td = mfold::theta_d(j), pd = mfold::phi_d(k);
+        const double th = fold_theta_h(i), td = fold_theta_d(j), pd = fold_phi_d(k);
         const struct {
           double phi, expected_phi;
           const char* what;
@@ -65,7 +69,7 @@ TEST(Measured, FoldsPhiDByReciprocityNotByMirrorSymmetry) {
           const auto [wo, wi] = fold_directions(th, td, c.phi);
           if (wo.z < 0.05 || wi.z < 0.05) continue;
           const double want = fold_pattern(th, td, c.expected_phi);
-          ASSERT_NEAR(m.f(wo, wi)[0], want, 1e-3 * want) << c.what << ": i " << i << ", j " << j << ", k " << k;
+          ASSERT_NEAR(m.f(wo, wi, TransportMode::Radiance)[0], want, 1e-3 * want) << c.what << ": i " << i << ", j " << j << ", k " << k;
           ++checked;
         }
       }
