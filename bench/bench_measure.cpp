@@ -212,7 +212,8 @@ void BM_EntryQueries(benchmark::State& state) {
 BENCHMARK(BM_EntryQueries)->ArgsProduct({{512, 2048}, {1, 2}, {0, 1}})
     ->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
 
-// The MERL table mode (uniform incidences, every exit binned), 2 M rays; args: threads, tracer.
+// The MERL table mode (uniform incidences, every exit binned), 2 M rays of the estimate and the
+// pilot's 0.5 M (table.h); rays/s counts the estimate's. Args: threads, tracer.
 void BM_TableRays(benchmark::State& state) {
   const Microsurface& s = surface(512, int(state.range(1)));
   RunOptions o;
