@@ -37,6 +37,7 @@ struct MeasureArgs {
   std::int64_t seed = 0;
   std::int64_t max_bounces = measure::Microsurface::kDefaultMaxBounces;
   std::int64_t min_rays = std::int64_t(measure::kTableMinExpectedRays);
+  bool min_rays_given = false;
 };
 
 struct ArgText {
@@ -203,8 +204,10 @@ void run_measure(const MeasureArgs& a) {
   }
   if (!a.output.empty()) check_writable(a.output, "-o");
   if (!a.json.empty()) check_writable(a.json, "--json");
+  if (a.min_rays_given && a.output.empty()) throw InputError("--min-rays: give it with -o (a MERL table)");
   if (!a.stderr_table.empty()) {
     if (a.output.empty()) throw InputError("--stderr-table: give it with -o (a MERL table)");
+    if (a.stderr_table == a.output) throw InputError("--stderr-table " + a.stderr_table + ": the same file as -o");
     check_writable(a.stderr_table, "--stderr-table");
   }
   if (!a.preview.empty()) {
@@ -259,7 +262,7 @@ void register_measure(CLI::App& app) {
   cmd->add_option("--stderr-table", args->stderr_table,
                   "with -o: also write each entry's standard error (1/sr) as a MERL table (.binary) of the same "
                   "layout, missing where the table is");
-  cmd->add_option("--min-rays", args->min_rays,
+  CLI::Option* min_rays = cmd->add_option("--min-rays", args->min_rays,
                   "with -o: the rays an entry must expect (for a Lambertian sample, or from the pilot's rays) to be "
                   "written, 0 to 1000000 (default 25; 0: every bin above the horizon)")
       ->transform(decimal_in_range(0, 1'000'000));
@@ -277,7 +280,10 @@ void register_measure(CLI::App& app) {
                   "facet interactions allowed to a ray, 1 to 1000000 (default 1000; a ray that meets one more "
                   "facet is dropped and counted as capped; 1: single scattering alone)")
       ->transform(decimal_in_range(1, 1'000'000));
-  cmd->callback([args] { run_measure(*args); });
+  cmd->callback([args, min_rays] {
+    args->min_rays_given = min_rays->count() > 0;
+    run_measure(*args);
+  });
 }
 
 }  // namespace gonio::cli

@@ -37,7 +37,17 @@ TEST(MeasureCli, BadInputExitsTwoWithOneLine) {
   expect_bad_input(run_gonio({"measure", "--surface", kFlat, "--gantry", R"({"theta_o":90})"}), {"--gantry"});
   expect_bad_input(run_gonio({"measure", "--surface", kFlat, "--gantry", R"({"theta_o":[10]})", "-o", tmp}), {"-o"});
   expect_bad_input(run_gonio({"measure", "--surface", kFlat, "--preview", "/tmp/x.txt"}), {"--preview"});
+  // The table's own options: a range, and only with -o, never onto the table itself.
+  expect_bad_input(run_gonio({"measure", "--surface", kFlat, "-o", tmp, "--min-rays", "-1"}), {"--min-rays"});
+  expect_bad_input(run_gonio({"measure", "--surface", kFlat, "-o", tmp, "--min-rays", "2.5"}), {"--min-rays"});
+  expect_bad_input(run_gonio({"measure", "--surface", kFlat, "--gantry", R"({"theta_o":[10]})", "--min-rays", "3"}),
+                   {"--min-rays", "-o"});
+  expect_bad_input(run_gonio({"measure", "--surface", kFlat, "--gantry", R"({"theta_o":[10]})", "--stderr-table",
+                              tmp + ".e"}),
+                   {"--stderr-table", "-o"});
+  expect_bad_input(run_gonio({"measure", "--surface", kFlat, "-o", tmp, "--stderr-table", tmp}), {"--stderr-table"});
   EXPECT_FALSE(std::filesystem::exists(tmp));
+  EXPECT_FALSE(std::filesystem::exists(tmp + ".e"));
 }
 
 TEST(MeasureCli, GantryPrintsOneObject) {
