@@ -26,10 +26,10 @@
 //     (default 25) of the N rays, by a lower bound on N ∫∫_B p(ωi) cos θo/π (table.cpp,
 //     reference_rays); or
 //   - by the pilot: a separate run of N/4 rays of their own (their own random streams,
-//     independent of the estimate's N) put c rays into it with 4 (c − 2√c) ≥ K — the
-//     expected count K reached even two Poisson deviations below what the pilot saw
-//     (this writes a glossy surface's peak, where it sends far more rays than a
-//     Lambertian would);
+//     independent of the estimate's N) gave it an effective number of rays
+//     n = (Σs)²/Σs² of its scores s with 4 (n − 3√n) ≥ K — the count K expected even
+//     three deviations below what the pilot saw (this writes where a surface sends far
+//     more rays than a Lambertian would, as a glossy peak);
 // and is written as missing (negative) otherwise, or when the bin lies wholly below the
 // horizon. Both decisions are independent of the N rays of the estimate, so every written
 // entry is an unbiased estimate of its bin's average f. With ~25 rays of roughly equal
