@@ -9,11 +9,19 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <string_view>
 #include <unistd.h>
 
 #include "gonio/color.h"
 
 namespace gonio_fuzz {
+
+// True for an input that names a system path (/dev, /proc, /sys): a scene or surface
+// that refers to files would make the fuzzer read devices (/dev/zero without end).
+inline bool names_system_path(std::string_view text) {
+  return text.find("/dev") != std::string_view::npos || text.find("/proc") != std::string_view::npos ||
+         text.find("/sys") != std::string_view::npos;
+}
 
 // A file unique to this process (libFuzzer's -jobs run several processes), rewritten for
 // every input: the readers under test take paths. In /dev/shm when there is one: on a

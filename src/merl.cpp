@@ -22,7 +22,7 @@
 #endif
 
 #include "gonio/error.h"
-#include "gonio/output_file.h"
+#include "gonio/io/output_file.h"
 #include "gonio/math/constants.h"
 
 namespace gonio {

@@ -25,7 +25,7 @@
 #include "gonio/measure/preview.h"
 #include "gonio/measure/surface.h"
 #include "gonio/measure/table.h"
-#include "gonio/output_file.h"
+#include "gonio/io/output_file.h"
 
 namespace gonio::cli {
 

@@ -12,7 +12,7 @@
 #include "cli_signals.h"
 #include "commands.h"
 #include "gonio/merl.h"
-#include "gonio/output_file.h"
+#include "gonio/io/output_file.h"
 #include "gonio/tabulate.h"
 
 namespace gonio::cli {

@@ -150,7 +150,7 @@ MerlTable read_merl(const std::string& path);
 // prefixes every error.
 MerlTable parse_merl(std::span<const unsigned char> bytes, const std::string& name);
 // Writes `table` (missing entries as -1 in the file) through an OutputFile
-// (gonio/output_file.h): a target that is not a regular file is refused, and the table
+// (gonio/io/output_file.h): a target that is not a regular file is refused, and the table
 // takes its name only once written whole. Throws InputError "PATH: ..." on any failure,
 // and for an entry read_merl would refuse (not finite, or above MerlTable::kMaxValue), so
 // that every table gonio writes reads back.

@@ -185,19 +185,25 @@ TableReading measure_table(const Microsurface& surface, const RunOptions& option
     };
   };
 
+  // The rays of block `block` of a pass of `rays` rays on the stream `task`, each given
+  // to `use` (a block's stream and strata as trace_table_ray draws them).
+  auto trace_block = [&](std::uint64_t task, std::uint64_t block, std::uint64_t rays, auto&& use) {
+    Pcg32 rng(options.seed, block_stream(task, block));
+    const std::uint64_t first = block * kBlockRays, last = std::min(rays, first + kBlockRays);
+    for (std::uint64_t k = first; k < last; ++k)
+      use(trace_table_ray(surface, incidence, k - first, last - first == kBlockRays, rng));
+  };
+
   // The pilot: n/4 rays of their own, whose scores are summed per entry for the rule and
   // used for nothing else.
   ZeroedArray<double> pilot_sum(MerlTable::kEntries), pilot_sum2(MerlTable::kEntries);
   detail::run_blocks<PilotBlock>(
       pilot_blocks, options.threads, progress(0, pilot_blocks), [](PilotBlock& r) { r.scores.clear(); },
       [&](std::uint64_t block, PilotBlock& r) {
-        Pcg32 rng(options.seed, block_stream(kPilotTask, block));
-        const std::uint64_t first = block * kBlockRays, last = std::min(n_pilot, first + kBlockRays);
         r.scores.reserve(kBlockRays);
-        for (std::uint64_t k = first; k < last; ++k) {
-          const TableRay t = trace_table_ray(surface, incidence, k - first, last - first == kBlockRays, rng);
+        trace_block(kPilotTask, block, n_pilot, [&](const TableRay& t) {
           if (t.scored) r.scores.push_back({t.score.entry, t.score.value[0] + t.score.value[1] + t.score.value[2]});
-        }
+        });
       },
       [&](std::uint64_t, const PilotBlock& r) {
         for (const PilotScore& s : r.scores) pilot_sum[s.entry] += s.value, pilot_sum2[s.entry] += s.value * s.value;
@@ -215,19 +221,16 @@ TableReading measure_table(const Microsurface& surface, const RunOptions& option
         r.band.assign(7 * kBands, 0.0);
       },
       [&](std::uint64_t block, BlockResult& r) {
-        Pcg32 rng(options.seed, block_stream(kEstimateTask, block));
-        const std::uint64_t first = block * kBlockRays, last = std::min(n, first + kBlockRays);
         r.scores.reserve(kBlockRays);
-        for (std::uint64_t k = first; k < last; ++k) {
-          const TableRay t = trace_table_ray(surface, incidence, k - first, last - first == kBlockRays, rng);
+        trace_block(kEstimateTask, block, n, [&](const TableRay& t) {
           r.counts.add(t.trace);
           double* bd = &r.band[7 * std::size_t(t.band)];
           bd[0] += 1;
-          if (t.trace.fate != Fate::Up) continue;
+          if (t.trace.fate != Fate::Up) return;
           for (int c = 0; c < 3; ++c)
             bd[1 + c] += t.trace.weight[c], bd[4 + c] += double(t.trace.weight[c]) * t.trace.weight[c];
           if (t.scored) r.scores.push_back(t.score);
-        }
+        });
         // Group the scores by θh slab (a stable counting sort), so that the merge can give
         // each slab to its own thread and walk memory that fits in the caches.
         std::array<std::uint32_t, kSlabs + 1> start{};

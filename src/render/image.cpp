@@ -8,7 +8,7 @@
 #include "gonio/render/image_output.h"
 
 #include "exr_preflight.h"
-#include "gonio/output_file.h"
+#include "gonio/io/output_file.h"
 
 #include <png.h>
 #include <sys/stat.h>

@@ -24,33 +24,6 @@ const std::string kOutDiffuse = R"({"type":"diffuse"})";
 const std::string kOutSurface = R"({"type":"flat","material":{"type":"diffuse"}})";
 const std::string kOutGantry = R"({"theta_i":0,"theta_o":[0,30]})";
 
-// A fresh directory under the temporary directory, removed with what it holds.
-class ScratchDir {
- public:
-  ScratchDir() {
-    std::string tmpl = (fs::temp_directory_path() / "gonio_cli_out_XXXXXX").string();
-    if (!::mkdtemp(tmpl.data())) throw std::runtime_error("mkdtemp failed");
-    dir_ = tmpl;
-  }
-  ~ScratchDir() {
-    std::error_code ec;
-    fs::remove_all(dir_, ec);
-  }
-  ScratchDir(const ScratchDir&) = delete;
-  ScratchDir& operator=(const ScratchDir&) = delete;
-  std::string path(const std::string& name) const { return (dir_ / name).string(); }
-  // The names in the directory, sorted.
-  std::vector<std::string> names() const {
-    std::vector<std::string> v;
-    for (const auto& e : fs::directory_iterator(dir_)) v.push_back(e.path().filename().string());
-    std::sort(v.begin(), v.end());
-    return v;
-  }
-
- private:
-  fs::path dir_;
-};
-
 bool is_fifo(const std::string& path) {
   struct stat st {};
   return ::lstat(path.c_str(), &st) == 0 && S_ISFIFO(st.st_mode);

@@ -83,33 +83,10 @@ std::string slurp(const std::string& path) {
   return std::string(std::istreambuf_iterator<char>(in), {});
 }
 
-class SignalDir {
- public:
-  SignalDir() {
-    std::string tmpl = (fs::temp_directory_path() / "gonio_cli_signal_XXXXXX").string();
-    if (!::mkdtemp(tmpl.data())) throw std::runtime_error("mkdtemp failed");
-    dir_ = tmpl;
-  }
-  ~SignalDir() {
-    std::error_code ec;
-    fs::remove_all(dir_, ec);
-  }
-  std::string path(const std::string& name) const { return (dir_ / name).string(); }
-  std::vector<std::string> names() const {
-    std::vector<std::string> v;
-    for (const auto& e : fs::directory_iterator(dir_)) v.push_back(e.path().filename().string());
-    std::sort(v.begin(), v.end());
-    return v;
-  }
-
- private:
-  fs::path dir_;
-};
-
 TEST(CliSignals, RenderWaitingOnAFifoSceneEndsAtTheFirstSignal) {
   for (const int sig : {SIGTERM, SIGINT}) {
     SCOPED_TRACE(sig == SIGTERM ? "SIGTERM" : "SIGINT");
-    const SignalDir dir;
+    const ScratchDir dir;
     const std::string fifo = dir.path("scene.json"), err = dir.path("stderr.txt");
     ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
     BackgroundGonio gonio({"render", fifo, "-o", dir.path("out.png")}, err);

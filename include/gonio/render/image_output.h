@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "gonio/output_file.h"
+#include "gonio/io/output_file.h"
 #include "gonio/render/image.h"
 
 namespace gonio::render {
@@ -57,7 +57,7 @@ class ImageOutput {
   void finish(const std::function<std::uint64_t(std::FILE*)>& encode);
 
   std::string path_;
-  OutputFile file_;  // the temporary, its checks and its rename (gonio/output_file.h)
+  OutputFile file_;  // the temporary, its checks and its rename (gonio/io/output_file.h)
   Format format_ = Format::Unknown;
 };
 

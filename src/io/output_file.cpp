@@ -1,4 +1,4 @@
-#include "gonio/output_file.h"
+#include "gonio/io/output_file.h"
 
 #include <fcntl.h>
 #include <sys/stat.h>
