@@ -295,6 +295,7 @@ int main(int argc, char** argv) {
                  RoughConductorBxDF{{MicrofacetType::GGX, 0.2f, 0.2f}, gold(FresnelModel::Exact), std::nullopt});
   register_model("roughdielectric_ggx_1.5_0.2", RoughDielectricBxDF{{MicrofacetType::GGX, 0.2f, 0.2f}, 1.5f, {}});
   register_model("orennayar_qualitative_20deg", OrenNayarBxDF{Color(0.5f), 20 * kPi / 180, false});
+  register_model("sheen_0.5", SheenBxDF{Color(0.8f), 0.5f});  // issue 34: eval <= 40 ns
   register_model("roughconductor_beckmann_Au_0.2",
                  RoughConductorBxDF{{MicrofacetType::Beckmann, 0.2f, 0.2f}, gold(FresnelModel::Exact), std::nullopt});
   {

@@ -462,6 +462,13 @@ BxDF make_orennayar(Params& p) {
   return m;
 }
 
+BxDF make_sheen(Params& p) {
+  SheenBxDF m;
+  m.color = p.color("color");
+  m.roughness = Float(p.number("roughness"));
+  return m;
+}
+
 template <typename M>
 BxDF make_phong_like(Params& p) {
   M m;
@@ -664,6 +671,7 @@ constexpr TypeEntry kMakers[] = {
     {"plastic", make_plastic},
     {"measured", make_measured},
     {"subsurface", make_subsurface},
+    {"sheen", make_sheen},
 };
 
 }  // namespace
@@ -775,6 +783,7 @@ using MP = MaterialParam;
 constexpr MaterialParamInfo kParamInfo[] = {
     {"reflectance", false, 0.5}, {"kd", false, 0}, {"ks", false, 0}, {"rd", false, 0},
     {"rs", false, 0},            {"f0", false, 0.5}, {"eta", false, 1}, {"k", false, 0},
+    {"color", false, 1},
     {"alpha", true, 0.5},        {"alpha", true, 0.5}, {"alpha", true, 0.5}, {"sigma", true, 0},
     {"exponent", true, 1},       {"nu", true, 1},    {"nv", true, 1},
 };
@@ -799,6 +808,7 @@ constexpr VaryingKey kVarying[] = {
     {"ward", MP::Kd}, {"ward", MP::Ks}, {"ward", MP::Alpha},
     {"ashikhminshirley", MP::Rd}, {"ashikhminshirley", MP::Rs}, {"ashikhminshirley", MP::Nu}, {"ashikhminshirley", MP::Nv},
     {"plastic", MP::Reflectance}, {"plastic", MP::Alpha},
+    {"sheen", MP::SheenColor},
 };
 
 // What a set of new values touched, for recomputing what depends on it.
@@ -870,6 +880,7 @@ void apply(PlasticBxDF& m, const ParamValue& v, Changed& c) {
   if (m.coat) set_alpha(*m.coat, v, c);
 }
 void apply(DielectricBxDF&, const ParamValue&, Changed&) {}
+void apply(SheenBxDF& m, const ParamValue& v, Changed&) { set_color(m.color, MP::SheenColor, v); }
 
 template <typename M>
 void finish(M&, const Changed&) {}

@@ -66,6 +66,13 @@ constexpr ParamSpec kOrenNayar[] = {
     {"model", K::Choice, "\"qualitative\"", {}, "", "qualitative|full", false,
      "The paper's qualitative model (eq. 30) or the full one with the interreflection term."},
 };
+constexpr ParamSpec kSheen[] = {
+    {"color", K::Colour, "1", kUnit, "", "", false,
+     "Colour of the fuzz: its directional albedo is color x R(cos theta_o, roughness)."},
+    {"roughness", K::Number, "0.5", open_closed(0, 1), "", "", false,
+     "Fibre roughness (the SGGX fibre cross-section is roughness squared); the fits hold from 0.01, and a "
+     "smaller value is taken as 0.01."},
+};
 constexpr ParamSpec kPhong[] = {
     kKd,
     kKs,
@@ -173,6 +180,16 @@ constexpr MaterialTypeSpec kTypes[] = {
      "sigma_s = sigma_s' / (1 - g)). Per channel the transport coefficient sigma_a + (1 - g) sigma_s is 0 (a clear "
      "channel) or at least 1e-15 per unit. As a BSDF (eval, sample, check) it is its boundary; the medium belongs to the "
      "renderer and gonio subsurface. docs/subsurface.md."},
+    {"sheen",
+     "Sheen/fuzz lobe of OpenPBR: a layer of normal-oriented fibres fitted by a linearly transformed cosine, "
+     "importance-sampled exactly.",
+     "Zeltner, Burley & Chiang 2022, Practical Multiple-Scattering Sheen Using Linearly Transformed Cosines "
+     "(eqs. 1-2); fits of a, b and R from MaterialX 1.39 (mx_microfacet_sheen.glsl)",
+     kSheen,
+     "Reflection only. Not reciprocal by construction (the fit follows wo): gonio check reports reciprocity as not "
+     "applicable; its largest relative reciprocity error is 1 (docs/testing.md, Sheen). Its directional albedo "
+     "(radiance mode) is exactly color x R(cos theta_o, roughness); light arriving at grazing angles (importance "
+     "mode) may be scattered more than once over (docs/testing.md)."},
 };
 
 std::string number_text(double v) {

@@ -101,6 +101,9 @@ struct Converter {
                            : DielectricMultiscatterLobe::remake(m.distribution, s.eta, spectra.f_avg->eval(w[0]));
     return s;
   }
+  SpectralBxDF operator()(const SheenBxDF& m) const {
+    return SheenBxDFT<SS>{colour(MP::SheenColor, m.color), m.roughness};
+  }
   SpectralBxDF operator()(const OrenNayarBxDF& m) const {
     OrenNayarBxDFT<SS> s;
     s.reflectance = colour(MP::Reflectance, m.reflectance);

@@ -10,6 +10,8 @@
 #include "commands.h"
 #include "gonio/validate.h"
 
+#include <nlohmann/json.hpp>
+
 namespace gonio::cli {
 
 namespace {
@@ -28,7 +30,10 @@ void run_check(const CheckArgs& a) {
       const auto& p = report.properties[i];
       if (i) out += ",";
       out += "{\"name\":\"" + p.name + "\",\"figure\":" + (p.figure ? json_number(*p.figure) : "null") +
-             ",\"threshold\":" + json_number(p.threshold) + ",\"pass\":" + (p.pass ? "true" : "false") + "}";
+             ",\"threshold\":" + json_number(p.threshold) + ",\"pass\":" + (p.pass ? "true" : "false");
+      // A property that does not apply says so, and why (e.g. reciprocity of the LTC sheen).
+      if (!p.applicable) out += ",\"applicable\":false,\"reason\":" + nlohmann::json(p.detail).dump();
+      out += "}";
     }
     std::cout << out << "]}\n";
   } else {
@@ -38,7 +43,7 @@ void run_check(const CheckArgs& a) {
       char fig[32] = "n/a", thr[32];
       if (p.figure) std::snprintf(fig, sizeof fig, "%.6g", *p.figure);
       std::snprintf(thr, sizeof thr, "%.6g", p.threshold);
-      std::printf("  %-13s %-13s %-13s %-5s  %s\n", p.name.c_str(), fig, thr, p.pass ? "pass" : "FAIL",
+      std::printf("  %-13s %-13s %-13s %-5s  %s\n", p.name.c_str(), fig, thr, !p.pass ? "FAIL" : p.applicable ? "pass" : "n/a",
                   p.detail.c_str());
     }
     std::printf("%s\n", report.pass() ? "all properties hold" : "some properties FAIL");

@@ -5,6 +5,7 @@
 
 #include <optional>
 #include <string>
+#include <string_view>
 #include <type_traits>
 #include <variant>
 
@@ -23,6 +24,7 @@
 #include "gonio/bxdf/plastic.h"
 #include "gonio/bxdf/roughconductor.h"
 #include "gonio/bxdf/roughdielectric.h"
+#include "gonio/bxdf/sheen.h"
 #include "gonio/bxdf/ward.h"
 
 namespace gonio {
@@ -36,7 +38,7 @@ class BxDFT {
   using Models = std::variant<DiffuseBxDFT<C>, MirrorBxDFT<C>, ConductorBxDFT<C>, DielectricBxDFT<C>,
                               RoughConductorBxDFT<C>, RoughDielectricBxDFT<C>, OrenNayarBxDFT<C>, PhongBxDFT<C>,
                               BlinnPhongBxDFT<C>, WardBxDFT<C>, AshikhminShirleyBxDFT<C>, PlasticBxDFT<C>,
-                              MeasuredBxDFT<C>, BlendBxDFT<C>, UserBxDFT<C>>;
+                              MeasuredBxDFT<C>, BlendBxDFT<C>, UserBxDFT<C>, SheenBxDFT<C>>;
 
   BxDFT() = default;
   template <typename M>
@@ -73,6 +75,19 @@ class BxDFT {
         [](const auto& m) -> bool {
           if constexpr (requires { m.is_isotropic(); }) return m.is_isotropic();
           else return true;
+        },
+        m_);
+  }
+  // Why the model is not reciprocal (one that declares kReciprocal = false, or a blend
+  // with such a part); empty for a reciprocal model. The validator reports reciprocity
+  // as not applicable with this reason.
+  std::string_view nonreciprocal_reason() const {
+    return std::visit(
+        [](const auto& m) -> std::string_view {
+          using M = std::decay_t<decltype(m)>;
+          if constexpr (requires { m.nonreciprocal_reason(); }) return m.nonreciprocal_reason();
+          else if constexpr (requires { M::kReciprocal; }) return M::kReciprocal ? std::string_view{} : M::kNonReciprocalReason;
+          else return {};
         },
         m_);
   }
@@ -115,6 +130,11 @@ Float BlendBxDFT<C>::relative_eta() const {
 }
 template <typename C>
 bool BlendBxDFT<C>::is_isotropic() const { return (*parts)[0].is_isotropic() && (*parts)[1].is_isotropic(); }
+template <typename C>
+std::string_view BlendBxDFT<C>::nonreciprocal_reason() const {
+  const std::string_view a = (*parts)[0].nonreciprocal_reason();
+  return a.empty() ? (*parts)[1].nonreciprocal_reason() : a;
+}
 template <typename C>
 BSDFEvalT<C> BlendBxDFT<C>::eval(const Vec3& wo, const Vec3& wi, TransportMode mode) const {
   const BSDFEvalT<C> a = (*parts)[0].eval(wo, wi, mode), b = (*parts)[1].eval(wo, wi, mode);

@@ -49,6 +49,7 @@ const std::vector<std::string_view>& material_type_names();
 
 enum class MaterialParam : std::uint8_t {
   Reflectance, Kd, Ks, Rd, Rs, F0, Eta, K,
+  SheenColor,       // sheen: "color"
   Alpha,            // both alpha_x and alpha_y (an isotropic roughness)
   AlphaX, AlphaY,   // the entries of "alpha": [alpha_x, alpha_y]
   Sigma, Exponent, Nu, Nv,

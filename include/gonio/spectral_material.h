@@ -29,8 +29,8 @@
 
 namespace gonio {
 
-// The colour parameters (MaterialParam::Reflectance … MaterialParam::K).
-inline constexpr int kColourParams = int(MaterialParam::K) + 1;
+// The colour parameters (MaterialParam::Reflectance … MaterialParam::SheenColor).
+inline constexpr int kColourParams = int(MaterialParam::SheenColor) + 1;
 
 struct MaterialSpectra {
   // By MaterialParam; unset for a parameter the model does not have.

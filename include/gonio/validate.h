@@ -10,8 +10,15 @@
 //                 in radiance mode f(wo, wi)/n_wo² = f(wi, wo)/n_wi² (Veach 1997, §5.2).
 //                 A polarizing model (polarization/polarized_bxdf.h) must also obey it
 //                 in Mueller form, M(wo, wi)/n_wo² = Q M(wi, wo)ᵀ Q / n_wi², Q = diag(1, 1, −1, 1).
+//                 Not applicable to a model that is not reciprocal by construction
+//                 (BxDF::nonreciprocal_reason(), e.g. the LTC sheen): it is reported so,
+//                 with the reason and the largest error measured, and only importance
+//                 mode's adjoint, f_imp(wo, wi) = f_rad(wi, wo), is held to the threshold.
 //   energy        ρ_dh ≤ 1 + 3σ + 2·10⁻³ over a sweep of θ (and φ when anisotropic), in
 //                 importance mode: light arriving from any direction (lecture §3.4, §4).
+//                 A non-reciprocal model bounds only its radiance-mode albedo ∫ f(wo, wi)
+//                 |cos θi| dωi (what a path tracer's weights carry): that is checked, and
+//                 the largest importance-mode albedo is given in the detail.
 //   chi2          Pearson χ² of sample() against pdf() on a (cos θ, φ) grid of the sphere.
 //   pdf_integral  ∫ pdf dω equals the fraction of sample() calls that return a non-delta
 //                 direction.
@@ -28,6 +35,8 @@
 //                 direction (the tested ones, and 89.9° and 89.99°) is at most 100 × the
 //                 directional albedo (the mean weight): the relative variance of one
 //                 sample is then ≤ 99, i.e. never worse than 100 samples of a perfect sampler.
+//                 Radiance mode for a non-reciprocal model (its importance mode, the
+//                 adjoint, is held only to `finite`'s bound).
 //
 // A property that does not apply to a model passes with no figure.
 
@@ -46,6 +55,9 @@ struct PropertyResult {
   double threshold = 0;          // the limit the figure is held to
   bool pass = true;
   std::string detail;            // where the worst case was, in words
+  // False when the property does not apply to the model (figure is then empty and
+  // detail says why); `gonio check` prints it as n/a.
+  bool applicable = true;
 };
 
 struct ValidationReport {

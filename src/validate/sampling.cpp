@@ -262,11 +262,14 @@ PropertyResult check_weights(const BxDF& bxdf, const ValidationOptions& opt) {
   const std::uint64_t n = scaled(opt, 1'000'000, 20'000);
   Pcg32 rng = rng_for(opt, 9);
   double worst = 0;
+  // A non-reciprocal model is sampled for what it defines, radiance transport.
+  const TransportMode mode =
+      bxdf.nonreciprocal_reason().empty() ? TransportMode::Importance : TransportMode::Radiance;
   for (const auto& wo : dirs) {
     double sum[kColorChannels] = {}, max_w = 0;
     Vec3 max_wi{};
     for (std::uint64_t i = 0; i < n; ++i) {
-      const auto s = bxdf.sample(wo, rng.next_float(), rng.next_float(), rng.next_float(), TransportMode::Importance);
+      const auto s = bxdf.sample(wo, rng.next_float(), rng.next_float(), rng.next_float(), mode);
       if (!s) continue;
       for (int c = 0; c < kColorChannels; ++c) sum[c] += s->weight[c];
       const double w = s->weight.max_component();
@@ -286,6 +289,7 @@ PropertyResult check_weights(const BxDF& bxdf, const ValidationOptions& opt) {
   }
   r.figure = worst;
   r.pass = worst <= kWeightFactor;
+  if (mode == TransportMode::Radiance) r.detail = "radiance mode (not reciprocal): " + r.detail;
   return r;
 }
 

@@ -317,6 +317,21 @@ def main():
         recs += eval_records(mat, rng, 80)
     write("ashikhminshirley", recs)
 
+    # sheen (Zeltner et al. 2022): roughness across the fits' range and below it, both
+    # modes (importance mode is the adjoint; its density is gonio's own mixture, so only
+    # radiance records carry a pdf)
+    rng = random.Random(120)
+    recs = []
+    for mat in ({"type": "sheen"}, {"type": "sheen", "color": [0.9, 0.4, 0.1], "roughness": 0.2},
+                {"type": "sheen", "roughness": 1}, {"type": "sheen", "roughness": 0.05},
+                {"type": "sheen", "color": [0.2, 0.5, 1], "roughness": 0.8},
+                {"type": "sheen", "roughness": 0.001}):
+        recs += eval_records(mat, rng, 30)
+        for rec in eval_records(mat, rng, 12, modes=("importance",)):
+            rec.pop("pdf", None)
+            recs.append(rec)
+    write("sheen", recs)
+
     # Plastic, smooth coat: the base in eval, the coat's mirror lobe by sample.
     rng = random.Random(113)
     recs = []

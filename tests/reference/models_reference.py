@@ -43,6 +43,13 @@ Sources (REFERENCES.md):
                      2001): f = (1 − F(θi))(1 − F(θo)) ρ / (π η² (1 − ρ F_dr,in)), F_dr,in the
                      coat's hemispherical reflectance seen from inside; the coat's mirror lobe
                      carries F(θo).
+  Sheen              Zeltner, Burley & Chiang 2022 (SIGGRAPH Talks), eqs. 1-2: f μi =
+                     color R(μo, r) D(wi), D the linearly transformed clamped cosine
+                     D(w) = D_cos(M⁻¹w/|M⁻¹w|) |det M⁻¹| / |M⁻¹w|³ with M⁻¹ = [[a, 0, b],
+                     [0, a, 0], [0, 0, 1]] in the frame whose x axis is wo's tangential
+                     direction; a, b, R the fits published by MaterialX 1.39
+                     (mx_microfacet_sheen.glsl) of the paper's tables, r clamped to
+                     [0.01, 1], R clamped at 0. Importance mode is the adjoint.
 """
 import cmath
 import csv
@@ -505,6 +512,52 @@ def plastic_smooth(mat, wo, wi, mode):
     return [t * r / (PI * eta * eta * (1 - r * fdr)) for r in rho]
 
 
+def sheen_fits(mu, r):
+    """(a, b, R) at view cosine mu and roughness r (MaterialX 1.39's fits of the paper's
+    tables: zeltner_sheen_ltc_aInv, _bInv, _dir_albedo)."""
+    r = min(max(r, 0.01), 1.0)
+    a = (2.58126 * mu + 0.813703 * r) * r / (1.0 + 0.310327 * mu * mu + 2.60994 * mu * r)
+    b = math.sqrt(1.0 - mu) * (r - 1.0) * r ** 3 / (0.0000254053 + 1.71228 * mu - 1.71506 * mu * r + 1.34174 * r * r)
+    s = r * (0.0206607 + 1.58491 * r) / (0.0379424 + r * (1.32227 + r))
+    m = r * (-0.193854 + r * (-1.14885 + r * (1.7932 - 0.95943 * r * r))) / (0.046391 + r)
+    o = r * (0.000654023 + (-0.0207818 + 0.119681 * r) * r) / (1.26264 + r * (-1.92021 + r))
+    R_ = math.exp(-0.5 * ((mu - m) / s) ** 2) / (s * math.sqrt(2 * PI)) + o
+    return a, b, max(R_, 0.0)
+
+
+def sheen_ltc_density(wo, wi, r):
+    """D_wo(wi) (wo, wi upper): the clamped cosine pushed through M (Heitz et al. 2016,
+    eq. of the LTC density: D_cos(w') |det M^-1| / |M^-1 w|^3, w' = M^-1 w / |M^-1 w|)."""
+    a, b, _ = sheen_fits(min(wo[2], 1.0), r)
+    t = math.hypot(wo[0], wo[1])
+    ex = (wo[0] / t, wo[1] / t, 0.0) if t > 0 else (1.0, 0.0, 0.0)
+    ey = (-ex[1], ex[0], 0.0)
+    w = (dot(wi, ex), dot(wi, ey), wi[2])  # wi in the LTC frame
+    minv = ((a, 0.0, b), (0.0, a, 0.0), (0.0, 0.0, 1.0))
+    v = tuple(sum(minv[i][j] * w[j] for j in range(3)) for i in range(3))
+    n = math.sqrt(dot(v, v))
+    det = a * a  # det M^-1
+    return max(v[2] / n, 0.0) / PI * det / n ** 3
+
+
+def sheen(mat, wo, wi, mode):
+    p = _upper(wo, wi)
+    if not p: return [0.0] * 3
+    wo, wi = p
+    if mode == "importance": wo, wi = wi, wo  # f_imp(wo, wi) = f_rad(wi, wo)
+    r = mat.get("roughness", 0.5)
+    _, _, R_ = sheen_fits(min(wo[2], 1.0), r)
+    d = sheen_ltc_density(wo, wi, r)
+    return [c * R_ * d / wi[2] for c in col(mat.get("color", 1.0))]
+
+
+def sheen_pdf(mat, wo, wi):
+    """Radiance mode: the LTC density itself (the paper samples it exactly)."""
+    p = _upper(wo, wi)
+    if not p: return 0.0
+    return sheen_ltc_density(p[0], p[1], mat.get("roughness", 0.5))
+
+
 def delta_zero(mat, wo, wi, mode):
     return [0.0] * 3  # delta lobes only: f = 0 in eval (contract.h)
 
@@ -513,7 +566,7 @@ EVAL = {
     "diffuse": diffuse, "mirror": delta_zero, "conductor": delta_zero, "dielectric": delta_zero,
     "roughconductor": roughconductor, "roughdielectric": roughdielectric,
     "orennayar": orennayar, "phong": phong, "blinnphong": blinnphong, "ward": ward,
-    "ashikhminshirley": ashikhminshirley, "plastic": plastic_smooth,
+    "ashikhminshirley": ashikhminshirley, "plastic": plastic_smooth, "sheen": sheen,
 }
 
 
@@ -536,6 +589,8 @@ def pdf(mat, wo, wi):
         return roughconductor_pdf(mat, wo, wi)
     if t == "roughdielectric" and not mat.get("multiscatter", False):
         return roughdielectric_pdf(mat, wo, wi)
+    if t == "sheen":
+        return sheen_pdf(mat, wo, wi)  # radiance mode (importance mode mixes in a cosine)
     if t == "blend":
         a, b = (pdf(m, wo, wi) for m in mat["bsdfs"])
         if a is None or b is None: return None

@@ -122,7 +122,13 @@ INSTANTIATE_TEST_SUITE_P(
       R"({"type":"plastic","reflectance":[0.9,0.5,0.1],"alpha":0.2})",
       R"({"type":"plastic","reflectance":0.5,"alpha":0.3,"distribution":"beckmann"})",
       R"({"type":"blend","weight":0.3,"bsdfs":[{"type":"diffuse"},{"type":"dielectric"}]})",
-      R"({"type":"blend","weight":0.7,"bsdfs":[{"type":"roughconductor","alpha":0.2,"material":"Au"},{"type":"plastic"}]})"));
+      R"({"type":"blend","weight":0.7,"bsdfs":[{"type":"roughconductor","alpha":0.2,"material":"Au"},{"type":"plastic"}]})",
+      // The sheen lobe (reciprocity not applicable): its roughness range, extremes included.
+      R"({"type":"sheen"})",
+      R"({"type":"sheen","color":[1,0.5,0],"roughness":0.01})",
+      R"({"type":"sheen","roughness":0.1})",
+      R"({"type":"sheen","roughness":0.3})",
+      R"({"type":"sheen","roughness":1})"));
 
 // --- models broken on purpose, each through the extension point -----------------------
 

@@ -90,6 +90,7 @@ TEST(VaryingParams, WithParamsEqualsParsingTheNewValue) {
       {R"({"type":"ashikhminshirley","rd":0.3,"rs":0.2,"nu":10,"nv":100})", "nv", -1, MP::Nv, 2},
       {R"({"type":"plastic","reflectance":0.3,"alpha":0.2})", "reflectance", -1, MP::Reflectance, {0.8, 0.2, 0.1}},
       {R"({"type":"plastic","reflectance":0.3,"alpha":0.2})", "alpha", -1, MP::Alpha, 0.5},
+      {R"({"type":"sheen","color":0.3,"roughness":0.4})", "color", -1, MP::SheenColor, {0.9, 0.5, 0.1}},
   };
   for (const auto& c : cases) {
     SCOPED_TRACE(std::string(c.description) + " with " + c.key + " = " + c.value.dump());

@@ -42,6 +42,7 @@ struct BlendBxDFT {
   BxDFFlags flags() const;
   Float relative_eta() const;
   bool is_isotropic() const;
+  std::string_view nonreciprocal_reason() const;
   BSDFEvalT<C> eval(const Vec3& wo, const Vec3& wi, TransportMode mode) const;
   C f(const Vec3& wo, const Vec3& wi, TransportMode mode) const;
   Float pdf(const Vec3& wo, const Vec3& wi, TransportMode mode) const;
