@@ -15,6 +15,7 @@
 
 #include "gonio/bxdf.h"
 #include "gonio/material.h"
+#include "gonio/reflectance.h"
 #include "gonio/math/spherical.h"
 #include "gonio/rng.h"
 #include "gonio/validate.h"
@@ -166,6 +167,24 @@ TEST(Sheen, AverageAlbedoTable) {
     const double want = sum / (3.0 * n);
     // Linear interpolation between entries 1/99 apart: the curvature in r bounds it.
     EXPECT_NEAR(sheen_average_albedo(Float(r)), want, 2e-4 + 2e-3 * want) << "r " << r;
+  }
+}
+
+// Importance mode (the adjoint) is sampled by gonio's own mixture: the hemispherical
+// albedo it estimates is the same double integral as radiance mode's, 2 ∫ R μ dμ.
+TEST(Sheen, ImportanceModeHemisphericalAlbedoIsTheAverage) {
+  for (double r : {0.1, 0.3, 1.0}) {
+    const int n = 20000;
+    double sum = 0;
+    for (int i = 0; i <= n; ++i) {
+      const double mu = double(i) / n, w = (i == 0 || i == n) ? 1 : (i % 2 ? 4 : 2);
+      sum += w * 2 * mu * published_R(mu, r);
+    }
+    const double want = 0.5 * sum / (3.0 * n);
+    const BxDF b = sheen(r, Color(0.5f));
+    const AlbedoEstimate e = hemispherical_albedo(b, false, {2'000'000, 5});
+    EXPECT_FALSE(e.exact);
+    EXPECT_NEAR(e.albedo[0], want, 5 * e.se_albedo[0] + 1e-6) << "r " << r;
   }
 }
 

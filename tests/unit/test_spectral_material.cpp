@@ -105,6 +105,7 @@ std::map<std::string, std::string> grey_materials(double g) {
                     R"(},{"type":"roughconductor","alpha":0.2,"fresnel":"schlick","f0":)" + G + "}]}"},
       {"measured", R"({"type":"measured","file":")" + gonio_test_merl::lambert_table() + R"("})"},
       {"subsurface", R"({"type":"subsurface","eta":1.33,"alpha":0.2,"sigma_s":)" + G + R"(,"sigma_a":)" + H + "}"},
+      {"sheen", R"({"type":"sheen","color":)" + G + R"(,"roughness":0.3})"},
   };
 }
 
@@ -135,6 +136,8 @@ std::vector<std::string> coloured_materials() {
       R"({"type":"plastic","reflectance":[0.9,0.1,0.1],"eta":1.5})",
       R"({"type":"plastic","reflectance":[0.1,0.1,0.9],"eta":"BK7","alpha":0.3})",
       R"({"type":"blend","weight":0.5,"bsdfs":[{"type":"dielectric","eta":"SF11"},{"type":"conductor","material":"Au"}]})",
+      R"({"type":"sheen","color":[0.9,0.3,0.05],"roughness":0.05})",
+      R"({"type":"sheen","color":{"spectrum":[[360,0],[600,1],[830,0.3]]},"roughness":1})",
   };
 }
 
