@@ -194,6 +194,37 @@ inline C fresnel_schlick(const C& f0, T cos_theta) {
   return f0 + (C(T(1)) - f0) * (m2 * m2 * m);
 }
 
+// F82-tint (Hoffman 2023, "Generalization of Adobe's Fresnel Model"; OpenPBR's metal;
+// SPEC §2): Schlick's curve with a dip that the tint f82 sets at μ̄ = 1/7 (θ ≈ 82°),
+//   F(μ) = F0 + (1 − F0)(1 − μ)⁵ − a μ (1 − μ)⁶,
+//   a = S(μ̄) (1 − f82) / (μ̄ (1 − μ̄)⁶),  S(μ̄) = F0 + (1 − F0)(6/7)⁵,  μ̄ (1 − μ̄)⁶ = 6⁶/7⁷,
+// so that F(1/7) = f82 S(1/7); clamped to [0, 1] per channel (a small f82 makes the dip
+// go below 0 near grazing: for every F0 < 1 at f82 = 0, F0 < 0.057 at f82 = 0.3, F0 <
+// 0.001 at f82 = 0.5).
+template <typename C>
+inline C fresnel_f82_a(const C& f0, const C& f82) {
+  constexpr Float kInvDenominator = Float(823543.0 / 46656.0);  // 7⁷ / 6⁶
+  return fresnel_schlick(f0, Float(1) / 7) * (C(Float(1)) - f82) * kInvDenominator;
+}
+template <typename C, typename T>
+inline C fresnel_f82(const C& f0, const C& f82, T cos_theta) {
+  const T mu = std::clamp(cos_theta, T(0), T(1));
+  const T m = 1 - mu, m3 = m * m * m;
+  C f = fresnel_schlick(f0, mu) - fresnel_f82_a(f0, f82) * (mu * m3 * m3);
+  for (int i = 0; i < C::size(); ++i) f[i] = std::clamp(f[i], Float(0), Float(1));
+  return f;
+}
+// Its hemispherical average 2∫F μ dμ without the clamp (SPEC §2; Beta integrals:
+// 2∫(1 − μ)⁵ μ dμ = 1/21, 2∫μ² (1 − μ)⁶ dμ = 1/126): (20 F0 + 1)/21 − a/126. Exact
+// wherever F stays within [0, 1]; where the clamp acts (above) it is below the clamped
+// F's average, as SPEC §2 fixes it, and kept from going negative.
+template <typename C>
+inline C fresnel_f82_average(const C& f0, const C& f82) {
+  C avg = (f0 * Float(20) + C(Float(1))) * Float(1.0 / 21) - fresnel_f82_a(f0, f82) * Float(1.0 / 126);
+  for (int i = 0; i < C::size(); ++i) avg[i] = std::max(avg[i], Float(0));
+  return avg;
+}
+
 // F0 = |(η − 1)/(η + 1)|² at normal incidence, for eta + i k (k = 0: a dielectric).
 template <typename T>
 inline T fresnel_f0(T eta, T k = T(0)) {
