@@ -167,7 +167,9 @@ struct EonBxDFT {
       wi.z = -wi.z;
     }
     const Float r = roughness, a = eon::a_fon(r);
-    const Float s = dot(wi, wo) - wi.z * wo.z;
+    // s = sin θi sin θo cos Δφ ≥ −1; rounding took it below −1 (f < 0) for opposite
+    // grazing directions.
+    const Float s = std::max(Float(-1), dot(wi, wo) - wi.z * wo.z);
     const Float s_over_t = s > 0 ? s / std::max(wi.z, wo.z) : s;
     const C f_ss = reflectance * (kInvPi * a * (1 + r * s_over_t));
     if (r <= 0) return f_ss;
