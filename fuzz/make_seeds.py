@@ -27,6 +27,8 @@ materials = [
     '{"type":"plastic","eta":1.5,"reflectance":0.8,"alpha":0.2,"distribution":"beckmann"}',
     '{"type":"blend","weight":0.25,"bsdfs":[{"type":"diffuse"},{"type":"conductor","material":"Ag"}]}',
     '{"type":"sheen","color":[0.9,0.4,0.1],"roughness":0.3}',
+    '{"type":"eon","reflectance":[0.9,0.5,0.2],"roughness":0.7}',
+    '{"type":"roughconductor","alpha":0.2,"fresnel":"f82","f0":[0.95,0.64,0.54],"f82":[0.9,0.6,0.3],"multiscatter":true}',
 ]
 
 def record(wo, wi, u, mode):

@@ -314,20 +314,31 @@ BxDF make_mirror(Params& p) {
 
 // F0 of the index, for Schlick: ((n−1)² + k²) / ((n+1)² + k²).
 void set_f0_from_index(ConductorFresnel& fr) {
+  if (fr.model == FresnelModel::F82) return;  // F82-tint has no index: its f0 is given
   fr.f0 = map(fr.eta, fr.k, [](Float n, Float k) { return fresnel_f0(n, k); });
 }
 
 ConductorFresnel make_conductor_fresnel(Params& p) {
   ConductorFresnel fr;
-  fr.model = p.choice("fresnel") == "schlick" ? FresnelModel::Schlick : FresnelModel::Exact;
+  const std::string fresnel = p.choice("fresnel");
+  fr.model = fresnel == "schlick" ? FresnelModel::Schlick : fresnel == "f82" ? FresnelModel::F82 : FresnelModel::Exact;
   const bool has_material = p.has("material");
   const bool has_eta = p.has("eta");
   const bool has_k = p.has("k");
   const bool has_f0 = p.has("f0");
+  // F82-tint (SPEC §2): f0 and f82, never the index.
+  if (p.has("f82") && fr.model != FresnelModel::F82) p.fail("f82 needs \"fresnel\": \"f82\"");
+  if (fr.model == FresnelModel::F82) {
+    if (has_material || has_eta || has_k) p.fail("fresnel \"f82\" takes f0 (and f82), not the index (material or eta/k)");
+    if (!has_f0) p.fail("missing parameter: fresnel \"f82\" needs f0");
+    fr.f0 = p.color("f0");
+    fr.f82 = p.color("f82");
+    return fr;
+  }
   if (has_material && (has_eta || has_k))
     p.fail("give either material or eta/k, not both");
   if (has_f0 && fr.model != FresnelModel::Schlick)
-    p.fail("f0 needs \"fresnel\": \"schlick\"");
+    p.fail("f0 needs \"fresnel\": \"schlick\" or \"f82\"");
   if (has_f0 && (has_material || has_eta || has_k))
     p.fail("give either f0 or the index (material or eta/k), not both");
   if (has_k && !has_eta) p.fail("k needs eta");
@@ -403,7 +414,10 @@ BxDF make_roughconductor(Params& p) {
       p.fail("multiscatter needs an isotropic alpha (a number), got [alpha_x, alpha_y]");
     if (!m.distribution.effectively_smooth())
       m.multiscatter = MultiscatterLobe::make(m.distribution, conductor_average_fresnel(m.fresnel));
-    if (m.multiscatter) p.spectra().f_avg = tabulate_average_fresnel(m.fresnel.model, p.spectra());
+    // F82's average is a closed form (conductor_average_fresnel): spectral mode takes it
+    // per wavelength, no table.
+    if (m.multiscatter && m.fresnel.model != FresnelModel::F82)
+      p.spectra().f_avg = tabulate_average_fresnel(m.fresnel.model, p.spectra());
   }
   return m;
 }
@@ -465,6 +479,13 @@ BxDF make_orennayar(Params& p) {
 BxDF make_sheen(Params& p) {
   SheenBxDF m;
   m.color = p.color("color");
+  m.roughness = Float(p.number("roughness"));
+  return m;
+}
+
+BxDF make_eon(Params& p) {
+  EonBxDF m;
+  m.reflectance = p.color("reflectance");
   m.roughness = Float(p.number("roughness"));
   return m;
 }
@@ -664,6 +685,7 @@ constexpr TypeEntry kMakers[] = {
     {"roughconductor", make_roughconductor},
     {"roughdielectric", make_roughdielectric},
     {"orennayar", make_orennayar},
+    {"eon", make_eon},
     {"phong", make_phong_like<PhongBxDF>},
     {"blinnphong", make_phong_like<BlinnPhongBxDF>},
     {"ward", make_ward},
@@ -803,6 +825,7 @@ constexpr VaryingKey kVarying[] = {
     {"roughconductor", MP::Alpha}, {"roughconductor", MP::Eta}, {"roughconductor", MP::K}, {"roughconductor", MP::F0},
     {"roughdielectric", MP::Alpha},
     {"orennayar", MP::Reflectance}, {"orennayar", MP::Sigma},
+    {"eon", MP::Reflectance},
     {"phong", MP::Kd}, {"phong", MP::Ks}, {"phong", MP::Exponent},
     {"blinnphong", MP::Kd}, {"blinnphong", MP::Ks}, {"blinnphong", MP::Exponent},
     {"ward", MP::Kd}, {"ward", MP::Ks}, {"ward", MP::Alpha},
@@ -857,6 +880,7 @@ void apply(OrenNayarBxDF& m, const ParamValue& v, Changed&) {
   set_color(m.reflectance, MP::Reflectance, v);
   if (v.param == MP::Sigma) m.sigma = sigma_radians(v.value[0]);
 }
+void apply(EonBxDF& m, const ParamValue& v, Changed&) { set_color(m.reflectance, MP::Reflectance, v); }
 template <typename M>
   requires std::is_same_v<M, PhongBxDF> || std::is_same_v<M, BlinnPhongBxDF>
 void apply(M& m, const ParamValue& v, Changed&) {

@@ -29,8 +29,9 @@ constexpr ParamSpec kAlphaParam{"alpha", K::Roughness, "", kAlpha, "", "", true,
                                 "the tangent (x) and bitangent (y); below 1e-3 the surface is smooth."};
 constexpr ParamSpec kDistributionParam{"distribution", K::Choice, "\"ggx\"", {}, "", "ggx|beckmann", false,
                                        "Microfacet normal distribution: GGX (Trowbridge-Reitz) or Beckmann."};
-constexpr ParamSpec kFresnelParam{"fresnel", K::Choice, "\"exact\"", {}, "", "exact|schlick", false,
-                                  "Conductor Fresnel: exact for the complex index, or Schlick's approximation."};
+constexpr ParamSpec kFresnelParam{"fresnel", K::Choice, "\"exact\"", {}, "", "exact|schlick|f82", false,
+                                  "Conductor Fresnel: exact for the complex index, Schlick's approximation, or "
+                                  "F82-tint (Schlick with a tint f82 at 82 degrees; needs f0)."};
 constexpr ParamSpec kConductorEta{"eta", K::Colour, "", kIndex, "", "", false,
                                   "Real part of the complex index relative to the outside medium, per channel (a spectrum: RGB mode takes its values at 650, 550, 450 nm)."};
 constexpr ParamSpec kConductorK{"k", K::Colour, "0", kExtinction, "", "", false,
@@ -38,7 +39,11 @@ constexpr ParamSpec kConductorK{"k", K::Colour, "0", kExtinction, "", "", false,
 constexpr ParamSpec kMetalParam{"material", K::Metal, "", {}, "", "", false,
                                 "A measured metal instead of eta and k (spectral mode: its measured n and k; RGB: n at 650, 550, 450 nm, k fitted so that the reflectance at 0° is the colour of the measured spectrum)."};
 constexpr ParamSpec kF0Param{"f0", K::Colour, "", kUnit, "", "", false,
-                             "Reflectance at normal incidence; only with fresnel \"schlick\", instead of the index."};
+                             "Reflectance at normal incidence; with fresnel \"schlick\" (instead of the index) or "
+                             "\"f82\" (required)."};
+constexpr ParamSpec kF82Param{"f82", K::Colour, "1", kUnit, "", "", false,
+                              "With fresnel \"f82\": the tint at cos theta = 1/7 (about 82 degrees), "
+                              "F(1/7) = f82 x Schlick(F0, 1/7); 1 is Schlick's curve."};
 constexpr ParamSpec kMultiscatterParam{"multiscatter", K::Boolean, "false", {}, "", "", false,
                                        "Add Kulla-Conty's energy-compensation lobe for light scattered more "
                                        "than once between microfacets (isotropic alpha only)."};
@@ -54,10 +59,10 @@ constexpr ParamSpec kDiffuse[] = {
 constexpr ParamSpec kMirror[] = {
     {"reflectance", K::Colour, "1", kUnit, "", "", false, "Fraction of the light reflected, at every angle."},
 };
-constexpr ParamSpec kConductor[] = {kFresnelParam, kConductorEta, kConductorK, kMetalParam, kF0Param};
+constexpr ParamSpec kConductor[] = {kFresnelParam, kConductorEta, kConductorK, kMetalParam, kF0Param, kF82Param};
 constexpr ParamSpec kDielectric[] = {kDielectricEta};
-constexpr ParamSpec kRoughConductor[] = {kAlphaParam,  kDistributionParam, kFresnelParam, kConductorEta,
-                                         kConductorK,  kMetalParam,        kF0Param,      kMultiscatterParam};
+constexpr ParamSpec kRoughConductor[] = {kAlphaParam, kDistributionParam, kFresnelParam, kConductorEta, kConductorK,
+                                         kMetalParam, kF0Param,           kF82Param,     kMultiscatterParam};
 constexpr ParamSpec kRoughDielectric[] = {kAlphaParam, kDistributionParam, kDielectricEta, kMultiscatterParam};
 constexpr ParamSpec kOrenNayar[] = {
     {"reflectance", K::Colour, "0.5", kUnit, "", "", false, "Albedo of the facets."},
@@ -72,6 +77,11 @@ constexpr ParamSpec kSheen[] = {
     {"roughness", K::Number, "0.5", open_closed(0, 1), "", "", false,
      "Fibre roughness (the SGGX fibre cross-section is roughness squared); the fits hold from 0.01, and a "
      "smaller value is taken as 0.01."},
+};
+constexpr ParamSpec kEon[] = {
+    {"reflectance", K::Colour, "0.8", kUnit, "", "", false, "Single-scattering albedo rho of the facets."},
+    {"roughness", K::Number, "0", kUnit, "", "", false,
+     "Roughness r (Fujii's sigma); 0 is exactly Lambert, 1 the roughest."},
 };
 constexpr ParamSpec kPhong[] = {
     kKd,
@@ -142,20 +152,25 @@ constexpr MaterialTypeSpec kTypes[] = {
     {"diffuse", "Ideal diffuse (Lambertian) reflection, f = ρ/π.", "Lambert 1760; the lecture, §5.1", kDiffuse, ""},
     {"mirror", "Perfect specular reflection with a constant reflectance.", "The lecture, §5.2, eq. 23", kMirror, ""},
     {"conductor", "Perfect specular reflection weighted by the conductor Fresnel term.",
-     "Born & Wolf, Principles of Optics, §14.2 (complex index); Schlick 1994 (approximation)", kConductor,
+     "Born & Wolf, Principles of Optics, §14.2 (complex index); Schlick 1994 (approximation); Hoffman 2023 (F82-tint)", kConductor,
      "Give the index as eta (and k) or as material; with fresnel \"schlick\", f0 may replace the index "
-     "(otherwise F0 is computed from it). Exactly one of these forms."},
+     "(otherwise F0 is computed from it). Exactly one of these forms. fresnel \"f82\" (Hoffman 2023) takes f0 and f82, "
+     "no index."},
     {"dielectric", "Smooth dielectric interface: Fresnel-weighted reflection and refraction, total internal reflection.",
      "The lecture, §5.3-5.4, eqs. 24-27; Veach 1997, §5.2 (radiance scaling)", kDielectric, ""},
     {"roughconductor", "Microfacet conductor (Cook-Torrance) with GGX or Beckmann normals and height-correlated Smith G2.",
      "Cook & Torrance 1982; Walter et al. 2007; Heitz 2014; Dupuy & Benyoub 2023 (sampling); Kulla & Conty 2017 "
      "(multiscatter)",
      kRoughConductor,
-     "The Fresnel parameters are those of conductor. multiscatter needs an isotropic alpha (a number)."},
+     "The Fresnel parameters are those of conductor. multiscatter needs an isotropic alpha (a number); with "
+     "fresnel \"f82\" it uses F_avg = (20 F0 + 1)/21 - a/126."},
     {"roughdielectric", "Microfacet dielectric: glossy reflection and transmission through a rough interface.",
      "Walter et al. 2007, eqs. 16, 20, 21; Heitz 2014; Kulla & Conty 2017 (multiscatter)", kRoughDielectric,
      "multiscatter needs an isotropic alpha and eta in [0.25, 4] (the range of its albedo tables)."},
     {"orennayar", "Rough diffuse reflection from V-cavities of Lambertian facets.", "Oren & Nayar 1994", kOrenNayar, ""},
+    {"eon", "Energy-preserving Oren-Nayar: Fujii's single-scattering lobe plus an analytic multiple-scattering lobe; "
+            "a white base reflects everything at every angle and roughness.",
+     "Portsmouth, Kutz & Hill 2025 (JCGT 14(1)); Fujii (FON); CLTC sampling of the paper", kEon, ""},
     {"phong", "Energy-conserving modified Phong.", "Lafortune & Willems 1994", kPhong, "kd + ks <= 1 per channel."},
     {"blinnphong", "Blinn-Phong, normalised by (n+2)(n+4) / (8π(2^(-n/2) + n)) so that its albedo never exceeds ks.",
      "Blinn 1977; normalisation of SPEC §2", kPhong, "kd + ks <= 1 per channel."},

@@ -70,6 +70,9 @@ struct Converter {
     s.k = colour(MP::K, f.k);
     s.f0 = spectra.colour[size_t(MP::F0)] ? colour(MP::F0, f.f0)
                                            : map(s.eta, s.k, [](Float n, Float k) { return fresnel_f0(n, k); });
+    // F82-tint's tint has no recorded spectrum: its RGB (a spectrum reduced to RGB at
+    // parse time) upsampled as a reflectance.
+    if (f.model == FresnelModel::F82) s.f82 = upsample_colour(MP::Reflectance, f.f82, w);
     return s;
   }
 
@@ -109,6 +112,12 @@ struct Converter {
     s.reflectance = colour(MP::Reflectance, m.reflectance);
     s.sigma = m.sigma;
     s.full = m.full;
+    return s;
+  }
+  SpectralBxDF operator()(const EonBxDF& m) const {
+    EonBxDFT<SS> s;
+    s.reflectance = colour(MP::Reflectance, m.reflectance);
+    s.roughness = m.roughness;
     return s;
   }
   template <typename M>

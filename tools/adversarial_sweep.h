@@ -57,6 +57,14 @@ inline std::vector<std::string> extreme_materials() {
       R"({"type":"sheen","roughness":0.00999})",
       R"({"type":"sheen","roughness":0.05})",
       R"({"type":"sheen","color":[0,0.5,1],"roughness":1})",
+      R"({"type":"eon","reflectance":1,"roughness":0})",
+      R"({"type":"eon","reflectance":1,"roughness":1e-7})",
+      R"({"type":"eon","reflectance":1,"roughness":1})",
+      R"({"type":"eon","reflectance":0,"roughness":1})",
+      R"({"type":"eon","reflectance":[1,0.5,0],"roughness":0.5})",
+      R"({"type":"conductor","fresnel":"f82","f0":0,"f82":0})",
+      R"({"type":"conductor","fresnel":"f82","f0":1,"f82":1})",
+      R"({"type":"conductor","fresnel":"f82","f0":[1,0.5,0],"f82":[0,0.5,1]})",
       R"({"type":"blend","weight":0,"bsdfs":[{"type":"diffuse"},{"type":"mirror"}]})",
       R"({"type":"blend","weight":1,"bsdfs":[{"type":"diffuse"},{"type":"mirror"}]})",
       R"({"type":"blend","weight":0.5,"bsdfs":[{"type":"dielectric","eta":1.5},{"type":"roughdielectric","alpha":0.3,"eta":1.5}]})",
@@ -76,9 +84,12 @@ inline std::vector<std::string> extreme_materials() {
     for (const char* dist : {"ggx", "beckmann"}) {
       v.push_back(std::string(R"({"type":"roughconductor","material":"Cu","distribution":")") + dist +
                   R"(","alpha":)" + alpha + "}");
-      if (alpha[0] != '[')  // compensation is refused for anisotropic alpha
+      if (alpha[0] != '[') {  // compensation is refused for anisotropic alpha
         v.push_back(std::string(R"({"type":"roughconductor","fresnel":"schlick","f0":1,"multiscatter":true,"distribution":")") +
                     dist + R"(","alpha":)" + alpha + "}");
+        v.push_back(std::string(R"({"type":"roughconductor","fresnel":"f82","f0":[1,0.5,0],"f82":[0,0.5,1],"multiscatter":true,"distribution":")") +
+                    dist + R"(","alpha":)" + alpha + "}");
+      }
     }
   for (const char* eta : {"1", "1.000001", "1.5", "10000"}) {
     v.push_back(std::string(R"({"type":"plastic","reflectance":1,"eta":)") + eta + "}");

@@ -17,6 +17,7 @@
 #include "gonio/bxdf/custom.h"
 #include "gonio/bxdf/dielectric.h"
 #include "gonio/bxdf/diffuse.h"
+#include "gonio/bxdf/eon.h"
 #include "gonio/bxdf/measured.h"
 #include "gonio/bxdf/mirror.h"
 #include "gonio/bxdf/orennayar.h"
@@ -38,7 +39,7 @@ class BxDFT {
   using Models = std::variant<DiffuseBxDFT<C>, MirrorBxDFT<C>, ConductorBxDFT<C>, DielectricBxDFT<C>,
                               RoughConductorBxDFT<C>, RoughDielectricBxDFT<C>, OrenNayarBxDFT<C>, PhongBxDFT<C>,
                               BlinnPhongBxDFT<C>, WardBxDFT<C>, AshikhminShirleyBxDFT<C>, PlasticBxDFT<C>,
-                              MeasuredBxDFT<C>, BlendBxDFT<C>, UserBxDFT<C>, SheenBxDFT<C>>;
+                              MeasuredBxDFT<C>, BlendBxDFT<C>, UserBxDFT<C>, SheenBxDFT<C>, EonBxDFT<C>>;
 
   BxDFT() = default;
   template <typename M>

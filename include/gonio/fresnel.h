@@ -194,6 +194,44 @@ inline C fresnel_schlick(const C& f0, T cos_theta) {
   return f0 + (C(T(1)) - f0) * (m2 * m2 * m);
 }
 
+// F82-tint (Hoffman 2023, "Generalization of Adobe's Fresnel Model"; OpenPBR's metal;
+// SPEC §2): Schlick's curve with a dip that the tint f82 sets at μ̄ = 1/7 (θ ≈ 82°),
+//   F(μ) = F0 + (1 − F0)(1 − μ)⁵ − a μ (1 − μ)⁶,
+//   a = S(μ̄) (1 − f82) / (μ̄ (1 − μ̄)⁶),  S(μ̄) = F0 + (1 − F0)(6/7)⁵,  μ̄ (1 − μ̄)⁶ = 6⁶/7⁷,
+// so that F(1/7) = f82 S(1/7); clamped to [0, 1] per channel (a small f82 makes the dip
+// go below 0 near grazing: for every F0 < 1 at f82 = 0, F0 < 0.057 at f82 = 0.3, F0 <
+// 0.001 at f82 = 0.5).
+namespace f82_tint {
+inline constexpr Float kBar5 = Float(7776.0 / 16807.0);            // (1 − μ̄)⁵ = (6/7)⁵
+inline constexpr Float kInvDenominator = Float(823543.0 / 46656.0);  // 1/(μ̄ (1 − μ̄)⁶) = 7⁷/6⁶
+// a of one channel.
+inline Float a(Float f0, Float f82) { return (f0 + (1 - f0) * kBar5) * (1 - f82) * kInvDenominator; }
+}  // namespace f82_tint
+template <typename C>
+inline C fresnel_f82_a(const C& f0, const C& f82) {
+  C a;
+  for (int i = 0; i < C::size(); ++i) a[i] = f82_tint::a(f0[i], f82[i]);
+  return a;
+}
+template <typename C, typename T>
+inline C fresnel_f82(const C& f0, const C& f82, T cos_theta) {
+  const T mu = std::clamp(cos_theta, T(0), T(1));
+  const T m = 1 - mu, m3 = m * m * m, dip = mu * m3 * m3;
+  C f = fresnel_schlick(f0, mu);
+  for (int i = 0; i < C::size(); ++i) f[i] = std::min(std::max(f[i] - f82_tint::a(f0[i], f82[i]) * dip, Float(0)), Float(1));
+  return f;
+}
+// Its hemispherical average 2∫F μ dμ without the clamp (SPEC §2; Beta integrals:
+// 2∫(1 − μ)⁵ μ dμ = 1/21, 2∫μ² (1 − μ)⁶ dμ = 1/126): (20 F0 + 1)/21 − a/126. Exact
+// wherever F stays within [0, 1]; where the clamp acts (above) it is below the clamped
+// F's average, as SPEC §2 fixes it, and kept from going negative.
+template <typename C>
+inline C fresnel_f82_average(const C& f0, const C& f82) {
+  C avg = (f0 * Float(20) + C(Float(1))) * Float(1.0 / 21) - fresnel_f82_a(f0, f82) * Float(1.0 / 126);
+  for (int i = 0; i < C::size(); ++i) avg[i] = std::max(avg[i], Float(0));
+  return avg;
+}
+
 // F0 = |(η − 1)/(η + 1)|² at normal incidence, for eta + i k (k = 0: a dielectric).
 template <typename T>
 inline T fresnel_f0(T eta, T k = T(0)) {

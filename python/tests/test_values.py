@@ -17,6 +17,7 @@ EXAMPLES = {
     "roughconductor": '{"type":"roughconductor","material":"Cu","alpha":[0.15,0.4]}',
     "roughdielectric": '{"type":"roughdielectric","eta":1.33,"alpha":0.3,"distribution":"beckmann"}',
     "orennayar": '{"type":"orennayar","reflectance":0.6,"sigma":25,"model":"full"}',
+    "eon": '{"type":"eon","reflectance":[0.9,0.6,0.3],"roughness":0.7}',
     "phong": '{"type":"phong","kd":0.3,"ks":[0.5,0.4,0.3],"exponent":30}',
     "blinnphong": '{"type":"blinnphong","kd":0.2,"ks":0.6,"exponent":50}',
     "ward": '{"type":"ward","kd":0.2,"ks":0.3,"alpha":[0.1,0.25]}',
@@ -33,6 +34,7 @@ VARIANTS = [
     '{"type":"roughdielectric","eta":0.7,"alpha":0.2,"multiscatter":true}',
     '{"type":"plastic","reflectance":0.5}',
     '{"type":"conductor","fresnel":"schlick","f0":[1,0.8,0.3]}',
+    '{"type":"roughconductor","fresnel":"f82","f0":[0.95,0.64,0.54],"f82":[0.9,0.7,0.5],"alpha":0.3,"multiscatter":true}',
 ]
 
 

@@ -2,9 +2,10 @@
 // What a model's delta lobes must return, computed by the validator itself (internal to
 // the property "consistency"). The mean weight of the delta samples of each lobe is the
 // lobe's reflectance: for a smooth dielectric F and (1 − F)(n_wo/n_wi)² (radiance) or
-// 1 − F (importance), for a smooth conductor its Fresnel reflectance, for a mirror its
+// 1 − F (importance), for a smooth conductor its Fresnel reflectance (exact, Schlick or
+// F82-tint), for a mirror its
 // reflectance. These come from fresnel_reference.h and the model's declared parameters
-// (index, complex index, F0, reflectance, blend weight) — never from the model's
+// (index, complex index, F0, F82 tint, reflectance, blend weight) — never from the model's
 // sample() or albedo(), which are what is being checked; comparing the sampler with the
 // model's own albedo() was circular, as both shared the (n_wo/n_wi)² code.
 
@@ -40,9 +41,9 @@ inline DeltaReference conductor_reference(const Vec3& wo, const ConductorFresnel
   DeltaReference r;
   if (wo.z == 0) return r;
   for (int c = 0; c < kColorChannels; ++c)
-    r.reflection[size_t(c)] = fr.model == FresnelModel::Schlick
-                                  ? reference_fresnel_schlick(wo.z, fr.f0[c])
-                                  : reference_fresnel_conductor(wo.z, fr.eta[c], fr.k[c]);
+    r.reflection[size_t(c)] = fr.model == FresnelModel::Schlick ? reference_fresnel_schlick(wo.z, fr.f0[c])
+                              : fr.model == FresnelModel::F82   ? reference_fresnel_f82(wo.z, fr.f0[c], fr.f82[c])
+                                                                : reference_fresnel_conductor(wo.z, fr.eta[c], fr.k[c]);
   return r;
 }
 

@@ -53,4 +53,14 @@ inline double reference_fresnel_schlick(double c, double f0) {
   return f0 + (1 - f0) * m * m * m * m * m;
 }
 
+// F82-tint (Hoffman 2023; SPEC §2): Schlick's curve S minus a μ (1 − μ)⁶, the one
+// coefficient a fixed by the condition F(μ̄) = f82 S(μ̄) at μ̄ = 1/7, i.e.
+// a = (S(μ̄) − f82 S(μ̄)) / (μ̄ (1 − μ̄)⁶) (here with std::pow), and F clamped to [0, 1].
+inline double reference_fresnel_f82(double c, double f0, double f82) {
+  const double mu = std::min(std::abs(c), 1.0), mu_bar = 1.0 / 7.0;
+  const double s_bar = reference_fresnel_schlick(mu_bar, f0);
+  const double a = (s_bar - f82 * s_bar) / (mu_bar * std::pow(1 - mu_bar, 6));
+  return std::clamp(reference_fresnel_schlick(mu, f0) - a * mu * std::pow(1 - mu, 6), 0.0, 1.0);
+}
+
 }  // namespace gonio::validation

@@ -5,6 +5,7 @@ tests/unit/test_reference_values.cpp.
 
     python3 tests/reference/make_reference_data.py        # from the repository root
                                                           # (stdlib only; ~1–2 min)
+    python3 tests/reference/make_reference_data.py eon    # only the families named
 
 Deterministic: a fixed seed per file, numbers printed with 12 significant digits (the
 directions are rounded first and the values computed from the rounded directions).
@@ -36,6 +37,7 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import models_reference as R  # noqa: E402
 
 OUT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "data")
+ONLY = set(sys.argv[1:])  # family names to write; none: all
 
 
 def r12(x): return float(f"{x:.12g}")
@@ -95,6 +97,7 @@ def eval_records(mat, rng, n, modes=("radiance",), kinds=("same", "below", "cros
 
 
 def write(name, records):
+    if ONLY and name not in ONLY: return  # `make_reference_data.py eon conductor`: those files only
     os.makedirs(OUT, exist_ok=True)
     path = os.path.join(OUT, name + ".jsonl")
     with open(path, "w") as fh:
@@ -177,7 +180,10 @@ def main():
                 {"type": "conductor", "eta": [0.2, 0.9, 1.1], "k": [3.6, 2.6, 2.4]},
                 {"type": "conductor", "eta": 1.5},
                 {"type": "conductor", "fresnel": "schlick", "f0": [1, 0.8, 0.3]},
-                {"type": "conductor", "fresnel": "schlick", "material": "Al"}):
+                {"type": "conductor", "fresnel": "schlick", "material": "Al"},
+                # F82-tint (issue 34): a tinted metal, and a dark F0 with f82 = 0 (clamped)
+                {"type": "conductor", "fresnel": "f82", "f0": [0.95, 0.64, 0.54], "f82": [0.9, 0.6, 0.3]},
+                {"type": "conductor", "fresnel": "f82", "f0": [0.04, 0.5, 1], "f82": 0}):
         Fc = R.ConductorF(mat)
         recs += reflector_samples(mat, rng, 30, Fc)
         recs += zero_evals(mat, rng, 4)
@@ -201,7 +207,11 @@ def main():
                 {"type": "roughconductor", "alpha": 0.8, "distribution": "beckmann", "fresnel": "schlick",
                  "f0": [1, 0.8, 0.3]},
                 {"type": "roughconductor", "alpha": [0.6, 1.2], "fresnel": "schlick", "f0": 1},
-                {"type": "roughconductor", "alpha": 0.05, "material": "Ag"}):
+                {"type": "roughconductor", "alpha": 0.05, "material": "Ag"},
+                {"type": "roughconductor", "alpha": [0.2, 0.45], "fresnel": "f82", "f0": [0.95, 0.64, 0.54],
+                 "f82": [0.9, 0.6, 0.3]},
+                {"type": "roughconductor", "alpha": 0.5, "distribution": "beckmann", "fresnel": "f82",
+                 "f0": [0.02, 0.3, 0.8], "f82": [0, 0.4, 1]}):
         recs += eval_records(mat, rng, 80)
     write("roughconductor", recs)
 
@@ -222,7 +232,9 @@ def main():
                 {"type": "roughconductor", "alpha": 0.6, "distribution": "beckmann", "material": "Cu",
                  "multiscatter": True},
                 {"type": "roughconductor", "alpha": 0.4, "eta": [1.5, 0.35, 0.2], "k": [1.9, 2.7, 3.1],
-                 "multiscatter": True}):
+                 "multiscatter": True},
+                {"type": "roughconductor", "alpha": 0.6, "fresnel": "f82", "f0": [0.95, 0.64, 0.3],
+                 "f82": [0.9, 0.6, 0.5], "multiscatter": True}):
         parts = R.multiscatter_parts(mat)
         mf = R.distribution_of(mat)
         n = 0
@@ -280,6 +292,21 @@ def main():
                 {"type": "orennayar", "reflectance": 0.95, "sigma": 60, "model": "full"}):
         recs += eval_records(mat, rng, 80, accept=on_ok(mat))
     write("orennayar", recs)
+
+    # EON (issue 34): Lambert at roughness 0, coloured and white bases, with the paper's
+    # sampling density (§4). Away from cos Δφ = 0 and θi = θo, where Fujii's s/t has kinks
+    # that float rounding of the directions could cross.
+    rng = random.Random(115)
+    recs = []
+
+    def eon_ok(wo, wi):
+        if wo[2] * wi[2] <= 0: return True
+        return abs(math.cos(R.phi_of(wi) - R.phi_of(wo))) > 1e-3 and abs(abs(wo[2]) - abs(wi[2])) > 1e-4
+    for mat in ({"type": "eon"}, {"type": "eon", "reflectance": [0.9, 0.5, 0.2], "roughness": 0.3},
+                {"type": "eon", "reflectance": 1, "roughness": 1},
+                {"type": "eon", "reflectance": [0.05, 0.6, 0.98], "roughness": 0.75}):
+        recs += eval_records(mat, rng, 60, accept=eon_ok)
+    write("eon", recs)
 
     # Phong, Blinn–Phong
     rng = random.Random(109)

@@ -38,6 +38,18 @@ Sources (REFERENCES.md):
   Kulla & Conty 2017 energy compensation: f_ms = F_ms (1 − E(μo))(1 − E(μi)) / (π (1 − E_avg)),
                      F_ms = F_avg² E_avg / (1 − F_avg (1 − E_avg)), F_avg = 2∫F μ dμ,
                      E_avg = 2∫E μ dμ; E(μ) integrated here numerically (see albedo_E).
+  EON               Portsmouth, Kutz & Hill 2025 (JCGT 14(1); arXiv 2410.18026 v3): Fujii's
+                     lobe f_ss = ρ (A + B s/t), A = 1/(π + (π/2 − 2/3) r), B = r A,
+                     s = sinθi sinθo cos(φi − φo), t = max(cosθi, cosθo) if s > 0 else 1;
+                     its exact albedo E_F(θ) = πA + B G(θ),
+                     G = sinθ (θ − sinθ cosθ) + (2/3) tanθ (1 − sin³θ) − (2/3) sinθ (§3);
+                     Ē_F = 2∫E_F μ dμ by Gauss–Legendre here; f_ms = ρ_ms/π (1 − E_F(θo))
+                     (1 − E_F(θi))/(1 − Ē_F), ρ_ms = ρ² Ē_F/(1 − ρ(1 − Ē_F)) (§3); sampling
+                     density (§4): P_u/(2π) + (1 − P_u) × the clipped LTC density, written
+                     here with the inverse matrix M⁻¹ and the Jacobian |M⁻¹|/|M⁻¹ wi|³.
+  F82-tint           Hoffman 2023 (SPEC §2): F = S(μ) − a μ (1 − μ)⁶, a from F(1/7) =
+                     f82 S(1/7), S Schlick's curve; clamped to [0, 1]; its average for
+                     multiscatter (20 F0 + 1)/21 − a/126.
   Smooth plastic     Lambertian base under a smooth dielectric coat with internal
                      reflections summed (Weidlich & Wilkie 2007 §3; Kelemen & Szirmay-Kalos
                      2001): f = (1 − F(θi))(1 − F(θo)) ρ / (π η² (1 − ρ F_dr,in)), F_dr,in the
@@ -164,10 +176,25 @@ def metal_index(name):
     return out_n, out_k
 
 
+def f82_tint(c, f0, tint):
+    """F82-tint (Hoffman 2023; SPEC §2) at |cos θ| = c, clamped to [0, 1]."""
+    mu = min(1.0, abs(c))
+    s_bar = schlick(1 / 7, f0)
+    a = s_bar * (1 - tint) / ((1 / 7) * (6 / 7) ** 6)
+    return min(1.0, max(0.0, schlick(mu, f0) - a * mu * (1 - mu) ** 6))
+
+
+def f82_average(f0, tint):
+    """SPEC §2's closed form of 2∫F μ dμ (of the unclamped F)."""
+    a = schlick(1 / 7, f0) * (1 - tint) / ((1 / 7) * (6 / 7) ** 6)
+    return max(0.0, (20 * f0 + 1) / 21 - a / 126)
+
+
 class ConductorF:
     """Per-channel conductor Fresnel from a material description (SPEC §2)."""
     def __init__(self, mat):
         self.schlick = mat.get("fresnel", "exact") == "schlick"
+        self.f82 = col(mat.get("f82", 1.0)) if mat.get("fresnel") == "f82" else None
         if "material" in mat:
             self.eta, self.k = metal_index(mat["material"])
         elif "eta" in mat:
@@ -180,6 +207,7 @@ class ConductorF:
             self.f0 = [((n - 1) ** 2 + k * k) / ((n + 1) ** 2 + k * k) for n, k in zip(self.eta, self.k)]
 
     def __call__(self, c):
+        if self.f82 is not None: return [f82_tint(c, f0, t) for f0, t in zip(self.f0, self.f82)]
         if self.schlick: return [schlick(c, f0) for f0 in self.f0]
         return [fresnel(c, n, k) for n, k in zip(self.eta, self.k)]
 
@@ -345,6 +373,74 @@ def orennayar_full_terms(s, al, be, cd):
     return L1, L2
 
 
+# --- EON (Portsmouth, Kutz & Hill 2025) ------------------------------------------------
+def eon_fujii(r, wo, wi):
+    """Fujii's lobe at ρ = 1 (upper side), angle form."""
+    ti, to = theta_of(wi), theta_of(wo)
+    s = math.sin(ti) * math.sin(to) * math.cos(phi_of(wi) - phi_of(wo))
+    t = max(math.cos(ti), math.cos(to)) if s > 0 else 1.0
+    A = 1 / (PI + (PI / 2 - 2 / 3) * r)
+    return A + r * A * s / t
+
+
+def eon_E(r, theta):
+    """E_F(θ), the exact directional albedo of Fujii's lobe (EON §3), angle form."""
+    A = 1 / (PI + (PI / 2 - 2 / 3) * r)
+    if theta < 1e-12: return PI * A
+    st, ct = math.sin(theta), math.cos(theta)
+    G = st * (theta - st * ct) + (2 / 3) * (st / ct) * (1 - st ** 3) - (2 / 3) * st if ct > 1e-12 \
+        else PI / 2 - 2 / 3
+    return PI * A + r * A * G
+
+
+def eon_E_avg(r, n=40):
+    return cosine_average(lambda mu: eon_E(r, math.acos(mu)), n=n)
+
+
+def eon(mat, wo, wi, mode):
+    p = _upper(wo, wi)
+    if not p: return [0.0] * 3
+    wo, wi = p
+    r = mat.get("roughness", 0.0)
+    rho = col(mat.get("reflectance", 0.8))
+    fs = eon_fujii(r, wo, wi)
+    eo, ei, ea = eon_E(r, theta_of(wo)), eon_E(r, theta_of(wi)), eon_E_avg(r)
+    out = []
+    for p_ in rho:
+        ms = 0.0
+        if r > 0:
+            rho_ms = p_ * p_ * ea / (1 - p_ * (1 - ea))
+            ms = rho_ms / PI * (1 - eo) * (1 - ei) / (1 - ea)
+        out.append(p_ * fs + ms)
+    return out
+
+
+def eon_pdf(mat, wo, wi):
+    """EON §4: P_u uniform + (1 − P_u) clipped LTC, in the frame of wo."""
+    p = _upper(wo, wi)
+    if not p: return 0.0
+    wo, wi = p
+    r, mu = mat.get("roughness", 0.0), wo[2]
+    P_u = r ** 0.1 * (0.162925 + mu * (-0.372058 + (0.538233 - 0.290822 * mu) * mu)) if r > 0 else 0.0
+    a = 1 + r * (0.303392 + (-0.518982 + 0.111709 * mu) * mu + (-0.276266 + 0.335918 * mu) * r)
+    b = r * (-1.16407 + 1.15859 * mu + (0.150815 - 0.150105 * mu) * r) / (mu ** 3 - 1.43545)
+    c = 1 + (0.20013 + (-0.506373 + 0.261777 * mu) * mu) * r
+    d = ((0.540852 + (-1.01625 + 0.475392 * mu) * mu) * r) / (-1.0743 + mu * (0.0725628 + mu))
+    # wi in the frame whose x axis is wo's tangential direction.
+    l = math.hypot(wo[0], wo[1])
+    cx, cy = (wo[0] / l, wo[1] / l) if l > 0 else (1.0, 0.0)
+    x, y, z = cx * wi[0] + cy * wi[1], -cy * wi[0] + cx * wi[1], wi[2]
+    # M⁻¹ of M = [[a, 0, b], [0, c, 0], [d, 0, 1]] by Cramer's rule.
+    det = c * (a - b * d)
+    inv = [[c / det, 0, -b * c / det], [0, 1 / c, 0], [-d * c / det, 0, a * c / det]]
+    v = [inv[i][0] * x + inv[i][1] * y + inv[i][2] * z for i in range(3)]
+    lv = math.sqrt(sum(t * t for t in v))
+    s_clip = 0.5 * (1 + 1 / math.sqrt(1 + d * d))
+    D_o = max(0.0, v[2] / lv) / (PI * s_clip)  # the clipped cosine at M⁻¹wi/|M⁻¹wi|
+    pdf_c = D_o * abs(1 / det) / lv ** 3
+    return P_u / (2 * PI) + (1 - P_u) * pdf_c
+
+
 def phong(mat, wo, wi, mode):
     p = _upper(wo, wi)
     if not p: return [0.0] * 3
@@ -416,7 +512,10 @@ def multiscatter_parts(mat):
     mf = distribution_of(mat)
     assert mf.ax == mf.ay, "records use isotropic alpha for multiscatter"
     Fc = ConductorF(mat)
-    f_avg = [cosine_average(lambda mu, c=c: Fc(mu)[c], n=64) for c in range(3)]
+    if Fc.f82 is not None:  # SPEC §2: F82-tint's own closed-form average
+        f_avg = [f82_average(f0, t) for f0, t in zip(Fc.f0, Fc.f82)]
+    else:
+        f_avg = [cosine_average(lambda mu, c=c: Fc(mu)[c], n=64) for c in range(3)]
     e_avg = albedo_E_avg(mf.kind, mf.ax)
     f_ms = [fa * fa * e_avg / (1 - fa * (1 - e_avg)) for fa in f_avg]
     return f_avg, e_avg, f_ms
@@ -565,7 +664,7 @@ def delta_zero(mat, wo, wi, mode):
 EVAL = {
     "diffuse": diffuse, "mirror": delta_zero, "conductor": delta_zero, "dielectric": delta_zero,
     "roughconductor": roughconductor, "roughdielectric": roughdielectric,
-    "orennayar": orennayar, "phong": phong, "blinnphong": blinnphong, "ward": ward,
+    "orennayar": orennayar, "eon": eon, "phong": phong, "blinnphong": blinnphong, "ward": ward,
     "ashikhminshirley": ashikhminshirley, "plastic": plastic_smooth, "sheen": sheen,
 }
 
@@ -585,6 +684,8 @@ def pdf(mat, wo, wi):
         return abs(wi[2]) / PI if wo[2] * wi[2] > 0 else 0.0  # cosine-weighted
     # Oren-Nayar: gonio mixes cosine and uniform samples (its f is unbounded at grazing), a
     # choice of its own, not the paper's.
+    if t == "eon":
+        return eon_pdf(mat, wo, wi)
     if t == "roughconductor" and not mat.get("multiscatter", False):
         return roughconductor_pdf(mat, wo, wi)
     if t == "roughdielectric" and not mat.get("multiscatter", False):

@@ -108,6 +108,19 @@ INSTANTIATE_TEST_SUITE_P(
       // The classic models and the layered and blended ones.
       R"({"type":"orennayar","sigma":20})",
       R"({"type":"orennayar","reflectance":[1,0.5,0],"sigma":60,"model":"full"})",
+      // EON (issue 34): Lambert at 0, every roughness, white and coloured bases; F82-tint
+      // conductors, smooth (its delta lobe against the validator's own F82) and rough.
+      R"({"type":"eon"})",
+      R"({"type":"eon","reflectance":1,"roughness":0.001})",
+      R"({"type":"eon","reflectance":1,"roughness":0.5})",
+      R"({"type":"eon","reflectance":1,"roughness":1})",
+      R"({"type":"eon","reflectance":[0.9,0.4,0],"roughness":0.25})",
+      R"({"type":"conductor","fresnel":"f82","f0":[0.95,0.64,0.54],"f82":[0.9,0.6,0.3]})",
+      R"({"type":"conductor","fresnel":"f82","f0":0,"f82":0})",
+      R"({"type":"conductor","fresnel":"f82","f0":1,"f82":0})",
+      R"({"type":"roughconductor","alpha":0.3,"fresnel":"f82","f0":[0.95,0.64,0.54],"f82":[0.9,0.6,0.3]})",
+      R"({"type":"roughconductor","alpha":0.6,"fresnel":"f82","f0":[1,0.5,0.02],"f82":[0,0.5,1],"multiscatter":true})",
+      R"({"type":"roughconductor","alpha":0.0005,"fresnel":"f82","f0":0.5,"f82":0.2})",
       R"({"type":"phong","kd":0.5,"ks":0.5,"exponent":1})",
       R"({"type":"phong","kd":0,"ks":1,"exponent":1000})",
       R"({"type":"blinnphong","kd":0.3,"ks":0.7,"exponent":0})",

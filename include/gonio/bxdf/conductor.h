@@ -1,7 +1,8 @@
 #pragma once
 // Smooth conductor: perfect specular reflection (lecture eq. 23) weighted by the Fresnel
 // reflectance of a metal with complex index eta + i k, exact or by Schlick's
-// approximation (lecture eq. 28). Reflects on whichever side wo lies (SPEC §1).
+// approximation (lecture eq. 28), or by Hoffman's F82-tint generalisation of it
+// (fresnel_f82, fresnel.h). Reflects on whichever side wo lies (SPEC §1).
 
 #include <array>
 #include <cmath>
@@ -17,7 +18,7 @@
 
 namespace gonio {
 
-enum class FresnelModel : std::uint8_t { Exact, Schlick };
+enum class FresnelModel : std::uint8_t { Exact, Schlick, F82 };
 
 // Channel-wise conductor Fresnel, shared by the smooth conductor and (later) the rough one.
 template <typename C>
@@ -26,7 +27,8 @@ struct ConductorFresnelT {
   FresnelModel model = FresnelModel::Exact;
   C eta{1.0f};  // real part of the relative index
   C k{0.0f};    // extinction coefficient
-  C f0{1.0f};   // reflectance at normal incidence, used by Schlick
+  C f0{1.0f};   // reflectance at normal incidence, used by Schlick and F82
+  C f82{1.0f};  // F82: the tint at μ = 1/7, in [0, 1] (1 = Schlick)
 
   C operator()(Float cos_i) const { return (*this)(cos_i, cos_i * cos_i); }
   // The same with cos²θi given as well (callers that have it before cos θi: the exact
@@ -34,6 +36,7 @@ struct ConductorFresnelT {
   C operator()(Float cos_i, Float cos2_i) const {
     const Float c = std::abs(cos_i);
     if (model == FresnelModel::Schlick) return fresnel_schlick(f0, c);
+    if (model == FresnelModel::F82) return fresnel_f82(f0, f82, c);
 #if defined(__GNUC__)
     if constexpr (C::size() <= 4) return exact_simd(c, std::min(cos2_i, Float(1)));
 #endif
@@ -65,13 +68,14 @@ struct ConductorFresnelT {
   // The Mueller matrix of the reflection in the s/p basis (polarization/interface.h), per
   // channel; fresnel_factor() sets its M00 to operator()'s value. Schlick's approximation
   // has no phase: it is taken as a non-polarizing reflector, diag(1, 1, −1, −1) (the Jones
-  // matrix diag(−1, 1) of a perfect mirror in this basis) scaled by F.
+  // matrix diag(−1, 1) of a perfect mirror in this basis) scaled by F; so is F82-tint,
+  // Schlick's generalisation (Hoffman 2023), which has no phase either.
   MuellerT<C> mueller(Float cos_i) const {
     const Float c = std::min(std::abs(cos_i), Float(1));
     MuellerT<C> m;
     for (int ch = 0; ch < C::size(); ++ch) {
       MuellerT<Float> one;
-      if (model == FresnelModel::Schlick) {
+      if (model == FresnelModel::Schlick || model == FresnelModel::F82) {
         one(0, 0) = one(1, 1) = 1;
         one(2, 2) = one(3, 3) = -1;
       } else {
@@ -87,9 +91,10 @@ struct ConductorFresnelT {
 using ConductorFresnel = ConductorFresnelT<Color>;
 
 // F_avg = 2 ∫ F(μ) μ dμ per channel (Kulla & Conty 2017; 64 Simpson panels: F is smooth
-// in μ).
+// in μ). F82-tint has its closed form (fresnel_f82_average; SPEC §2).
 template <typename C>
 C conductor_average_fresnel(const ConductorFresnelT<C>& fr) {
+  if (fr.model == FresnelModel::F82) return fresnel_f82_average(fr.f0, fr.f82);
   const auto avg = cosine_weighted_average(
       [&](double mu) {
         const C f = fr(Float(mu));
