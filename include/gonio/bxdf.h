@@ -16,6 +16,7 @@
 #include "gonio/bxdf/custom.h"
 #include "gonio/bxdf/dielectric.h"
 #include "gonio/bxdf/diffuse.h"
+#include "gonio/bxdf/layered.h"
 #include "gonio/bxdf/measured.h"
 #include "gonio/bxdf/mirror.h"
 #include "gonio/bxdf/orennayar.h"
@@ -36,7 +37,7 @@ class BxDFT {
   using Models = std::variant<DiffuseBxDFT<C>, MirrorBxDFT<C>, ConductorBxDFT<C>, DielectricBxDFT<C>,
                               RoughConductorBxDFT<C>, RoughDielectricBxDFT<C>, OrenNayarBxDFT<C>, PhongBxDFT<C>,
                               BlinnPhongBxDFT<C>, WardBxDFT<C>, AshikhminShirleyBxDFT<C>, PlasticBxDFT<C>,
-                              MeasuredBxDFT<C>, BlendBxDFT<C>, UserBxDFT<C>>;
+                              MeasuredBxDFT<C>, BlendBxDFT<C>, UserBxDFT<C>, LayeredBxDFT<C>>;
 
   BxDFT() = default;
   template <typename M>
@@ -156,3 +157,6 @@ std::optional<DirectionalAlbedoT<C>> BlendBxDFT<C>::albedo(const Vec3& wo, Trans
 }
 
 }  // namespace gonio
+
+// LayeredBxDF, now that BxDF is complete.
+#include "gonio/bxdf/layered_impl.h"  // IWYU pragma: export
