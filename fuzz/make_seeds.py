@@ -26,6 +26,8 @@ materials = [
     '{"type":"plastic","eta":1.5,"reflectance":0.8}',
     '{"type":"plastic","eta":1.5,"reflectance":0.8,"alpha":0.2,"distribution":"beckmann"}',
     '{"type":"blend","weight":0.25,"bsdfs":[{"type":"diffuse"},{"type":"conductor","material":"Ag"}]}',
+    '{"type":"layered","top":{"type":"roughdielectric","alpha":0.2,"eta":1.5},"bottom":{"type":"diffuse","reflectance":0.8},"thickness":0.3,"albedo":0.9,"g":0.5,"max_depth":20,"samples":2}',
+    '{"type":"layered","top":{"type":"dielectric","eta":1.5},"bottom":{"type":"mirror"},"thickness":0.5}',
 ]
 
 def record(wo, wi, u, mode):

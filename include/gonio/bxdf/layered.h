@@ -15,6 +15,9 @@
 //    seeded by a hash of the UNORDERED pair {wo, wi} of bit patterns, and the estimator is
 //    run from both ends with that seed and averaged, f = (E(wo, wi) + E(wi, wo)) / 2, so
 //    f(wo, wi) = f(wi, wo) to the last bit. f is an unbiased estimate of the stack's BSDF.
+//    An isotropic stack hashes the pair's rotation invariants instead (quantised to 2⁻¹²)
+//    and walks in a frame turned to the first direction's azimuth, so that turning both
+//    directions about N leaves f unchanged (layered_impl.h, canonical_turn).
 //  - The stack reflects only (the bottom must not transmit; the parser refuses one that
 //    does), so f in importance mode equals f in radiance mode (reciprocity), and mode is
 //    not needed by the walk. Two-sided: wo below the surface sees the same stack mirrored.

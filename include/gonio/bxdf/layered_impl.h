@@ -64,6 +64,30 @@ inline bool refract_in(const Vec3& w, Float eta, Vec3& in) {
 }
 inline bool refract_out(const Vec3& v, Float eta, Vec3& out) { return refract_in(v, 1 / eta, out); }
 
+// For an isotropic stack, f must not change when both directions turn about N (the
+// validator's `isotropy`), yet each walk's samplers draw azimuths in the local frame. So
+// the walk runs in a canonical frame, turned so that `ref` (its first direction, or the
+// other one at normal incidence) has azimuth 0, and is seeded by the pair's invariants
+// cos θo, cos θi and the dot product of their tangential parts, quantised to 2⁻¹²: a turn
+// moves them by rounding only (~1e-7), which then changes no seed but in ~0.1 % of pairs.
+// The products and sums are written so that a quarter turn (x, y) → (−y, x) reproduces
+// every bit (the same terms, added in the other order).
+struct Turn {
+  Float c = 1, s = 0;
+  Vec3 operator()(const Vec3& w) const { return {c * w.x + s * w.y, c * w.y - s * w.x, w.z}; }
+};
+inline Turn canonical_turn(const Vec3& ref, const Vec3& other) {
+  const Vec3& r = ref.x != 0 || ref.y != 0 ? ref : other;
+  const Float len = std::sqrt(r.x * r.x + r.y * r.y);
+  if (!(len > 0)) return {};
+  return {r.x / len, r.y / len};
+}
+inline std::uint64_t quantised(Float v) { return std::uint64_t(std::int64_t(std::lround(double(v) * 4096)) + (1 << 20)); }
+inline std::uint64_t isotropic_pair_seed(const Vec3& a, const Vec3& b) {
+  const std::uint64_t za = quantised(a.z), zb = quantised(b.z), d = quantised(a.x * b.x + a.y * b.y);
+  return mix64(mix64(std::min(za, zb) ^ 0x9e3779b97f4a7c15ULL) ^ mix64(std::max(za, zb)) ^ (d << 40));
+}
+
 }  // namespace layered_detail
 
 template <typename C>
@@ -92,13 +116,28 @@ C LayeredBxDFT<C>::walk(const Vec3& wo, const Vec3& wi, std::uint64_t seed) cons
   C f{};
   // The top's own reflection (a rough top; a smooth one's is the delta lobe of sample()).
   if (rough) f = top.f(wo, wi, kRad) * Float(samples);
+  // A transmission through the top from w (outside): a smooth top's is forced (u_lobe → 1)
+  // and weighted by its probability 1 − F, rather than drawn against its reflection
+  // (pbrt-v4 samples the interfaces' transmission alone the same way); a rough top's is
+  // drawn, and a reflection drawn instead ends the walk.
+  const auto transmit = [&](const Vec3& w, TransportMode mode) -> std::optional<BSDFSampleT<C>> {
+    if (rough) {
+      auto t = top.sample(w, r(), r(), r(), mode);
+      if (!t || t->lobe != Lobe::Transmission) return std::nullopt;
+      return t;
+    }
+    auto t = DielectricBxDFT<C>{top.eta}.sample(w, kOneMinusEpsilon, 0, 0, mode);
+    if (!t || t->lobe != Lobe::Transmission) return std::nullopt;  // total internal reflection
+    t->weight *= 1 - fresnel_dielectric(w.z, top.eta);
+    return t;
+  };
   for (int s = 0; s < samples; ++s) {
     // Enter through the top from wo; leave towards wi through a transmission drawn from wi
     // in the adjoint mode (f_imp(wi, d) = f_rad(d, wi)), reused at every vertex.
-    const auto wos = top.sample(wo, r(), r(), r(), kRad);
-    if (!wos || wos->lobe != Lobe::Transmission || wos->wi.z == 0 || wos->weight.is_black()) continue;
-    const auto wis = top.sample(wi, r(), r(), r(), kImp);
-    if (!wis || wis->lobe != Lobe::Transmission || wis->wi.z == 0 || wis->weight.is_black()) continue;
+    const auto wos = transmit(wo, kRad);
+    if (!wos || wos->wi.z == 0 || wos->weight.is_black()) continue;
+    const auto wis = transmit(wi, kImp);
+    if (!wis || wis->wi.z == 0 || wis->weight.is_black()) continue;
     const C wis_f_over_pdf = wis->weight * (1 / std::abs(wis->wi.z));
     const Vec3 w_exit = -wis->wi;  // direction of travel (up) of the light that leaves towards wi
     C beta = wos->weight;
@@ -151,11 +190,17 @@ C LayeredBxDFT<C>::walk(const Vec3& wo, const Vec3& wi, std::uint64_t seed) cons
       z = at_top ? thickness : Float(0);
       if (at_top) {
         // At the top from inside: reflect back down; what the top transmits has left
-        // (its contribution towards wi is the connections above and below).
-        const auto bs = top.sample(-w, r(), r(), r(), kRad);
-        if (!bs || bs->lobe != Lobe::Reflection || bs->wi.z == 0) break;
-        beta *= bs->weight;
-        w = bs->wi;
+        // (its contribution towards wi is the connections above and below). A smooth top
+        // reflects by its Fresnel factor (no draw); a rough one's reflection is drawn.
+        if (rough) {
+          const auto bs = top.sample(-w, r(), r(), r(), kRad);
+          if (!bs || bs->lobe != Lobe::Reflection || bs->wi.z == 0) break;
+          beta *= bs->weight;
+          w = bs->wi;
+        } else {
+          beta *= fresnel_dielectric(-w.z, top.eta);
+          w = {w.x, w.y, -w.z};
+        }
       } else {
         // At the bottom: connect to wi through the top, then continue by the bottom's sampling.
         if (base_glossy) {
@@ -191,33 +236,41 @@ C LayeredBxDFT<C>::specular_chain(const Vec3& wo, std::uint64_t seed) const {
   C est(F);
   if (!has(bottom->flags(), BxDFFlags::Specular)) return est;
   // Forced refraction (u_lobe → 1): the weight is the radiance scaling alone, the
-  // probability 1 − F is applied here, so that the chain is deterministic but for the
-  // bottom's choice of lobe and Russian roulette.
+  // probability 1 − F is applied here.
   const DielectricBxDFT<C> interface{top.eta};
   const auto in = interface.sample(wo, kOneMinusEpsilon, 0, 0, kRad);
   if (!in || in->lobe != Lobe::Transmission) return est;
+  Vec3 w = in->wi;  // travelling down
+  const Vec3 up{w.x, w.y, -w.z};
+  const Float fi = fresnel_dielectric(-up.z, top.eta);  // the top from inside (= F: Snell's pair)
+  const auto out = interface.sample(-up, kOneMinusEpsilon, 0, 0, kRad);
+  if (!out || out->lobe != Lobe::Transmission) return est;
+  const C t0 = in->weight * ((1 - F) * (1 - fi)) * out->weight;  // in and out: (1 − F)² (scalings cancel)
+  // A bottom that is one delta lobe with a closed-form reflectance R_b (mirror, conductor)
+  // sends every bounce back along the same two directions: the chain is the geometric
+  // series F + (1 − F)² T R_b Σ (F T R_b)^k, T = e^{−2τ/μ'}, summed exactly (a walk capped
+  // at max_depth would lose (1 − F) F^max_depth near grazing, where F → 1).
+  if (is_delta_only(bottom->flags())) {
+    if (const auto a = bottom->exact_albedo(up, kRad)) {
+      const Float T = transmittance(thickness, up.z) * transmittance(thickness, up.z);
+      const C ratio = a->reflectance * (fi * T);
+      return est + t0 * a->reflectance * T / (C(1) - ratio);
+    }
+  }
+  // Otherwise the chain, bounce by bounce: the bottom's choice of its delta lobe is random
+  // (its weight carries the probability), the rest deterministic; no Russian roulette (the
+  // throughput falls by F_in per bounce), capped at max_depth.
   Pcg32 rng(seed);
   const auto r = [&] { return std::min(rng.next_float(), kOneMinusEpsilon); };
   C t = in->weight * (1 - F);
-  Vec3 w = in->wi;  // travelling down
   for (int depth = 0; depth < max_depth; ++depth) {
-    if (depth > 3) {
-      const Float m = t.max_component();
-      if (m < Float(0.25)) {
-        const Float q = std::max(Float(0), 1 - m);
-        if (r() < q) break;
-        t *= 1 / (1 - q);
-      }
-    }
     t *= transmittance(thickness, w.z);  // unscattered: what scatters belongs to f
     const auto bs = bottom->sample(-w, r(), r(), r(), kRad);
     if (!bs || !bs->delta || !(bs->wi.z > 0)) break;
     t *= bs->weight;
     w = bs->wi;  // travelling up
     t *= transmittance(thickness, w.z);
-    const Float fi = fresnel_dielectric(-w.z, top.eta);  // from inside
-    const auto out = interface.sample(-w, kOneMinusEpsilon, 0, 0, kRad);
-    if (out && out->lobe == Lobe::Transmission) est += t * out->weight * (1 - fi);
+    est += t * out->weight * (1 - fi);
     t *= fi;
     if (t.is_black()) break;
     w = {w.x, w.y, -w.z};
@@ -292,8 +345,18 @@ BSDFEvalT<C> LayeredBxDFT<C>::eval(const Vec3& wo_in, const Vec3& wi_in, Transpo
   const Float pdf = mixture_pdf(mixture(wo), wo, wi);
   // The symmetric estimator: the walk from both ends with one seed, so f(wo, wi) = f(wi, wo)
   // exactly (the sum of two numbers does not depend on their order).
-  const std::uint64_t seed = layered_detail::pair_seed(wo, wi);
-  const C a = walk(wo, wi, seed), b = walk(wi, wo, seed);
+  C a, b;
+  if (is_isotropic()) {
+    using namespace layered_detail;
+    const std::uint64_t seed = isotropic_pair_seed(wo, wi);
+    const Turn to = canonical_turn(wo, wi), ti = canonical_turn(wi, wo);
+    a = walk(to(wo), to(wi), seed);
+    b = walk(ti(wi), ti(wo), seed);
+  } else {
+    const std::uint64_t seed = layered_detail::pair_seed(wo, wi);
+    a = walk(wo, wi, seed);
+    b = walk(wi, wo, seed);
+  }
   C f = (a + b) * Float(0.5);
   if (!f.is_finite()) f = C{};
   return {f, pdf};
@@ -324,8 +387,10 @@ std::optional<BSDFSampleT<C>> LayeredBxDFT<C>::sample(const Vec3& wo_in, Float u
   Vec3 wi;
   if (u < p.delta) {
     // The specular chain, estimated with a generator seeded by this sample.
-    const std::uint64_t seed = mix64(direction_hash(wo) ^ mix64(std::uint64_t(std::bit_cast<std::uint32_t>(u1)) << 32 |
-                                                                 std::bit_cast<std::uint32_t>(u2)));
+    // (By cos θo alone when isotropic: the chain's weight does not depend on the azimuth.)
+    const std::uint64_t where = is_isotropic() ? quantised(wo.z) : direction_hash(wo);
+    const std::uint64_t seed = mix64(where ^ mix64(std::uint64_t(std::bit_cast<std::uint32_t>(u1)) << 32 |
+                                                   std::bit_cast<std::uint32_t>(u2)));
     const C R = specular_chain(wo, seed);
     return BSDFSampleT<C>{{-wo.x, -wo.y, s * wo.z}, R * (1 / p.delta), p.delta, true, Lobe::Reflection, 1};
   }
