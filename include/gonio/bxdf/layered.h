@@ -77,10 +77,11 @@ struct LayeredBxDFT {
 
   BxDFFlags flags() const;
   bool is_isotropic() const;
-  C f(const Vec3& wo, const Vec3& wi, TransportMode mode) const;
-  Float pdf(const Vec3& wo, const Vec3& wi, TransportMode mode) const;
-  BSDFEvalT<C> eval(const Vec3& wo, const Vec3& wi, TransportMode mode) const;
-  std::optional<BSDFSampleT<C>> sample(const Vec3& wo, Float u_lobe, Float u1, Float u2, TransportMode mode) const;
+  C f(const Vec3& wo, const Vec3& wi, TransportMode mode = TransportMode::Radiance) const;
+  Float pdf(const Vec3& wo, const Vec3& wi, TransportMode mode = TransportMode::Radiance) const;
+  BSDFEvalT<C> eval(const Vec3& wo, const Vec3& wi, TransportMode mode = TransportMode::Radiance) const;
+  std::optional<BSDFSampleT<C>> sample(const Vec3& wo, Float u_lobe, Float u1, Float u2,
+                                       TransportMode mode = TransportMode::Radiance) const;
 
   // --- the parts of the walk (layered_impl.h) ---
   bool scatters() const { return thickness > 0 && !albedo.is_black(); }
