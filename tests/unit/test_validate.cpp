@@ -123,10 +123,10 @@ INSTANTIATE_TEST_SUITE_P(
       R"({"type":"plastic","reflectance":0.5,"alpha":0.3,"distribution":"beckmann"})",
       R"({"type":"blend","weight":0.3,"bsdfs":[{"type":"diffuse"},{"type":"dielectric"}]})",
       R"({"type":"blend","weight":0.7,"bsdfs":[{"type":"roughconductor","alpha":0.2,"material":"Au"},{"type":"plastic"}]})",
-      // layered (issue 34): a smooth top over a diffuse and over a delta bottom (each ~5 s
-      // here at half counts). A rough top with a scattering medium and g = 0 passes
-      // `gonio check` in ~60 s (too long for this suite); over a glossy bottom, and with
-      // |g| = 0.9, `weights` fails (docs/testing.md, "layered").
+      // layered (issue 34): a smooth top over a diffuse and over a delta bottom (a few
+      // seconds each here). Rough tops over rough gold and over a scattering medium pass
+      // `gonio check` in 30-50 s, too long for this suite; a medium with g = -0.9 under a
+      // smooth top fails `weights` (docs/testing.md, "layered").
       R"({"type":"layered","top":{"type":"dielectric","eta":1.5},"bottom":{"type":"diffuse","reflectance":0.8},"thickness":0})",
       R"({"type":"layered","top":{"type":"dielectric","eta":1.5},"bottom":{"type":"mirror"},"thickness":0.3})"));
 

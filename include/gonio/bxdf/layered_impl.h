@@ -141,13 +141,17 @@ C LayeredBxDFT<C>::walk(const Vec3& wo, const Vec3& wi, std::uint64_t seed) cons
     const C wis_f_over_pdf = wis->weight * (1 / std::abs(wis->wi.z));
     const Vec3 w_exit = -wis->wi;  // direction of travel (up) of the light that leaves towards wi
     C beta = wos->weight;
+    // Russian roulette compares the throughput with the one the walk entered with: the
+    // entry's 1 − F(wo) (0.002 at 89.9°) would otherwise trigger it at once and make each
+    // survivor carry 1/(1 − F) times a typical path (weights of 178 at 89.9°, gonio check).
+    const Float beta_entry = beta.max_component();
     Float z = thickness;  // the top is at z = thickness, the bottom at 0
     Vec3 w = wos->wi;     // direction of travel
     for (int depth = 0; depth < max_depth; ++depth) {
-      // Russian roulette (pbrt-v4's rule): from depth 4, a path carrying less than a
-      // quarter survives with probability equal to its throughput.
+      // Russian roulette (pbrt-v4's rule, relative to the entry): from depth 4, a path
+      // carrying less than a quarter survives with probability equal to its throughput.
       if (depth > 3) {
-        const Float m = beta.max_component();
+        const Float m = beta.max_component() / beta_entry;
         if (m < Float(0.25)) {
           const Float q = std::max(Float(0), 1 - m);
           if (r() < q) break;
