@@ -87,6 +87,7 @@ class Params {
       std::string hint;
       if (s.kind == ParamKind::Roughness) hint = " (a number, or [alpha_x, alpha_y])";
       else if (s.kind == ParamKind::Materials) hint = " (an array of 2 materials)";
+      else if (s.kind == ParamKind::Material) hint = " (a material)";
       else if (s.range.present) hint = " (" + range_text(s.range, s.unit) + ")";
       fail(std::string("missing parameter '") + key + "'" + hint);
     }
@@ -669,6 +670,7 @@ Subsurface parse_subsurface(Params& p, bool invert) {
 BxDF make_subsurface(Params& p) { return parse_subsurface(p, false).boundary; }
 
 BxDF make_blend(Params& p, const std::string& where, int depth);
+BxDF make_layered(Params& p, const std::string& where, int depth);
 BxDF parse_description(const json& description, const std::string& where, int blend_depth, MaterialSpectra& spectra,
                        const std::string& base_dir);
 
@@ -725,6 +727,56 @@ BxDF make_blend(Params& p, const std::string& where, int depth) {
     p.fail("both parts refract, with different eta (" + format_number(e0) + " and " + format_number(e1) + ")");
   return BlendBxDF::make(Float(w), std::move(parts));
 }
+
+// A whole number of the registry's range (max_depth, samples).
+int whole_number(Params& p, const char* key) {
+  const double v = p.number(key);
+  if (v != std::floor(v)) p.fail(std::string(key) + " must be a whole number, got " + format_number(v));
+  return int(v);
+}
+
+// `depth`: how many blends or layered materials enclose this one (0 at the top); they
+// share the nesting limit (and spectral mode's scratch space, one slot per level).
+BxDF make_layered(Params& p, const std::string& where, int depth) {
+  if (depth >= kMaxBlendDepth)
+    p.fail("blends and layered materials nested deeper than " + std::to_string(kMaxBlendDepth) + " levels");
+  const json& top_json = p.raw("top");
+  const json& bottom_json = p.raw("bottom");
+  // The top must be a dielectric interface; named before it is parsed, so that the message
+  // says what is wrong with it rather than with its parameters.
+  const auto type_of = [](const json& j) -> std::string {
+    if (!j.is_object()) return "";
+    const auto it = j.find("type");
+    return it != j.end() && it->is_string() ? it->get<std::string>() : "";
+  };
+  const std::string top_type = type_of(top_json);
+  if (top_type == "thindielectric")
+    p.fail("top: thindielectric is not supported as a top yet (dielectric or roughdielectric)");
+  if (!top_json.is_object()) p.fail("top must be a material (a dielectric or roughdielectric), got " + show(top_json));
+  if (!bottom_json.is_object()) p.fail("bottom must be a material, got " + show(bottom_json));
+  if (top_type != "dielectric" && top_type != "roughdielectric")
+    p.fail("top must be a dielectric or roughdielectric material, got type " + show(top_json.value("type", json())));
+  p.spectra().parts.resize(2);
+  const BxDF top = parse_description(top_json, where + ".top", depth + 1, p.spectra().parts[0], p.base_dir());
+  auto bottom = std::make_shared<const BxDF>(
+      parse_description(bottom_json, where + ".bottom", depth + 1, p.spectra().parts[1], p.base_dir()));
+  if (is_transmissive(bottom->flags()))
+    p.fail("bottom must not transmit light (a " + bottom->name() +
+           " does): a transmitting bottom is not supported; the stack reflects only");
+  RoughDielectricBxDF interface;
+  if (const auto* d = std::get_if<DielectricBxDF>(&top.models())) {
+    interface.eta = d->eta;
+    interface.distribution.alpha_x = interface.distribution.alpha_y = 0;  // smooth: specular()
+  } else {
+    interface = std::get<RoughDielectricBxDF>(top.models());
+  }
+  const double g = p.number("g");
+  // Below HG's isotropic threshold its sampler draws the isotropic phase; the walk then
+  // uses g = 0 throughout, so that the sampled density is the one it evaluates.
+  const Float g_used = std::abs(Float(g)) < kHgIsotropicBelow ? Float(0) : Float(g);
+  return LayeredBxDF::make(interface, std::move(bottom), Float(p.number("thickness")), p.color("albedo"), g_used,
+                           whole_number(p, "max_depth"), whole_number(p, "samples"));
+}
 }  // namespace
 
 BxDF material_from_json(const json& description, const std::string& where, const std::string& base_dir) {
@@ -779,6 +831,13 @@ BxDF parse_description(const json& description, const std::string& where, int bl
     Params p(description, at + "blend: ", *spec, spectra, base_dir);
     p.reject_undeclared();
     BxDF m = make_blend(p, where.empty() ? "blend" : where + ": blend", blend_depth);
+    p.reject_unknown();
+    return m;
+  }
+  if (type == "layered") {
+    Params p(description, at + "layered: ", *spec, spectra, base_dir);
+    p.reject_undeclared();
+    BxDF m = make_layered(p, where.empty() ? "layered" : where + ": layered", blend_depth);
     p.reject_unknown();
     return m;
   }
@@ -957,7 +1016,8 @@ BxDF with_params(const BxDF& model, std::span<const ParamValue> values) noexcept
   return std::visit(
       [&](const auto& base) -> BxDF {
         using M = std::decay_t<decltype(base)>;
-        if constexpr (std::is_same_v<M, BlendBxDF> || std::is_same_v<M, UserBxDF> || std::is_same_v<M, MeasuredBxDF>) {
+        if constexpr (std::is_same_v<M, BlendBxDF> || std::is_same_v<M, UserBxDF> || std::is_same_v<M, MeasuredBxDF> ||
+                      std::is_same_v<M, LayeredBxDF>) {
           return base;  // nothing of theirs varies
         } else {
           M m = base;

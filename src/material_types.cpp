@@ -116,6 +116,22 @@ constexpr ParamSpec kBlend[] = {
     {"weight", K::Number, "", closed(0, 1), "", "", true, "w in (1 - w) f0 + w f1."},
     {"bsdfs", K::Materials, "", {}, "", "", true, "The two materials [f0, f1]; blends nest at most 8 deep."},
 };
+constexpr ParamSpec kLayered[] = {
+    {"top", K::Material, "", {}, "", "", true,
+     "The interface on top: a dielectric or roughdielectric material (its eta is relative to the medium below it)."},
+    {"bottom", K::Material, "", {}, "", "", true,
+     "The material under the medium: any material that does not transmit; layered materials and blends nest at most 8 deep."},
+    {"thickness", K::Number, "0.01", closed(0, 1e4), "", "", false,
+     "Optical depth of the medium between them (sigma_t = 1, as in pbrt-v4); 0: no medium."},
+    {"albedo", K::Colour, "0", kUnit, "", "", false,
+     "Single-scattering albedo of the medium; 0: it only absorbs."},
+    {"g", K::Number, "0", closed(-0.9, 0.9), "", "", false,
+     "Henyey-Greenstein asymmetry of the medium's phase function (0 isotropic, > 0 forward)."},
+    {"max_depth", K::Number, "100", closed(1, 10000), "", "", false,
+     "Most vertices of one random walk; Russian roulette from depth 4."},
+    {"samples", K::Number, "1", closed(1, 64), "", "", false,
+     "Random walks averaged per evaluation (each end of the symmetric estimator)."},
+};
 
 // Scattering coefficients and mean free paths in 1 / scene unit and scene units: far
 // wider than any medium at any scene scale, and finite as floats when inverted.
@@ -183,6 +199,12 @@ constexpr MaterialTypeSpec kTypes[] = {
      "A rough coat needs an isotropic alpha (a number)."},
     {"blend", "Linear blend of two materials: (1 - w) f0 + w f1.", "The lecture, §2 and §3.4", kBlend,
      "Two parts that both refract must have the same eta."},
+    {"layered", "A dielectric interface over any reflecting material, with an optional medium between them.",
+     "Guo, Hasan & Zhao 2018 (position-free random walk); Pharr, Jakob & Humphreys, PBR 4th ed., 14.3 (LayeredBxDF)",
+     kLayered,
+     "f is a Monte Carlo estimate, seeded by the unordered pair of directions and run from both ends, so that it is "
+     "reciprocal exactly; sample() draws from a closed-form mixture. The bottom must not transmit. Polarized mode: "
+     "depolarizing."},
     {"measured", "A measured isotropic BRDF: a MERL table, interpolated in half/difference angles and importance-sampled.",
      "Matusik et al. 2003 (MERL format); Rusinkiewicz 1998 (half/difference angles)", kMeasured,
      "Reflection only; an entry whose f (stored x scale) exceeds 1e30 1/sr is refused. docs/measured.md says how it "

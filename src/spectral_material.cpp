@@ -165,6 +165,23 @@ struct Converter {
     s.parts = parts;
     return s;
   }
+  // The top at the path's wavelengths (its index at the hero wavelength when dispersive),
+  // the bottom in one scratch slot (a layered material counts as one level of nesting).
+  SpectralBxDF operator()(const LayeredBxDF& m) const {
+    std::array<SpectralBxDF, 2>* parts = scratch.next_parts();
+    if (!parts || spectra.parts.size() != 2) return DiffuseBxDFT<SS>{SS(0)};
+    (*parts)[0] = Converter{spectra.parts[1], w, scratch, 0}.convert(*m.bottom);
+    const SpectralBxDF top = Converter{spectra.parts[0], w, scratch, 0}(m.top);
+    LayeredBxDFT<SS> s;
+    s.top = std::get<RoughDielectricBxDFT<SS>>(top.models());
+    s.bottom = &(*parts)[0];
+    s.thickness = m.thickness;
+    s.albedo = colour(MP::Reflectance, m.albedo);
+    s.g = m.g;
+    s.max_depth = m.max_depth;
+    s.samples = m.samples;
+    return s;
+  }
   SpectralBxDF operator()(const UserBxDF&) const { return DiffuseBxDFT<SS>{SS(0)}; }
 
   SpectralBxDF convert(const BxDF& rgb) const {

@@ -69,6 +69,9 @@ inline std::vector<std::string> extreme_materials() {
       R"({"type":"blend","weight":1,"bsdfs":[{"type":"diffuse"},{"type":"mirror"}]})",
       R"({"type":"blend","weight":0.5,"bsdfs":[{"type":"dielectric","eta":1.5},{"type":"roughdielectric","alpha":0.3,"eta":1.5}]})",
       R"({"type":"blend","weight":0.3,"bsdfs":[{"type":"ward","kd":0,"ks":1,"alpha":0.0001},{"type":"phong","kd":0,"ks":1,"exponent":1000000}]})",
+      R"({"type":"layered","top":{"type":"dielectric","eta":10000},"bottom":{"type":"diffuse","reflectance":1},"thickness":0})",
+      R"({"type":"layered","top":{"type":"roughdielectric","alpha":0.001,"eta":0.0001},"bottom":{"type":"mirror"},"thickness":10000,"albedo":1,"g":0.9,"max_depth":1})",
+      R"({"type":"layered","top":{"type":"roughdielectric","alpha":10,"eta":1},"bottom":{"type":"conductor","eta":10000,"k":10000},"thickness":0.01,"albedo":0,"g":-0.5})",
   };
   for (const char* eta : {"1", "1.000001", "0.0001", "10000", "1.5", "0.6667"}) {
     v.push_back(std::string(R"({"type":"dielectric","eta":)") + eta + "}");

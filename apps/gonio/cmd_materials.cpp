@@ -55,6 +55,7 @@ std::string kind_text(const ParamSpec& p, bool code) {
     case ParamKind::Metal:
       return "measured metal: " + join_names(named_metal_names(), code ? "`" : "");
     case ParamKind::Materials: return "array of 2 materials";
+    case ParamKind::Material: return "material";
     case ParamKind::File: return "path";
   }
   return "";

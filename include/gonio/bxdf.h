@@ -18,6 +18,7 @@
 #include "gonio/bxdf/dielectric.h"
 #include "gonio/bxdf/diffuse.h"
 #include "gonio/bxdf/eon.h"
+#include "gonio/bxdf/layered.h"
 #include "gonio/bxdf/measured.h"
 #include "gonio/bxdf/mirror.h"
 #include "gonio/bxdf/orennayar.h"
@@ -39,7 +40,8 @@ class BxDFT {
   using Models = std::variant<DiffuseBxDFT<C>, MirrorBxDFT<C>, ConductorBxDFT<C>, DielectricBxDFT<C>,
                               RoughConductorBxDFT<C>, RoughDielectricBxDFT<C>, OrenNayarBxDFT<C>, PhongBxDFT<C>,
                               BlinnPhongBxDFT<C>, WardBxDFT<C>, AshikhminShirleyBxDFT<C>, PlasticBxDFT<C>,
-                              MeasuredBxDFT<C>, BlendBxDFT<C>, UserBxDFT<C>, SheenBxDFT<C>, EonBxDFT<C>>;
+                              MeasuredBxDFT<C>, BlendBxDFT<C>, UserBxDFT<C>, SheenBxDFT<C>, EonBxDFT<C>,
+                              LayeredBxDFT<C>>;
 
   BxDFT() = default;
   template <typename M>
@@ -177,3 +179,6 @@ std::optional<DirectionalAlbedoT<C>> BlendBxDFT<C>::albedo(const Vec3& wo, Trans
 }
 
 }  // namespace gonio
+
+// LayeredBxDF, now that BxDF is complete.
+#include "gonio/bxdf/layered_impl.h"  // IWYU pragma: export

@@ -19,6 +19,7 @@ enum class ParamKind {
   Boolean,    // true or false
   Metal,      // the name of a measured metal (named_metal_names())
   Materials,  // an array of 2 material descriptions
+  Material,   // one material description (layered's top and bottom)
   File,       // a path (a string), relative to the scene file or the working directory
 };
 

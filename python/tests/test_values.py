@@ -27,6 +27,8 @@ EXAMPLES = {
              '{"type":"roughconductor","material":"Al","alpha":0.1}]}',
     "measured": None,  # the MERL file of conftest
     "subsurface": '{"type":"subsurface","medium":"marble","alpha":0.2}',
+    "layered": '{"type":"layered","top":{"type":"roughdielectric","eta":1.5,"alpha":0.2},'
+               '"bottom":{"type":"diffuse","reflectance":0.5},"thickness":0.1,"albedo":0.5}',
 }
 # More of the code paths the same types take.
 VARIANTS = [

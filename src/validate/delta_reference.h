@@ -10,6 +10,7 @@
 // model's own albedo() was circular, as both shared the (n_wo/n_wi)² code.
 
 #include <array>
+#include <cmath>
 #include <optional>
 #include <string>
 #include <type_traits>
@@ -81,6 +82,32 @@ inline std::optional<DeltaReference> delta_reference(const BxDF& bxdf, const Vec
           for (size_t c = 0; c < size_t(kColorChannels); ++c) {
             r.reflection[c] = (1 - w) * a->reflection[c] + w * b->reflection[c];
             r.transmission[c] = (1 - w) * a->transmission[c] + w * b->transmission[c];
+          }
+          return r;
+        } else if constexpr (std::is_same_v<M, LayeredBxDF>) {
+          // A smooth top's specular chain, summed in closed form: light reflected by the
+          // top (F), or refracted in, attenuated by e^{−τ/μ'} each way, reflected by the
+          // bottom's delta lobe (R_b, the validator's own reference at the refracted
+          // direction) and bounced between bottom and top (F from inside equals F from
+          // outside at Snell's pair of angles; the radiance scalings in and out cancel):
+          //   R = F + (1 − F)² T R_b / (1 − F T R_b),  T = e^{−2τ/μ'}.
+          // A rough top has no delta lobe.
+          if (!m.top.specular() || wo.z == 0) return r;
+          const double mu = std::abs(double(wo.z)), eta = m.top.eta;
+          const double F = reference_fresnel_dielectric(mu, eta);
+          const double s2 = (1 - mu * mu) / (eta * eta);
+          if (!(s2 < 1)) {  // total internal reflection from outside (η < 1)
+            r.reflection.fill(F);
+            return r;
+          }
+          const double mu_in = std::sqrt(1 - s2);
+          const Vec3 inner{Float(wo.x / eta), Float(wo.y / eta), Float(mu_in)};
+          const auto b = delta_reference(*m.bottom, inner, mode);
+          if (!b) return std::nullopt;
+          const double T = m.thickness > 0 ? std::exp(-2 * double(m.thickness) / mu_in) : 1.0;
+          for (size_t c = 0; c < size_t(kColorChannels); ++c) {
+            const double rb = b->reflection[c];
+            r.reflection[c] = F + (1 - F) * (1 - F) * T * rb / (1 - F * T * rb);
           }
           return r;
         } else if constexpr (std::is_same_v<M, UserBxDF>) {

@@ -398,5 +398,52 @@ def main():
     write("blend", recs)
 
 
+def layered_family():
+    """layered.jsonl. The walk's f is a Monte Carlo estimate, so the records are those with a
+    closed form (models_reference.layered): (1) a rough top over a black base, whose f is
+    exactly the top's reflection (deterministic: the walk adds 0), at the roughdielectric
+    tolerances; (2) the smooth top's delta lobe (specular chain) over a mirror, a conductor
+    or a black base: weight × probability = R, to atol 1e-4 (float rounding of a geometric
+    series of a few terms: gonio sums it in closed form for a mirror or conductor bottom); (3) smooth plastic without a medium, with "samples": 64,
+    cos θ ≥ 0.05 on both sides, at rtol 0.5: 5 × the relative standard deviation of one
+    64-walk estimate, 0.099 at worst over 40 random pairs with cos θ ≥ 0.05 (measured by
+    re-seeding: the azimuth of wi turned in 400 steps, which leaves this f unchanged;
+    docs/testing.md), so a record fails by chance with probability ~1e-6 — a check of
+    the walk's scale (a lost η², a doubled term), not of its last per cent, which
+    tests/unit/test_layered.cpp (Layered.AgreesWithPlastic) checks by averaging."""
+    rng = random.Random(131)
+    recs = []
+    black = {"type": "diffuse", "reflectance": 0}
+    for top in ({"type": "roughdielectric", "eta": 1.5, "alpha": 0.3},
+                {"type": "roughdielectric", "eta": 1.33, "alpha": [0.1, 0.4], "distribution": "beckmann"}):
+        mat = {"type": "layered", "top": top, "bottom": black, "thickness": 0.5}
+        recs += eval_records(mat, rng, 30, kinds=("same", "below"), weights=(0.6, 0.4))
+    for mat in ({"type": "layered", "top": {"type": "dielectric", "eta": 1.5}, "bottom": {"type": "mirror"}, "thickness": 0},
+                {"type": "layered", "top": {"type": "dielectric", "eta": 1.5}, "bottom": {"type": "mirror"}, "thickness": 0.1},
+                {"type": "layered", "top": {"type": "dielectric", "eta": 1.5}, "bottom": {"type": "mirror"}, "thickness": 0.5},
+                {"type": "layered", "top": {"type": "dielectric", "eta": 1.5}, "bottom": {"type": "mirror"}, "thickness": 2},
+                {"type": "layered", "top": {"type": "dielectric", "eta": 1.7},
+                 "bottom": {"type": "mirror", "reflectance": [0.9, 0.6, 0.3]}, "thickness": 0.3},
+                {"type": "layered", "top": {"type": "dielectric", "eta": 1.33},
+                 "bottom": {"type": "conductor", "material": "Au"}, "thickness": 0.05},
+                {"type": "layered", "top": {"type": "dielectric", "eta": 2}, "bottom": black}):
+        normal = (0.0, 0.0, 1.0)
+        wos = [normal] + [direction(rng, rng.random() < 0.7, grazing_share=0.1) for _ in range(5)]
+        for wo in wos:
+            R_ = R.layered_specular(mat, abs(wo[2]))
+            recs.append(sample_record(mat, "radiance", wo, [0.0, 0.5, 0.5], R.mirror_dir(wo), "reflection",
+                                      wxp=R_, rtol=0, atol=1e-4))
+    for rho, eta in ((0.6, 1.5), ([0.9, 0.5, 0.1], 1.33)):
+        mat = {"type": "layered", "top": {"type": "dielectric", "eta": eta},
+               "bottom": {"type": "diffuse", "reflectance": rho}, "thickness": 0, "samples": 64}
+        recs += eval_records(mat, rng, 8, kinds=("same",), weights=(1,), rtol=0.5, atol=1e-6, sens=False,
+                             accept=lambda wo, wi: wo[2] >= 0.05 and wi[2] >= 0.05)
+    write("layered", recs)
+
+
 if __name__ == "__main__":
+    if sys.argv[1:] == ["layered"]:  # only this family (issue 34)
+        layered_family()
+        sys.exit(0)
     main()
+    layered_family()

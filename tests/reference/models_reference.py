@@ -50,6 +50,8 @@ Sources (REFERENCES.md):
   F82-tint           Hoffman 2023 (SPEC §2): F = S(μ) − a μ (1 − μ)⁶, a from F(1/7) =
                      f82 S(1/7), S Schlick's curve; clamped to [0, 1]; its average for
                      multiscatter (20 F0 + 1)/21 − a/126.
+  Layered            what has a closed form (the walk has none): smooth plastic, a rough top over
+                     a black base, and the smooth top's specular chain (see layered_specular).
   Smooth plastic     Lambertian base under a smooth dielectric coat with internal
                      reflections summed (Weidlich & Wilkie 2007 §3; Kelemen & Szirmay-Kalos
                      2001): f = (1 − F(θi))(1 − F(θo)) ρ / (π η² (1 − ρ F_dr,in)), F_dr,in the
@@ -661,11 +663,58 @@ def delta_zero(mat, wo, wi, mode):
     return [0.0] * 3  # delta lobes only: f = 0 in eval (contract.h)
 
 
+# --- layered (issue 34): what has a closed form --------------------------------------------
+# The stack's f is a random walk; what is known in closed form, written here from the
+# physics and not from the walk:
+#  - a smooth top over a Lambertian base without a medium is smooth plastic (above);
+#  - a rough top over a black base is the top's own reflection (Walter et al. 2007 eq. 20);
+#  - a smooth top's delta lobe is the specular chain: the top reflects F; what it refracts
+#    (Snell, μ' = sqrt(1 − (1 − μ²)/η²)) is attenuated by T = e^{−2τ/μ'} on the way down and
+#    up (Beer–Lambert, σt = 1), reflected by the bottom's delta lobe R_b (mirror: its
+#    reflectance; conductor: its Fresnel at μ'; otherwise 0), and bounces between bottom
+#    and top with F from inside (= F from outside at Snell's pair of angles); the radiance
+#    scalings η⁻² in and η² out cancel: R = F + (1 − F)² T R_b / (1 − F T R_b).
+def _layered_bottom_delta(bottom, mu_in):
+    t = bottom["type"]
+    if t == "mirror": return col(bottom.get("reflectance", 1.0))
+    if t == "conductor": return ConductorF(bottom)(mu_in)
+    return [0.0] * 3
+
+
+def layered_specular(mat, mu):
+    top = mat["top"]
+    assert top["type"] == "dielectric"
+    eta = top.get("eta", 1.5)
+    F = fresnel(mu, eta)
+    s2 = (1 - mu * mu) / (eta * eta)
+    if s2 >= 1: return [F] * 3
+    mu_in = math.sqrt(1 - s2)
+    T = math.exp(-2 * mat.get("thickness", 0.01) / mu_in)
+    return [F + (1 - F) ** 2 * T * rb / (1 - F * T * rb) for rb in _layered_bottom_delta(mat["bottom"], mu_in)]
+
+
+def layered(mat, wo, wi, mode):
+    top, bottom = mat["top"], mat["bottom"]
+    black = bottom["type"] == "diffuse" and col(bottom.get("reflectance", 0.5)) == [0.0] * 3
+    if top["type"] == "roughdielectric" and black:
+        if wo[2] * wi[2] <= 0: return [0.0] * 3
+        if wo[2] < 0: wo, wi = (wo[0], wo[1], -wo[2]), (wi[0], wi[1], -wi[2])  # two-sided
+        return roughdielectric(top, wo, wi, "radiance")
+    if top["type"] == "dielectric" and bottom["type"] == "diffuse" and mat.get("thickness", 0.01) == 0:
+        return plastic_smooth({"type": "plastic", "eta": top.get("eta", 1.5),
+                               "reflectance": bottom.get("reflectance", 0.5)}, wo, wi, mode)
+    if top["type"] == "dielectric" and (black or bottom["type"] in ("mirror", "conductor")) \
+            and mat.get("albedo", 0) == 0:
+        return [0.0] * 3  # the whole reflection is the delta lobe
+    raise ValueError("no closed form for this layered material")
+
+
 EVAL = {
     "diffuse": diffuse, "mirror": delta_zero, "conductor": delta_zero, "dielectric": delta_zero,
     "roughconductor": roughconductor, "roughdielectric": roughdielectric,
     "orennayar": orennayar, "eon": eon, "phong": phong, "blinnphong": blinnphong, "ward": ward,
     "ashikhminshirley": ashikhminshirley, "plastic": plastic_smooth, "sheen": sheen,
+    "layered": layered,
 }
 
 

@@ -107,6 +107,8 @@ std::map<std::string, std::string> grey_materials(double g) {
       {"measured", R"({"type":"measured","file":")" + gonio_test_merl::lambert_table() + R"("})"},
       {"subsurface", R"({"type":"subsurface","eta":1.33,"alpha":0.2,"sigma_s":)" + G + R"(,"sigma_a":)" + H + "}"},
       {"sheen", R"({"type":"sheen","color":)" + G + R"(,"roughness":0.3})"},
+      {"layered", R"({"type":"layered","top":{"type":"roughdielectric","alpha":0.3,"eta":1.4},"bottom":{"type":"diffuse","reflectance":)" +
+                      G + R"(},"thickness":0.2,"albedo":)" + H + "}"},
   };
 }
 

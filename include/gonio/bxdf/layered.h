@@ -1,0 +1,103 @@
+#pragma once
+// Layered BSDF: a dielectric interface (`top`, smooth or rough) over any reflecting
+// material (`bottom`), with an optional homogeneous medium between them (optical depth
+// `thickness`, σt = 1; single-scattering `albedo`; Henyey–Greenstein `g`). Evaluated by
+// the stochastic position-free random walk of Guo, Hašan & Zhao 2018, "Position-Free
+// Monte Carlo Simulation for Arbitrary Layered BSDFs" (SIGGRAPH Asia; §4–5), in the form
+// of pbrt-v4's LayeredBxDF (Pharr, Jakob & Humphreys, 4th ed., §14.3.2): a path enters
+// through the top (a transmission sample from wo), walks between the interfaces and the
+// medium, and at each vertex is connected to wi through the top by a transmission sample
+// drawn from wi (next-event estimation), combined by the power heuristic with the path's
+// own continuation where the top is rough (Veach 1997, §9.2).
+//
+// What gonio adds so that the validator's properties hold exactly (issue 34, item 6):
+//  - f is deterministic for a pair: the walk's generator (rng.h, a value on the stack) is
+//    seeded by a hash of the UNORDERED pair {wo, wi} of bit patterns, and the estimator is
+//    run from both ends with that seed and averaged, f = (E(wo, wi) + E(wi, wo)) / 2, so
+//    f(wo, wi) = f(wi, wo) to the last bit. f is an unbiased estimate of the stack's BSDF.
+//    An isotropic stack hashes the pair's rotation invariants instead (quantised to 2⁻¹²)
+//    and walks in a frame turned to the first direction's azimuth, so that turning both
+//    directions about N leaves f unchanged (layered_impl.h, canonical_turn).
+//  - The stack reflects only (the bottom must not transmit; the parser refuses one that
+//    does), so f in importance mode equals f in radiance mode (reciprocity), and mode is
+//    not needed by the walk. Two-sided: wo below the surface sees the same stack mirrored.
+//  - sample() draws wi from a closed-form mixture whose density is exactly pdf(): the
+//    top's own microfacet reflection lobe and a wider copy (rough top), the bottom's own
+//    sampling seen through the top's macroscopic refraction (a non-delta bottom), and a
+//    cosine lobe; the weight is f |cos θi| / pdf with the stochastic f. A smooth top has a
+//    delta reflection: its weight is an unbiased estimate of the whole specular chain
+//    (F + (1 − F)² Tr² R_b / (1 − F Tr² R_b) for a specular bottom of reflectance R_b,
+//    summed path by path), seeded per sample.
+// Polarized mode: depolarizing (the walk sums unpolarized energy; docs/polarization.md).
+// The bottom is held as the blend holds its parts (blend.h): `bottom` points at it and
+// `owner` keeps it alive when the model owns it; spectral models made per shading point
+// point into the caller's scratch space. The methods are defined in layered_impl.h,
+// where BxDFT is complete.
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string_view>
+
+#include "gonio/bxdf/contract.h"
+#include "gonio/bxdf/roughdielectric.h"
+
+namespace gonio {
+
+template <typename C>
+class BxDFT;
+
+template <typename C>
+struct LayeredBxDFT {
+  using color_type = C;
+  static constexpr std::string_view kName = "layered";
+  // A smooth top is a RoughDielectricBxDFT below the smoothness threshold (specular()).
+  RoughDielectricBxDFT<C> top;
+  const BxDFT<C>* bottom = nullptr;
+  std::shared_ptr<const BxDFT<C>> owner;
+  Float thickness = 0.01f;  // optical depth of the medium (σt = 1); 0: no medium
+  C albedo{};               // single-scattering albedo of the medium (0: absorbing only)
+  Float g = 0;              // Henyey–Greenstein asymmetry
+  int max_depth = 100;
+  int samples = 1;
+
+  static LayeredBxDFT make(const RoughDielectricBxDFT<C>& top, std::shared_ptr<const BxDFT<C>> bottom,
+                           Float thickness, const C& albedo, Float g, int max_depth, int samples) {
+    LayeredBxDFT m;
+    m.top = top;
+    m.bottom = bottom.get();
+    m.owner = std::move(bottom);
+    m.thickness = thickness;
+    m.albedo = albedo;
+    m.g = g;
+    m.max_depth = max_depth;
+    m.samples = samples;
+    return m;
+  }
+
+  BxDFFlags flags() const;
+  bool is_isotropic() const;
+  C f(const Vec3& wo, const Vec3& wi, TransportMode mode = TransportMode::Radiance) const;
+  Float pdf(const Vec3& wo, const Vec3& wi, TransportMode mode = TransportMode::Radiance) const;
+  BSDFEvalT<C> eval(const Vec3& wo, const Vec3& wi, TransportMode mode = TransportMode::Radiance) const;
+  std::optional<BSDFSampleT<C>> sample(const Vec3& wo, Float u_lobe, Float u1, Float u2,
+                                       TransportMode mode = TransportMode::Radiance) const;
+
+  // --- the parts of the walk (layered_impl.h) ---
+  bool scatters() const { return thickness > 0 && !albedo.is_black(); }
+  // One estimate of the stack's BSDF for wo, wi on the upper side, from the generator
+  // state `seed` (both ends of the symmetric estimator use the same seed).
+  C walk(const Vec3& wo, const Vec3& wi, std::uint64_t seed) const;
+  // An unbiased estimate of the smooth top's specular chain for wo (upper side): the
+  // stack's delta reflectance in the mirror direction.
+  C specular_chain(const Vec3& wo, std::uint64_t seed) const;
+  // Mixture probabilities of sample() for wo (upper side).
+  struct Mixture {
+    Float delta = 0, lobe = 0, wide = 0, base = 0, cosine = 0;
+  };
+  Mixture mixture(const Vec3& wo) const;
+  Float mixture_pdf(const Mixture& p, const Vec3& wo, const Vec3& wi) const;
+};
+using LayeredBxDF = LayeredBxDFT<Color>;
+
+}  // namespace gonio
