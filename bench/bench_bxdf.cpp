@@ -290,6 +290,7 @@ int main(int argc, char** argv) {
   register_model("conductor_exact_Au", ConductorBxDF{gold(FresnelModel::Exact)});
   register_model("conductor_schlick_Au", ConductorBxDF{gold(FresnelModel::Schlick)});
   register_model("dielectric_1.5", DielectricBxDF{1.5f});
+  register_model("thindielectric_1.5", ThinDielectricBxDF{1.5f});
   // The glossy models; the targets are for the first three.
   register_model("roughconductor_ggx_Au_0.2",
                  RoughConductorBxDF{{MicrofacetType::GGX, 0.2f, 0.2f}, gold(FresnelModel::Exact), std::nullopt});

@@ -26,6 +26,7 @@ materials = [
     '{"type":"plastic","eta":1.5,"reflectance":0.8}',
     '{"type":"plastic","eta":1.5,"reflectance":0.8,"alpha":0.2,"distribution":"beckmann"}',
     '{"type":"blend","weight":0.25,"bsdfs":[{"type":"diffuse"},{"type":"conductor","material":"Ag"}]}',
+    '{"type":"thindielectric","eta":1.5}',
 ]
 
 def record(wo, wi, u, mode):

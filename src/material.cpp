@@ -444,6 +444,12 @@ BxDF make_dielectric(Params& p) {
   return m;
 }
 
+BxDF make_thindielectric(Params& p) {
+  ThinDielectricBxDF m;
+  m.eta = Float(p.index("eta"));
+  return m;
+}
+
 // kd + ks ≤ 1 per channel, the energy bound of the two-lobe models (SPEC §2).
 void check_sum_at_most_one(Params& p, const char* a, const Color& ca, const char* b, const Color& cb) {
   for (int i = 0; i < Color::size(); ++i)
@@ -664,6 +670,7 @@ constexpr TypeEntry kMakers[] = {
     {"plastic", make_plastic},
     {"measured", make_measured},
     {"subsurface", make_subsurface},
+    {"thindielectric", make_thindielectric},
 };
 
 }  // namespace
@@ -870,6 +877,7 @@ void apply(PlasticBxDF& m, const ParamValue& v, Changed& c) {
   if (m.coat) set_alpha(*m.coat, v, c);
 }
 void apply(DielectricBxDF&, const ParamValue&, Changed&) {}
+void apply(ThinDielectricBxDF&, const ParamValue&, Changed&) {}
 
 template <typename M>
 void finish(M&, const Changed&) {}

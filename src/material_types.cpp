@@ -131,6 +131,13 @@ constexpr ParamSpec kSubsurface[] = {
      "How the renderer and gonio subsurface treat the medium: the exact random walk, or a diffusion profile."},
 };
 
+// The thin sheet (its index: a dielectric's, read the same way).
+constexpr ParamSpec kThinDielectric[] = {
+    {"eta", K::Number, "1.5", kIndex, "", "", false,
+     "Index of the sheet relative to the medium on both sides; or a named glass (\"BK7\"), {\"sellmeier\": ...} or "
+     "a spectrum, read at 550 nm in RGB mode."},
+};
+
 constexpr MaterialTypeSpec kTypes[] = {
     {"diffuse", "Ideal diffuse (Lambertian) reflection, f = ρ/π.", "Lambert 1760; the lecture, §5.1", kDiffuse, ""},
     {"mirror", "Perfect specular reflection with a constant reflectance.", "The lecture, §5.2, eq. 23", kMirror, ""},
@@ -173,6 +180,12 @@ constexpr MaterialTypeSpec kTypes[] = {
      "sigma_s = sigma_s' / (1 - g)). Per channel the transport coefficient sigma_a + (1 - g) sigma_s is 0 (a clear "
      "channel) or at least 1e-15 per unit. As a BSDF (eval, sample, check) it is its boundary; the medium belongs to the "
      "renderer and gonio subsurface. docs/subsurface.md."},
+    {"thindielectric",
+     "Thin dielectric sheet: both faces and all internal reflections summed incoherently per polarization, "
+     "R = 2r/(1 + r), T = 1 - R, transmission straight through (wi = -wo).",
+     "Hecht, Optics, §4.6.2 (Fresnel); incoherent multiple reflection of a slab (Born & Wolf §1.6); as pbrt-v4's "
+     "ThinDielectricBxDF",
+     kThinDielectric, "The same medium on both sides: the sheet does not refract (relative_eta 1)."},
 };
 
 std::string number_text(double v) {

@@ -77,6 +77,7 @@ struct Converter {
   SpectralBxDF operator()(const MirrorBxDF& m) const { return MirrorBxDFT<SS>{colour(MP::Reflectance, m.reflectance)}; }
   SpectralBxDF operator()(const ConductorBxDF& m) const { return ConductorBxDFT<SS>{fresnel(m.fresnel)}; }
   SpectralBxDF operator()(const DielectricBxDF& m) const { return DielectricBxDFT<SS>{index(m.eta)}; }
+  SpectralBxDF operator()(const ThinDielectricBxDF& m) const { return ThinDielectricBxDFT<SS>{index(m.eta)}; }
   SpectralBxDF operator()(const RoughConductorBxDF& m) const {
     RoughConductorBxDFT<SS> s;
     s.distribution = m.distribution;

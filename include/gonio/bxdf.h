@@ -23,6 +23,7 @@
 #include "gonio/bxdf/plastic.h"
 #include "gonio/bxdf/roughconductor.h"
 #include "gonio/bxdf/roughdielectric.h"
+#include "gonio/bxdf/thindielectric.h"
 #include "gonio/bxdf/ward.h"
 
 namespace gonio {
@@ -36,7 +37,7 @@ class BxDFT {
   using Models = std::variant<DiffuseBxDFT<C>, MirrorBxDFT<C>, ConductorBxDFT<C>, DielectricBxDFT<C>,
                               RoughConductorBxDFT<C>, RoughDielectricBxDFT<C>, OrenNayarBxDFT<C>, PhongBxDFT<C>,
                               BlinnPhongBxDFT<C>, WardBxDFT<C>, AshikhminShirleyBxDFT<C>, PlasticBxDFT<C>,
-                              MeasuredBxDFT<C>, BlendBxDFT<C>, UserBxDFT<C>>;
+                              MeasuredBxDFT<C>, BlendBxDFT<C>, UserBxDFT<C>, ThinDielectricBxDFT<C>>;
 
   BxDFT() = default;
   template <typename M>

@@ -2,7 +2,8 @@
 // What a model's delta lobes must return, computed by the validator itself (internal to
 // the property "consistency"). The mean weight of the delta samples of each lobe is the
 // lobe's reflectance: for a smooth dielectric F and (1 − F)(n_wo/n_wi)² (radiance) or
-// 1 − F (importance), for a smooth conductor its Fresnel reflectance, for a mirror its
+// 1 − F (importance), for a thin sheet 2r/(1 + r) per polarization and 1 minus that,
+// for a smooth conductor its Fresnel reflectance, for a mirror its
 // reflectance. These come from fresnel_reference.h and the model's declared parameters
 // (index, complex index, F0, reflectance, blend weight) — never from the model's
 // sample() or albedo(), which are what is being checked; comparing the sampler with the
@@ -36,6 +37,17 @@ inline DeltaReference dielectric_reference(const Vec3& wo, double eta, Transport
   return r;
 }
 
+// A thin sheet: R of the sheet reflected, 1 − R straight through, in either mode (the
+// medium is the same on both sides) and from either side.
+inline DeltaReference thin_sheet_reference(const Vec3& wo, double eta) {
+  DeltaReference r;
+  if (wo.z == 0) return r;
+  const double R = reference_thin_sheet(wo.z, eta);
+  r.reflection.fill(R);
+  r.transmission.fill(1 - R);
+  return r;
+}
+
 inline DeltaReference conductor_reference(const Vec3& wo, const ConductorFresnel& fr) {
   DeltaReference r;
   if (wo.z == 0) return r;
@@ -65,6 +77,8 @@ inline std::optional<DeltaReference> delta_reference(const BxDF& bxdf, const Vec
           return conductor_reference(wo, m.fresnel);
         } else if constexpr (std::is_same_v<M, DielectricBxDF>) {
           return dielectric_reference(wo, m.eta, mode);
+        } else if constexpr (std::is_same_v<M, ThinDielectricBxDF>) {
+          return thin_sheet_reference(wo, m.eta);
         } else if constexpr (std::is_same_v<M, RoughConductorBxDF>) {
           return m.distribution.effectively_smooth() ? conductor_reference(wo, m.fresnel) : r;
         } else if constexpr (std::is_same_v<M, RoughDielectricBxDF>) {

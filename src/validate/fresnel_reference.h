@@ -33,6 +33,34 @@ inline double reference_fresnel_dielectric(double c, double e) {
   return std::min(1.0, (rs * rs + rp * rp) / 2);
 }
 
+// The two polarizations' reflectances R⊥ = r⊥², R∥ = r∥² of the same interface (the laws
+// above; at normal incidence both are ((e − 1)/(e + 1))², under total reflection both 1).
+inline void reference_fresnel_dielectric_sp(double c, double e, double& rs2, double& rp2) {
+  c = std::min(std::abs(c), 1.0);
+  const double sin_i = std::sqrt(std::max(0.0, 1 - c * c));
+  const double sin_t = sin_i / e;
+  rs2 = rp2 = 1;
+  if (sin_t >= 1 || c == 0) return;
+  const double ti = std::atan2(sin_i, c), tt = std::asin(sin_t);
+  if (ti < 1e-7) {
+    rs2 = rp2 = ((e - 1) / (e + 1)) * ((e - 1) / (e + 1));
+    return;
+  }
+  const double rs = std::sin(ti - tt) / std::sin(ti + tt), rp = std::tan(ti - tt) / std::tan(ti + tt);
+  rs2 = std::min(1.0, rs * rs);
+  rp2 = std::min(1.0, rp * rp);
+}
+
+// A thin sheet of relative index e (the same medium on both sides), its faces and all
+// internal reflections summed incoherently per polarization: the geometric series
+// r + (1 − r)² r Σ r^(2k) = 2r / (1 + r) for each, averaged (Born & Wolf §1.6, a plate's
+// multiple reflections without interference). Its transmittance is 1 minus this.
+inline double reference_thin_sheet(double c, double e) {
+  double rs2 = 1, rp2 = 1;
+  reference_fresnel_dielectric_sp(c, e, rs2, rp2);
+  return (2 * rs2 / (1 + rs2) + 2 * rp2 / (1 + rp2)) / 2;
+}
+
 // Unpolarised reflectance of a conductor of complex relative index n = η + iκ at
 // cos θi = c, from Snell's law with a complex refraction angle (Born & Wolf, Principles
 // of Optics, §14.2): n cos θt = w = √(n² − sin²θi), the root with Re w ≥ 0 (the wave

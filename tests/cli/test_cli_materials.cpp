@@ -44,7 +44,8 @@ TEST(CliMaterials, DocsMaterialsMdIsTheGeneratedReference) {
 // taken from the registry).
 const std::vector<std::string> kImplemented = {"diffuse", "mirror",     "conductor", "dielectric", "roughconductor",
                                                "roughdielectric", "orennayar", "phong", "blinnphong", "ward",
-                                               "ashikhminshirley", "plastic", "blend", "measured", "subsurface"};
+                                               "ashikhminshirley", "plastic", "blend", "measured", "subsurface",
+                                               "thindielectric"};
 
 TEST(CliMaterials, ListsEveryTypeOnOneLine) {
   const RunResult r = run_gonio({"materials"});
@@ -123,6 +124,7 @@ const std::map<std::string, nlohmann::json> kMinimal = {
     {"blend", {{"type", "blend"}, {"weight", 0.5}, {"bsdfs", {{{"type", "diffuse"}}, {{"type", "mirror"}}}}}},
     {"measured", {{"type", "measured"}, {"file", gonio_test_merl::lambert_table()}}},
     {"subsurface", {{"type", "subsurface"}, {"sigma_s", 1}, {"sigma_a", 0.1}}},
+    {"thindielectric", {{"type", "thindielectric"}}},
 };
 
 bool parses(const nlohmann::json& j, std::string* error = nullptr) {

@@ -303,6 +303,8 @@ const std::vector<std::string>& polarizing_materials() {
       R"({"type":"conductor","fresnel":"schlick","f0":[0.9,0.6,0.3]})",
       R"({"type":"dielectric","eta":1.5})",
       R"({"type":"dielectric","eta":0.7})",
+      R"({"type":"thindielectric","eta":1.5})",
+      R"({"type":"thindielectric","eta":0.6})",
       R"({"type":"roughconductor","alpha":0.3,"material":"Cu"})",
       R"({"type":"roughconductor","alpha":0.4,"eta":[0.2,0.9,1.1],"k":[3,2.5,2],"multiscatter":true})",
       R"({"type":"roughconductor","alpha":[0.1,0.5],"material":"Ag"})",

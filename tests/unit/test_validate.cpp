@@ -122,7 +122,16 @@ INSTANTIATE_TEST_SUITE_P(
       R"({"type":"plastic","reflectance":[0.9,0.5,0.1],"alpha":0.2})",
       R"({"type":"plastic","reflectance":0.5,"alpha":0.3,"distribution":"beckmann"})",
       R"({"type":"blend","weight":0.3,"bsdfs":[{"type":"diffuse"},{"type":"dielectric"}]})",
-      R"({"type":"blend","weight":0.7,"bsdfs":[{"type":"roughconductor","alpha":0.2,"material":"Au"},{"type":"plastic"}]})"));
+      R"({"type":"blend","weight":0.7,"bsdfs":[{"type":"roughconductor","alpha":0.2,"material":"Au"},{"type":"plastic"}]})",
+      // issue 34: the thin sheet over the index range, index-matched, below 1.
+      R"({"type":"thindielectric"})",
+      R"({"type":"thindielectric","eta":1})",
+      R"({"type":"thindielectric","eta":1.0001})",
+      R"({"type":"thindielectric","eta":0.6666667})",
+      R"({"type":"thindielectric","eta":2.4})",
+      R"({"type":"thindielectric","eta":0.0001})",
+      R"({"type":"thindielectric","eta":10000})",
+      R"({"type":"blend","weight":0.5,"bsdfs":[{"type":"thindielectric"},{"type":"diffuse"}]})"));
 
 // --- models broken on purpose, each through the extension point -----------------------
 
