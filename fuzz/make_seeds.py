@@ -27,6 +27,8 @@ materials = [
     '{"type":"plastic","eta":1.5,"reflectance":0.8,"alpha":0.2,"distribution":"beckmann"}',
     '{"type":"blend","weight":0.25,"bsdfs":[{"type":"diffuse"},{"type":"conductor","material":"Ag"}]}',
     '{"type":"thindielectric","eta":1.5}',
+    '{"type":"roughdielectric","alpha":0.3,"eta":1.5,"thin_film":{"thickness":400,"eta":1.38}}',
+    '{"type":"conductor","material":"Au","thin_film":{"thickness":250,"eta":1.5}}',
 ]
 
 def record(wo, wi, u, mode):

@@ -56,6 +56,7 @@ std::string kind_text(const ParamSpec& p, bool code) {
       return "measured metal: " + join_names(named_metal_names(), code ? "`" : "");
     case ParamKind::Materials: return "array of 2 materials";
     case ParamKind::File: return "path";
+    case ParamKind::Film: return code ? "object `{\"thickness\": nm, \"eta\": n}`" : "object {\"thickness\": nm, \"eta\": n}";
   }
   return "";
 }

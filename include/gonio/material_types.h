@@ -20,6 +20,7 @@ enum class ParamKind {
   Metal,      // the name of a measured metal (named_metal_names())
   Materials,  // an array of 2 material descriptions
   File,       // a path (a string), relative to the scene file or the working directory
+  Film,       // a thin film: an object {"thickness": nm, "eta": index} (issue 34)
 };
 
 // An interval of accepted values; `present` false means any (finite) value.

@@ -105,6 +105,7 @@ std::map<std::string, std::string> grey_materials(double g) {
                     R"(},{"type":"roughconductor","alpha":0.2,"fresnel":"schlick","f0":)" + G + "}]}"},
       {"measured", R"({"type":"measured","file":")" + gonio_test_merl::lambert_table() + R"("})"},
       {"subsurface", R"({"type":"subsurface","eta":1.33,"alpha":0.2,"sigma_s":)" + G + R"(,"sigma_a":)" + H + "}"},
+      {"thindielectric", R"({"type":"thindielectric","eta":1.4})"},
   };
 }
 

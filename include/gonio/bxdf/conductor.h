@@ -10,6 +10,7 @@
 #include <string_view>
 
 #include "gonio/bxdf/contract.h"
+#include "gonio/bxdf/thin_film.h"
 #include "gonio/fresnel.h"
 #include "gonio/hemispherical_average.h"
 #include "gonio/polarization/fresnel_factor.h"
@@ -27,12 +28,15 @@ struct ConductorFresnelT {
   C eta{1.0f};  // real part of the relative index
   C k{0.0f};    // extinction coefficient
   C f0{1.0f};   // reflectance at normal incidence, used by Schlick
+  // A thin film on the metal (thin_film.h; exact model only; inactive: the bare metal).
+  ThinFilmT<C> film{};
 
   C operator()(Float cos_i) const { return (*this)(cos_i, cos_i * cos_i); }
   // The same with cos²θi given as well (callers that have it before cos θi: the exact
   // formula needs cos θi only after two square roots of its own).
   C operator()(Float cos_i, Float cos2_i) const {
     const Float c = std::abs(cos_i);
+    if (film.active()) return film.reflectance(std::min(c, Float(1)), eta, k);
     if (model == FresnelModel::Schlick) return fresnel_schlick(f0, c);
 #if defined(__GNUC__)
     if constexpr (C::size() <= 4) return exact_simd(c, std::min(cos2_i, Float(1)));
@@ -68,6 +72,7 @@ struct ConductorFresnelT {
   // matrix diag(−1, 1) of a perfect mirror in this basis) scaled by F.
   MuellerT<C> mueller(Float cos_i) const {
     const Float c = std::min(std::abs(cos_i), Float(1));
+    if (film.active()) return film.mueller(c, eta, k, true, false);
     MuellerT<C> m;
     for (int ch = 0; ch < C::size(); ++ch) {
       MuellerT<Float> one;

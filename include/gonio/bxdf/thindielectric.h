@@ -30,6 +30,7 @@
 #include <string_view>
 
 #include "gonio/bxdf/contract.h"
+#include "gonio/bxdf/thin_film.h"
 #include "gonio/fresnel.h"
 #include "gonio/polarization/fresnel_factor.h"
 #include "gonio/polarization/interface.h"
@@ -90,6 +91,9 @@ struct ThinDielectricBxDFT {
   using color_type = C;
   static constexpr std::string_view kName = "thindielectric";
   Float eta = 1.5f;  // n_sheet / n_outside (the same medium on both sides)
+  // With a thin film the sheet is that one coherent film (SPEC §2, the soap bubble):
+  // R = Airy(outside | film | outside) per channel, T = 1 − R; eta is then unused.
+  ThinFilmT<Unpolarized<C>> film{};
 
   static constexpr BxDFFlags flags() {
     return BxDFFlags::SpecularReflection | BxDFFlags::SpecularTransmission;
@@ -105,6 +109,7 @@ struct ThinDielectricBxDFT {
                                        TransportMode = TransportMode::Radiance) const {
     if (wo.z == 0) return std::nullopt;
     const Float c = std::abs(wo.z);
+    if (film.active()) return sample_film(wo, c, u_lobe);
     const ThinSheetTerms<Float> s = thin_sheet_terms(c, eta);
     const Float r = s.r();
     const bool reflect = u_lobe < r;
@@ -116,8 +121,28 @@ struct ThinDielectricBxDFT {
 
   DirectionalAlbedoT<C> albedo(const Vec3& wo, TransportMode = TransportMode::Radiance) const {
     if (wo.z == 0) return {};
+    if (film.active()) {
+      using U = Unpolarized<C>;
+      const U r = film.reflectance(std::min(std::abs(wo.z), Float(1)), U(1), U(0));
+      return {C(r), C(U(1) - r)};
+    }
     const ThinSheetTerms<Float> s = thin_sheet_terms(std::abs(wo.z), eta);
     return {C(s.r()), C(s.t())};
+  }
+
+ private:
+  // The soap bubble: the lobe chosen by the channel average of R, each channel weighted by
+  // its share over that probability; the same from both sides (a symmetric film).
+  std::optional<BSDFSampleT<C>> sample_film(const Vec3& wo, Float c, Float u_lobe) const {
+    using U = Unpolarized<C>;
+    c = std::min(c, Float(1));
+    const U r = film.reflectance(c, U(1), U(0));
+    const Float p = std::clamp(r.average(), Float(0), Float(1));
+    const bool reflect = u_lobe < p;
+    const Vec3 wi = reflect ? Vec3{-wo.x, -wo.y, wo.z} : -wo;
+    const U value = reflect ? r / p : (U(1) - r) / (1 - p);
+    const C w = fresnel_factor<C>(value, [&] { return film.mueller(c, U(1), U(0), reflect, false); }, wo, wi);
+    return BSDFSampleT<C>{wi, w, reflect ? p : 1 - p, true, reflect ? Lobe::Reflection : Lobe::Transmission, 1};
   }
 };
 

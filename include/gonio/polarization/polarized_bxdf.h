@@ -34,15 +34,15 @@ class PolarizedBxDFT {
         [&](const auto& m) {
           using M = std::decay_t<decltype(m)>;
           if constexpr (std::is_same_v<M, ConductorBxDFT<C>>) polar_ = ConductorBxDFT<P>{m.fresnel};
-          else if constexpr (std::is_same_v<M, DielectricBxDFT<C>>) polar_ = DielectricBxDFT<P>{m.eta};
+          else if constexpr (std::is_same_v<M, DielectricBxDFT<C>>) polar_ = DielectricBxDFT<P>{m.eta, m.film};
           else if constexpr (std::is_same_v<M, RoughConductorBxDFT<C>>)
             polar_ = RoughConductorBxDFT<P>{m.distribution, m.fresnel, m.multiscatter};
           else if constexpr (std::is_same_v<M, RoughDielectricBxDFT<C>>)
-            polar_ = RoughDielectricBxDFT<P>{m.distribution, m.eta, m.multiscatter};
+            polar_ = RoughDielectricBxDFT<P>{m.distribution, m.eta, m.multiscatter, m.film};
           else if constexpr (std::is_same_v<M, PlasticBxDFT<C>>)
             polar_ = PlasticBxDFT<P>::make(static_cast<const PlasticCoat&>(m), m.reflectance);
           else if constexpr (std::is_same_v<M, ThinDielectricBxDFT<C>>)
-            polar_ = ThinDielectricBxDFT<P>{m.eta};
+            polar_ = ThinDielectricBxDFT<P>{m.eta, m.film};
         },
         model.models());
   }
