@@ -399,6 +399,19 @@ std::function<std::pair<double, double>(double)> dielectric_substrate(Params& p,
   return [sp](double l) { return std::pair<double, double>(sp.eval(Float(l)), 0); };
 }
 
+// A dielectric's film. Below η = 0.1 the substrate's critical angle seen from outside is
+// within 0.5 % of grazing and, from inside, the film is read at an outside cosine within
+// 10⁻² of 1 where R changes by the whole of 1 − F: the float cosine and the RGB table no
+// longer resolve it (the validator measured 2 % at η = 0.01), so such a film is refused.
+constexpr double kThinFilmMinSubstrateEta = 0.1;
+ThinFilmT<Color> make_dielectric_film(Params& p, double eta) {
+  ThinFilmT<Color> film = make_thin_film(p, dielectric_substrate(p, Float(eta)));
+  if (film.active() && eta < kThinFilmMinSubstrateEta)
+    p.fail("thin_film needs eta >= " + format_number(kThinFilmMinSubstrateEta) + " (a substrate index the film's table "
+           "resolves), got " + format_number(eta));
+  return film;
+}
+
 // A conductor's film, on the index recorded for it (its n and k spectra).
 void add_conductor_film(Params& p, ConductorFresnel& fr) {
   const auto& eta_sp = p.spectra().colour[size_t(MaterialParam::Eta)];
@@ -471,8 +484,9 @@ BxDF make_roughconductor(Params& p) {
 BxDF make_roughdielectric(Params& p) {
   RoughDielectricBxDF m;
   m.distribution = make_distribution(p);
-  m.eta = Float(p.index("eta"));
-  m.film = make_thin_film(p, dielectric_substrate(p, m.eta));
+  const double eta = p.index("eta");
+  m.eta = Float(eta);
+  m.film = make_dielectric_film(p, eta);
   if (p.boolean("multiscatter")) {
     if (m.film.active()) p.fail("thin_film does not combine with multiscatter (its tables are of the bare interface)");
     if (!m.distribution.is_isotropic())
@@ -502,8 +516,9 @@ BxDF make_roughdielectric(Params& p) {
 
 BxDF make_dielectric(Params& p) {
   DielectricBxDF m;
-  m.eta = Float(p.index("eta"));
-  m.film = make_thin_film(p, dielectric_substrate(p, m.eta));
+  const double eta = p.index("eta");
+  m.eta = Float(eta);
+  m.film = make_dielectric_film(p, eta);
   return m;
 }
 

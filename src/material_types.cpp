@@ -50,8 +50,8 @@ constexpr ParamSpec kDielectricEta{"eta", K::Number, "1.5", kIndex, "", "", fals
 constexpr ParamSpec kThinFilmParam{"thin_film", K::Film, "", {}, "", "", false,
                                    "A thin film on the outside face, {\"thickness\": nm in [0, 10000], \"eta\": its index in "
                                    "[1, 10000]}: the interface's Fresnel becomes the Airy sum of the film's two faces "
-                                   "(Belcour & Barla 2017, eq. 1); thickness 0 is the bare interface. Not with multiscatter "
-                                   "or fresnel \"schlick\"."};
+                                   "(Belcour & Barla 2017, eq. 1); thickness 0 is the bare interface. Not with multiscatter, "
+                                   "fresnel \"schlick\" or a dielectric eta below 0.1."};
 constexpr ParamSpec kKd{"kd", K::Colour, "", kUnit, "", "", true, "Diffuse albedo."};
 constexpr ParamSpec kKs{"ks", K::Colour, "", kUnit, "", "", true, "Specular albedo at normal incidence (the lobe's weight)."};
 

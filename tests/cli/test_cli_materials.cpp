@@ -83,14 +83,14 @@ TEST(CliMaterials, UnknownParameterListsTheValidOnes) {
   expect_bad_input(r);
   EXPECT_EQ(r.err,
             "gonio: --bsdf: roughconductor: unknown parameter 'distrib'; roughconductor takes alpha, distribution, "
-            "fresnel, eta, k, material, f0, multiscatter\n");
+            "fresnel, eta, k, material, f0, multiscatter, thin_film\n");
   // A misspelt required parameter is named as unknown, not reported missing.
   const RunResult typo = run_gonio({"eval", "--bsdf", R"({"type":"roughconductor","alpah":0.2,"material":"Au"})"},
                                    "0 0 1 0 0 1\n");
   expect_bad_input(typo);
   EXPECT_EQ(typo.err,
             "gonio: --bsdf: roughconductor: unknown parameter 'alpah'; roughconductor takes alpha, distribution, "
-            "fresnel, eta, k, material, f0, multiscatter\n");
+            "fresnel, eta, k, material, f0, multiscatter, thin_film\n");
 }
 
 TEST(CliMaterials, UnknownParameterInABlendComponent) {

@@ -193,6 +193,7 @@ TEST(ThinFilm, BadParametersNameTheField) {
   const std::pair<const char*, const char*> bad[] = {
       {R"({"type":"dielectric","thin_film":{"thickness":-1,"eta":1.4}})", "thin_film.thickness"},
       {R"({"type":"dielectric","thin_film":{"thickness":100,"eta":0.5}})", "thin_film.eta"},
+      {R"({"type":"dielectric","eta":0.05,"thin_film":{"thickness":100,"eta":1.4}})", "eta >= 0.1"},
       {R"({"type":"dielectric","thin_film":{"thickness":100}})", "eta"},
       {R"({"type":"dielectric","thin_film":{"thickness":100,"eta":1.4,"colour":1}})", "colour"},
       {R"({"type":"dielectric","thin_film":[100,1.4]})", "thin_film"},
