@@ -46,10 +46,12 @@
 #include <string>
 #include <string_view>
 #include <utility>
+#include <variant>
 #include <vector>
 
 #include "gonio/bxdf.h"
 #include "gonio/fresnel.h"
+#include "gonio/material.h"
 #include "gonio/math/warp.h"
 #include "gonio/metals.h"
 #include "gonio/rng.h"
@@ -336,10 +338,14 @@ int main(int argc, char** argv) {
   register_model("conductor_exact_Au", ConductorBxDF{gold(FresnelModel::Exact)});
   register_model("conductor_schlick_Au", ConductorBxDF{gold(FresnelModel::Schlick)});
   register_model("dielectric_1.5", DielectricBxDF{1.5f});
+  register_model("thindielectric_1.5", ThinDielectricBxDF{1.5f});
   // The glossy models; the issue's targets are for the first three.
   register_model("roughconductor_ggx_Au_0.2",
                  RoughConductorBxDF{{MicrofacetType::GGX, 0.2f, 0.2f}, gold(FresnelModel::Exact), std::nullopt});
   register_model("roughdielectric_ggx_1.5_0.2", RoughDielectricBxDF{{MicrofacetType::GGX, 0.2f, 0.2f}, 1.5f, {}});
+  // issue 34: the same under a 400 nm film of n = 1.38 (RGB mode: the tabulated film).
+  register_model("roughdielectric_ggx_1.5_0.2_film400", std::get<RoughDielectricBxDF>(parse_material(
+      R"({"type":"roughdielectric","alpha":0.2,"eta":1.5,"thin_film":{"thickness":400,"eta":1.38}})").models()));
   register_model("orennayar_qualitative_20deg", OrenNayarBxDF{Color(0.5f), 20 * kPi / 180, false});
   register_model("sheen_0.5", SheenBxDF{Color(0.8f), 0.5f});  // issue 34: eval <= 40 ns
   register_model("roughconductor_beckmann_Au_0.2",

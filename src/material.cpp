@@ -3,6 +3,7 @@
 #include "gonio/material.h"
 
 #include <filesystem>
+#include <functional>
 #include <cfloat>
 #include <cmath>
 #include <cstdio>
@@ -372,7 +373,78 @@ ConductorFresnel make_conductor_fresnel(Params& p) {
   return fr;
 }
 
-BxDF make_conductor(Params& p) { return ConductorBxDF{make_conductor_fresnel(p)}; }
+// thin_film (issue 34; SPEC §2): {"thickness": nm, "eta": n}, each field in its range and
+// named in the error; with a thickness > 0 the RGB table of the film on the substrate
+// whose (n, k) at λ nm is `substrate(λ)` (bxdf/thin_film.h).
+constexpr double kThinFilmMaxThickness = 1e4, kThinFilmMinEta = 1, kThinFilmMaxEta = 1e4;
+ThinFilmT<Color> make_thin_film(Params& p, const std::function<std::pair<double, double>(double)>& substrate) {
+  ThinFilmT<Color> film;
+  film.lambda = thin_film_rgb_lambda();
+  if (!p.has("thin_film")) return film;
+  const json& v = p.raw("thin_film");
+  if (!v.is_object()) p.fail("thin_film must be an object {\"thickness\": nm, \"eta\": n}, got " + show(v));
+  for (const auto& [key, value] : v.items())
+    if (key != "thickness" && key != "eta") p.fail("thin_film: unknown field '" + key + "'; it takes thickness, eta");
+  const auto field = [&](const char* key, double lo, double hi, const char* unit) {
+    if (!v.contains(key)) p.fail(std::string("thin_film: missing field '") + key + "'");
+    const json& f = v.at(key);
+    if (!f.is_number() || !std::isfinite(f.get<double>()))
+      p.fail(std::string("thin_film.") + key + " must be a number, got " + show(f));
+    const double d = f.get<double>();
+    if (!(d >= lo && d <= hi))
+      p.fail(std::string("thin_film.") + key + " must be in [" + format_number(lo) + ", " + format_number(hi) + "]" +
+             unit + ", got " + format_number(d));
+    return d;
+  };
+  const double thickness = field("thickness", 0, kThinFilmMaxThickness, " nm");
+  const double eta = field("eta", kThinFilmMinEta, kThinFilmMaxEta, "");
+  film.thickness = Float(thickness);
+  film.eta = Float(eta);
+  if (film.active()) film.table = make_thin_film_rgb_table(film.thickness, film.eta, substrate);
+  return film;
+}
+
+// A dielectric substrate's (n, 0) at λ, from the index read by Params::index.
+std::function<std::pair<double, double>(double)> dielectric_substrate(Params& p, Float rgb_eta) {
+  if (!p.spectra().index) return [rgb_eta](double) { return std::pair<double, double>(rgb_eta, 0); };
+  const Spectrum sp = *p.spectra().index;
+  return [sp](double l) { return std::pair<double, double>(sp.eval(Float(l)), 0); };
+}
+
+// A dielectric's film. Below η = 0.1 the substrate's critical angle seen from outside is
+// within 0.5 % of grazing and, from inside, the film is read at an outside cosine within
+// 10⁻² of 1 where R changes by the whole of 1 − F: the float cosine and the RGB table no
+// longer resolve it (the validator measured 2 % at η = 0.01), so such a film is refused.
+constexpr double kThinFilmMinSubstrateEta = 0.1;
+ThinFilmT<Color> make_dielectric_film(Params& p, double eta) {
+  ThinFilmT<Color> film = make_thin_film(p, dielectric_substrate(p, Float(eta)));
+  if (film.active() && eta < kThinFilmMinSubstrateEta)
+    p.fail("thin_film needs eta >= " + format_number(kThinFilmMinSubstrateEta) + " (a substrate index the film's table "
+           "resolves), got " + format_number(eta));
+  return film;
+}
+
+// A conductor's film, on the index recorded for it (its n and k spectra).
+void add_conductor_film(Params& p, ConductorFresnel& fr) {
+  const auto& eta_sp = p.spectra().colour[size_t(MaterialParam::Eta)];
+  const auto& k_sp = p.spectra().colour[size_t(MaterialParam::K)];
+  const Color eta = fr.eta, k = fr.k;
+  fr.film = make_thin_film(p, [&](double l) {
+    // An index given as RGB without a recorded spectrum: the green channel's.
+    const double n = eta_sp ? eta_sp->eval(Float(l)) : eta[1];
+    const double kk = k_sp ? k_sp->eval(Float(l)) : k[1];
+    return std::pair<double, double>(n, kk);
+  });
+  if (fr.film.active() && fr.model != FresnelModel::Exact)
+    p.fail(std::string("thin_film needs the conductor's complex index (fresnel \"exact\"), not fresnel \"") +
+           (fr.model == FresnelModel::F82 ? "f82" : "schlick") + "\"");
+}
+
+BxDF make_conductor(Params& p) {
+  ConductorBxDF m{make_conductor_fresnel(p)};
+  add_conductor_film(p, m.fresnel);
+  return m;
+}
 
 // alpha (number or [alpha_x, alpha_y]) and distribution.
 MicrofacetDistribution make_distribution(Params& p) {
@@ -408,7 +480,9 @@ BxDF make_roughconductor(Params& p) {
   RoughConductorBxDF m;
   m.distribution = make_distribution(p);
   m.fresnel = make_conductor_fresnel(p);
+  add_conductor_film(p, m.fresnel);
   if (p.boolean("multiscatter")) {
+    if (m.fresnel.film.active()) p.fail("thin_film does not combine with multiscatter (its tables are of the bare metal)");
     // The albedo tables are for isotropic roughness; with sqrt(αx αy) standing in, a
     // white furnace at α = [0.05, 1] lost 40 % (multiscatter.h).
     if (!m.distribution.is_isotropic())
@@ -426,8 +500,11 @@ BxDF make_roughconductor(Params& p) {
 BxDF make_roughdielectric(Params& p) {
   RoughDielectricBxDF m;
   m.distribution = make_distribution(p);
-  m.eta = Float(p.index("eta"));
+  const double eta = p.index("eta");
+  m.eta = Float(eta);
+  m.film = make_dielectric_film(p, eta);
   if (p.boolean("multiscatter")) {
+    if (m.film.active()) p.fail("thin_film does not combine with multiscatter (its tables are of the bare interface)");
     if (!m.distribution.is_isotropic())
       p.fail("multiscatter needs an isotropic alpha (a number), got [alpha_x, alpha_y]");
     // The albedo tables cover η' in [1, 4] on either side (docs/design/dielectric-multiscatter.md);
@@ -455,7 +532,16 @@ BxDF make_roughdielectric(Params& p) {
 
 BxDF make_dielectric(Params& p) {
   DielectricBxDF m;
+  const double eta = p.index("eta");
+  m.eta = Float(eta);
+  m.film = make_dielectric_film(p, eta);
+  return m;
+}
+
+BxDF make_thindielectric(Params& p) {
+  ThinDielectricBxDF m;
   m.eta = Float(p.index("eta"));
+  m.film = make_thin_film(p, [](double) { return std::pair<double, double>(1, 0); });  // the soap bubble
   return m;
 }
 
@@ -696,6 +782,7 @@ constexpr TypeEntry kMakers[] = {
     {"measured", make_measured},
     {"subsurface", make_subsurface},
     {"sheen", make_sheen},
+    {"thindielectric", make_thindielectric},
 };
 
 }  // namespace
@@ -964,6 +1051,7 @@ void apply(PlasticBxDF& m, const ParamValue& v, Changed& c) {
 }
 void apply(DielectricBxDF&, const ParamValue&, Changed&) {}
 void apply(SheenBxDF& m, const ParamValue& v, Changed&) { set_color(m.color, MP::SheenColor, v); }
+void apply(ThinDielectricBxDF&, const ParamValue&, Changed&) {}
 
 template <typename M>
 void finish(M&, const Changed&) {}

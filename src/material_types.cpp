@@ -50,6 +50,13 @@ constexpr ParamSpec kMultiscatterParam{"multiscatter", K::Boolean, "false", {}, 
 constexpr ParamSpec kDielectricEta{"eta", K::Number, "1.5", kIndex, "", "", false,
                                    "Relative index n(inside) / n(outside), the outside being where the normal points; or a named glass "
                                    "(\"BK7\"), {\"sellmeier\": ...} or a spectrum, read at 550 nm in RGB mode."};
+// A thin film on the outside face (issue 34; SPEC §2 below the table). Its fields'
+// ranges are kThinFilmThickness and kThinFilmEta (material.cpp reads them).
+constexpr ParamSpec kThinFilmParam{"thin_film", K::Film, "", {}, "", "", false,
+                                   "A thin film on the outside face, {\"thickness\": nm in [0, 10000], \"eta\": its index in "
+                                   "[1, 10000]}: the interface's Fresnel becomes the Airy sum of the film's two faces "
+                                   "(Belcour & Barla 2017, eq. 1); thickness 0 is the bare interface. Not with multiscatter, "
+                                   "fresnel \"schlick\" or a dielectric eta below 0.1."};
 constexpr ParamSpec kKd{"kd", K::Colour, "", kUnit, "", "", true, "Diffuse albedo."};
 constexpr ParamSpec kKs{"ks", K::Colour, "", kUnit, "", "", true, "Specular albedo at normal incidence (the lobe's weight)."};
 
@@ -59,11 +66,13 @@ constexpr ParamSpec kDiffuse[] = {
 constexpr ParamSpec kMirror[] = {
     {"reflectance", K::Colour, "1", kUnit, "", "", false, "Fraction of the light reflected, at every angle."},
 };
-constexpr ParamSpec kConductor[] = {kFresnelParam, kConductorEta, kConductorK, kMetalParam, kF0Param, kF82Param};
-constexpr ParamSpec kDielectric[] = {kDielectricEta};
-constexpr ParamSpec kRoughConductor[] = {kAlphaParam, kDistributionParam, kFresnelParam, kConductorEta, kConductorK,
-                                         kMetalParam, kF0Param,           kF82Param,     kMultiscatterParam};
-constexpr ParamSpec kRoughDielectric[] = {kAlphaParam, kDistributionParam, kDielectricEta, kMultiscatterParam};
+constexpr ParamSpec kConductor[] = {kFresnelParam, kConductorEta, kConductorK, kMetalParam,
+                                    kF0Param,      kF82Param,     kThinFilmParam};
+constexpr ParamSpec kDielectric[] = {kDielectricEta, kThinFilmParam};
+constexpr ParamSpec kRoughConductor[] = {kAlphaParam, kDistributionParam, kFresnelParam,      kConductorEta, kConductorK,
+                                         kMetalParam, kF0Param,           kF82Param,          kMultiscatterParam,
+                                         kThinFilmParam};
+constexpr ParamSpec kRoughDielectric[] = {kAlphaParam, kDistributionParam, kDielectricEta, kMultiscatterParam, kThinFilmParam};
 constexpr ParamSpec kOrenNayar[] = {
     {"reflectance", K::Colour, "0.5", kUnit, "", "", false, "Albedo of the facets."},
     {"sigma", K::Number, "", closed_open(0, 90), "degrees", "", true,
@@ -164,6 +173,14 @@ constexpr ParamSpec kSubsurface[] = {
      "How the renderer and gonio subsurface treat the medium: the exact random walk, or a diffusion profile."},
 };
 
+// The thin sheet (its index: a dielectric's, read the same way).
+constexpr ParamSpec kThinDielectric[] = {
+    {"eta", K::Number, "1.5", kIndex, "", "", false,
+     "Index of the sheet relative to the medium on both sides; or a named glass (\"BK7\"), {\"sellmeier\": ...} or "
+     "a spectrum, read at 550 nm in RGB mode."},
+    kThinFilmParam,
+};
+
 constexpr MaterialTypeSpec kTypes[] = {
     {"diffuse", "Ideal diffuse (Lambertian) reflection, f = ρ/π.", "Lambert 1760; the lecture, §5.1", kDiffuse, ""},
     {"mirror", "Perfect specular reflection with a constant reflectance.", "The lecture, §5.2, eq. 23", kMirror, ""},
@@ -229,6 +246,13 @@ constexpr MaterialTypeSpec kTypes[] = {
      "Sheen). Its directional albedo in radiance mode is exactly color x R(cos theta_o, roughness), at most 0.745; "
      "the albedo of light arriving along wo (importance mode, the adjoint) exceeds 1 at grazing incidence, up to 4.4 "
      "at roughness 0.1."},
+    {"thindielectric",
+     "Thin dielectric sheet: both faces and all internal reflections summed incoherently per polarization, "
+     "R = 2r/(1 + r), T = 1 - R, transmission straight through (wi = -wo).",
+     "Hecht, Optics, §4.6.2 (Fresnel); incoherent multiple reflection of a slab (Born & Wolf §1.6); as pbrt-v4's "
+     "ThinDielectricBxDF; with thin_film, Belcour & Barla 2017 eq. 1",
+     kThinDielectric, "The same medium on both sides: the sheet does not refract (relative_eta 1). With thin_film the "
+     "sheet is that one coherent film (the soap bubble): R = Airy(outside | film | outside), T = 1 - R."},
 };
 
 std::string number_text(double v) {

@@ -63,8 +63,18 @@ struct Converter {
     return spectra.index->eval(w[0]);
   }
 
+  // The film at the path's wavelengths: exact per wavelength (bxdf/thin_film.h).
+  ThinFilmT<SS> film(const ThinFilmT<Color>& f) const {
+    ThinFilmT<SS> s;
+    s.thickness = f.thickness;
+    s.eta = f.eta;
+    for (int j = 0; j < SS::size(); ++j) s.lambda[j] = w[j];
+    return s;
+  }
+
   ConductorFresnelT<SS> fresnel(const ConductorFresnel& f) const {
     ConductorFresnelT<SS> s;
+    s.film = film(f.film);
     s.model = f.model;
     s.eta = colour(MP::Eta, f.eta);
     s.k = colour(MP::K, f.k);
@@ -79,7 +89,10 @@ struct Converter {
   SpectralBxDF operator()(const DiffuseBxDF& m) const { return DiffuseBxDFT<SS>{colour(MP::Reflectance, m.reflectance)}; }
   SpectralBxDF operator()(const MirrorBxDF& m) const { return MirrorBxDFT<SS>{colour(MP::Reflectance, m.reflectance)}; }
   SpectralBxDF operator()(const ConductorBxDF& m) const { return ConductorBxDFT<SS>{fresnel(m.fresnel)}; }
-  SpectralBxDF operator()(const DielectricBxDF& m) const { return DielectricBxDFT<SS>{index(m.eta)}; }
+  SpectralBxDF operator()(const DielectricBxDF& m) const { return DielectricBxDFT<SS>{index(m.eta), film(m.film)}; }
+  SpectralBxDF operator()(const ThinDielectricBxDF& m) const {
+    return ThinDielectricBxDFT<SS>{m.film.active() ? m.eta : index(m.eta), film(m.film)};
+  }
   SpectralBxDF operator()(const RoughConductorBxDF& m) const {
     RoughConductorBxDFT<SS> s;
     s.distribution = m.distribution;
@@ -98,6 +111,7 @@ struct Converter {
     RoughDielectricBxDFT<SS> s;
     s.distribution = m.distribution;
     s.eta = index(m.eta);
+    s.film = film(m.film);
     if (m.multiscatter)
       s.multiscatter = s.eta == m.eta || !spectra.f_avg
                            ? *m.multiscatter

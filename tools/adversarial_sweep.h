@@ -75,6 +75,13 @@ inline std::vector<std::string> extreme_materials() {
   };
   for (const char* eta : {"1", "1.000001", "0.0001", "10000", "1.5", "0.6667"}) {
     v.push_back(std::string(R"({"type":"dielectric","eta":)") + eta + "}");
+    v.push_back(std::string(R"({"type":"thindielectric","eta":)") + eta + "}");
+    // A film is refused on eta < 0.1 (material.cpp, make_dielectric_film).
+    for (const char* film : {R"({"thickness":0,"eta":1.38})", R"({"thickness":10000,"eta":10000})", R"({"thickness":350,"eta":1})"}) {
+      if (std::string_view(eta) == "0.0001") break;
+      v.push_back(std::string(R"({"type":"dielectric","eta":)") + eta + R"(,"thin_film":)" + film + "}");
+      v.push_back(std::string(R"({"type":"roughdielectric","alpha":0.3,"eta":)") + eta + R"(,"thin_film":)" + film + "}");
+    }
     for (const char* alpha : {"0.0001", "0.000999", "0.001", "0.00101", "0.3", "1", "10"})
       for (const char* dist : {"ggx", "beckmann"})
         v.push_back(std::string(R"({"type":"roughdielectric","distribution":")") + dist + R"(","eta":)" + eta +

@@ -57,6 +57,7 @@ std::string kind_text(const ParamSpec& p, bool code) {
     case ParamKind::Materials: return "array of 2 materials";
     case ParamKind::Material: return "material";
     case ParamKind::File: return "path";
+    case ParamKind::Film: return code ? "object `{\"thickness\": nm, \"eta\": n}`" : "object {\"thickness\": nm, \"eta\": n}";
   }
   return "";
 }

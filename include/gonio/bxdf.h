@@ -27,6 +27,7 @@
 #include "gonio/bxdf/roughconductor.h"
 #include "gonio/bxdf/roughdielectric.h"
 #include "gonio/bxdf/sheen.h"
+#include "gonio/bxdf/thindielectric.h"
 #include "gonio/bxdf/ward.h"
 
 namespace gonio {
@@ -41,7 +42,7 @@ class BxDFT {
                               RoughConductorBxDFT<C>, RoughDielectricBxDFT<C>, OrenNayarBxDFT<C>, PhongBxDFT<C>,
                               BlinnPhongBxDFT<C>, WardBxDFT<C>, AshikhminShirleyBxDFT<C>, PlasticBxDFT<C>,
                               MeasuredBxDFT<C>, BlendBxDFT<C>, UserBxDFT<C>, SheenBxDFT<C>, EonBxDFT<C>,
-                              LayeredBxDFT<C>>;
+                              ThinDielectricBxDFT<C>, LayeredBxDFT<C>>;
 
   BxDFT() = default;
   template <typename M>

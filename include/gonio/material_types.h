@@ -21,6 +21,7 @@ enum class ParamKind {
   Materials,  // an array of 2 material descriptions
   Material,   // one material description (layered's top and bottom)
   File,       // a path (a string), relative to the scene file or the working directory
+  Film,       // a thin film: an object {"thickness": nm, "eta": index} (issue 34)
 };
 
 // An interval of accepted values; `present` false means any (finite) value.

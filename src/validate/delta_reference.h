@@ -2,8 +2,8 @@
 // What a model's delta lobes must return, computed by the validator itself (internal to
 // the property "consistency"). The mean weight of the delta samples of each lobe is the
 // lobe's reflectance: for a smooth dielectric F and (1 − F)(n_wo/n_wi)² (radiance) or
-// 1 − F (importance), for a smooth conductor its Fresnel reflectance (exact, Schlick or
-// F82-tint), for a mirror its
+// 1 − F (importance), for a thin sheet 2r/(1 + r) per polarization and 1 minus that,
+// for a smooth conductor its Fresnel reflectance (exact, Schlick or F82-tint), for a mirror its
 // reflectance. These come from fresnel_reference.h and the model's declared parameters
 // (index, complex index, F0, F82 tint, reflectance, blend weight) — never from the model's
 // sample() or albedo(), which are what is being checked; comparing the sampler with the
@@ -15,9 +15,13 @@
 #include <string>
 #include <type_traits>
 #include <variant>
+#include <vector>
 
 #include "fresnel_reference.h"
 #include "gonio/bxdf.h"
+#include "gonio/spectrum/cie.h"
+#include "gonio/spectrum/piecewise_linear.h"
+#include "gonio/spectrum/spectrum_to_rgb.h"
 
 namespace gonio::validation {
 
@@ -25,12 +29,49 @@ struct DeltaReference {
   std::array<double, kColorChannels> reflection{}, transmission{};
 };
 
+// A thin film's RGB reflectance for light from the outside at cos θ1 = c: the
+// characteristic-matrix reflectance (fresnel_reference.h) at every nanometre of the CIE
+// tables, on the substrate's declared (n, k) there (kept with the film's table), reduced
+// to linear sRGB as `gonio spectrum` reduces a reflectance (spectrum_to_rgb).
+inline std::array<double, kColorChannels> film_reference(double c, const ThinFilmT<Color>& film) {
+  std::array<double, kColorChannels> out{};
+  out.fill(1);
+  if (!film.table || c < 0) return out;
+  std::vector<std::pair<double, double>> points;
+  const auto& sub = film.table->substrate;
+  for (size_t l = 0; l < sub.size(); ++l) {
+    const double lambda = double(spectral_data::kCieFirstNm) + double(l);
+    points.emplace_back(lambda, reference_film_reflectance(c, film.eta, film.thickness, sub[l].first, sub[l].second, lambda));
+  }
+  const Color rgb = spectrum_to_rgb(Spectrum(PiecewiseLinearSpectrum::from_points(points, "film")), SpectrumUse::kReflectance);
+  for (int i = 0; i < kColorChannels; ++i) out[size_t(i)] = rgb[i];
+  return out;
+}
+
+// cos θ outside for light inside a substrate of relative index eta at |cos θ| = c, by
+// Snell's law in angle form; −1 beyond the critical angle.
+inline double reference_outside_cos(double c, double eta) {
+  const double s = eta * std::sin(std::acos(std::min(1.0, std::abs(c))));
+  return s < 1 ? std::cos(std::asin(s)) : -1;
+}
+
 // A smooth dielectric interface with relative index eta = n_inside / n_outside, seen from
 // wo. e = n(far side) / n(wo's side); (n_wo/n_wi)² = 1/e² in radiance mode.
-inline DeltaReference dielectric_reference(const Vec3& wo, double eta, TransportMode mode) {
+inline DeltaReference dielectric_reference(const Vec3& wo, double eta, TransportMode mode,
+                                           const ThinFilmT<Color>* film = nullptr) {
   DeltaReference r;
   if (wo.z == 0) return r;
   const double e = wo.z > 0 ? eta : 1 / eta;
+  if (film && film->active()) {  // the film-covered interface: R per channel, 1 − R through
+    // From outside onto eta < 1 beyond asin eta, the bare substrate reflects totally: so
+    // does the lossless stack (R = 1).
+    const double c1 = wo.z > 0 ? (std::sin(std::acos(std::min(1.0, double(wo.z)))) >= eta ? -1 : double(wo.z))
+                               : reference_outside_cos(wo.z, eta);
+    r.reflection = film_reference(c1, *film);
+    const double scale = mode == TransportMode::Radiance ? 1 / (e * e) : 1;
+    for (size_t c = 0; c < r.reflection.size(); ++c) r.transmission[c] = (1 - r.reflection[c]) * scale;
+    return r;
+  }
   const double F = reference_fresnel_dielectric(wo.z, e);
   const double scale = mode == TransportMode::Radiance ? 1 / (e * e) : 1;
   r.reflection.fill(F);
@@ -38,9 +79,29 @@ inline DeltaReference dielectric_reference(const Vec3& wo, double eta, Transport
   return r;
 }
 
+// A thin sheet: R of the sheet reflected, 1 − R straight through, in either mode (the
+// medium is the same on both sides) and from either side.
+inline DeltaReference thin_sheet_reference(const Vec3& wo, double eta, const ThinFilmT<Color>* film = nullptr) {
+  DeltaReference r;
+  if (wo.z == 0) return r;
+  if (film && film->active()) {  // the soap bubble: the film between two outside media
+    r.reflection = film_reference(std::abs(wo.z), *film);
+    for (size_t c = 0; c < r.reflection.size(); ++c) r.transmission[c] = 1 - r.reflection[c];
+    return r;
+  }
+  const double R = reference_thin_sheet(wo.z, eta);
+  r.reflection.fill(R);
+  r.transmission.fill(1 - R);
+  return r;
+}
+
 inline DeltaReference conductor_reference(const Vec3& wo, const ConductorFresnel& fr) {
   DeltaReference r;
   if (wo.z == 0) return r;
+  if (fr.film.active()) {
+    r.reflection = film_reference(std::abs(wo.z), fr.film);
+    return r;
+  }
   for (int c = 0; c < kColorChannels; ++c)
     r.reflection[size_t(c)] = fr.model == FresnelModel::Schlick ? reference_fresnel_schlick(wo.z, fr.f0[c])
                               : fr.model == FresnelModel::F82   ? reference_fresnel_f82(wo.z, fr.f0[c], fr.f82[c])
@@ -66,11 +127,13 @@ inline std::optional<DeltaReference> delta_reference(const BxDF& bxdf, const Vec
         } else if constexpr (std::is_same_v<M, ConductorBxDF>) {
           return conductor_reference(wo, m.fresnel);
         } else if constexpr (std::is_same_v<M, DielectricBxDF>) {
-          return dielectric_reference(wo, m.eta, mode);
+          return dielectric_reference(wo, m.eta, mode, &m.film);
+        } else if constexpr (std::is_same_v<M, ThinDielectricBxDF>) {
+          return thin_sheet_reference(wo, m.eta, &m.film);
         } else if constexpr (std::is_same_v<M, RoughConductorBxDF>) {
           return m.distribution.effectively_smooth() ? conductor_reference(wo, m.fresnel) : r;
         } else if constexpr (std::is_same_v<M, RoughDielectricBxDF>) {
-          return m.specular() ? dielectric_reference(wo, m.eta, mode) : r;
+          return m.specular() ? dielectric_reference(wo, m.eta, mode, &m.film) : r;
         } else if constexpr (std::is_same_v<M, PlasticBxDF>) {
           // The smooth coat's mirror reflection: F from outside the coat, on wo's side.
           if (m.smooth() && wo.z != 0) r.reflection.fill(reference_fresnel_dielectric(wo.z, m.eta));

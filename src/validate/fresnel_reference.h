@@ -33,6 +33,67 @@ inline double reference_fresnel_dielectric(double c, double e) {
   return std::min(1.0, (rs * rs + rp * rp) / 2);
 }
 
+// The two polarizations' reflectances R⊥ = r⊥², R∥ = r∥² of the same interface (the laws
+// above; at normal incidence both are ((e − 1)/(e + 1))², under total reflection both 1).
+inline void reference_fresnel_dielectric_sp(double c, double e, double& rs2, double& rp2) {
+  c = std::min(std::abs(c), 1.0);
+  const double sin_i = std::sqrt(std::max(0.0, 1 - c * c));
+  const double sin_t = sin_i / e;
+  rs2 = rp2 = 1;
+  if (sin_t >= 1 || c == 0) return;
+  const double ti = std::atan2(sin_i, c), tt = std::asin(sin_t);
+  if (ti < 1e-7) {
+    rs2 = rp2 = ((e - 1) / (e + 1)) * ((e - 1) / (e + 1));
+    return;
+  }
+  const double rs = std::sin(ti - tt) / std::sin(ti + tt), rp = std::tan(ti - tt) / std::tan(ti + tt);
+  rs2 = std::min(1.0, rs * rs);
+  rp2 = std::min(1.0, rp * rp);
+}
+
+// A thin sheet of relative index e (the same medium on both sides), its faces and all
+// internal reflections summed incoherently per polarization: the geometric series
+// r + (1 − r)² r Σ r^(2k) = 2r / (1 + r) for each, averaged (Born & Wolf §1.6, a plate's
+// multiple reflections without interference). Its transmittance is 1 minus this.
+inline double reference_thin_sheet(double c, double e) {
+  double rs2 = 1, rp2 = 1;
+  reference_fresnel_dielectric_sp(c, e, rs2, rp2);
+  return (2 * rs2 / (1 + rs2) + 2 * rp2 / (1 + rp2)) / 2;
+}
+
+// Reflectance of a single film (index nf, thickness d) on a substrate of complex index
+// n3 + i k3, for light from a medium of index 1 at cos θ1 = c, wavelength lambda (same unit
+// as d): Born & Wolf's characteristic matrix of a homogeneous layer (Principles of
+// Optics, §1.6.2, eqs. 1.6(34) and 1.6(56a)), a different formalism from the Airy sum of
+// the code under test. For each polarization with p_j = n_j cos θ_j (TE) or cos θ_j / n_j
+// (TM), β = (2π/λ) nf d cos θ_f and M = [[cos β, −i sin β / p_f], [−i p_f sin β, cos β]]:
+//   r = ((m11 + m12 p_3) p_1 − (m21 + m22 p_3)) / ((m11 + m12 p_3) p_1 + (m21 + m22 p_3)).
+// The substrate's n cos θ = √(N² − sin²θ1), the root with Im ≥ 0 (a decaying wave).
+inline double reference_film_reflectance(double c, double nf, double d, double n3, double k3, double lambda) {
+  using cx = std::complex<double>;
+  c = std::min(std::abs(c), 1.0);
+  if (c == 0) return 1;  // grazing: every amplitude tends to −1
+  const double s2 = 1 - c * c;
+  const double cf = std::sqrt(std::max(0.0, 1 - s2 / (nf * nf)));
+  const cx N(n3, k3), N2 = N * N;
+  cx w3 = std::sqrt(N2 - s2);  // N cos θ3
+  if (w3.imag() < 0) w3 = -w3;
+  const double beta = 2 * 3.14159265358979323846 / lambda * nf * d * cf;
+  const cx i(0, 1);
+  double R = 0;
+  for (int pol = 0; pol < 2; ++pol) {
+    const cx p1 = pol == 0 ? cx(c) : cx(c);                      // n1 = 1
+    const cx pf = pol == 0 ? cx(nf * cf) : cx(cf / nf);
+    const cx p3 = pol == 0 ? w3 : w3 / N2;                       // cos θ3 / N = N cos θ3 / N²
+    const cx m11 = std::cos(beta), m22 = std::cos(beta);
+    const cx m12 = -i * std::sin(beta) / pf, m21 = -i * pf * std::sin(beta);
+    const cx a = (m11 + m12 * p3) * p1, b = m21 + m22 * p3;
+    const cx r = (a + b) == cx(0) ? cx(1) : (a - b) / (a + b);
+    R += std::min(1.0, std::norm(r)) / 2;
+  }
+  return R;
+}
+
 // Unpolarised reflectance of a conductor of complex relative index n = η + iκ at
 // cos θi = c, from Snell's law with a complex refraction angle (Born & Wolf, Principles
 // of Optics, §14.2): n cos θt = w = √(n² − sin²θi), the root with Re w ≥ 0 (the wave

@@ -46,7 +46,7 @@ TEST(CliMaterials, DocsMaterialsMdIsTheGeneratedReference) {
 const std::vector<std::string> kImplemented = {"diffuse", "mirror",     "conductor", "dielectric", "roughconductor",
                                                "roughdielectric", "orennayar", "phong", "blinnphong", "ward",
                                                "ashikhminshirley", "plastic", "blend", "measured", "subsurface",
-                                               "sheen", "layered"};
+                                               "sheen", "thindielectric", "layered"};
 
 TEST(CliMaterials, ListsEveryTypeOnOneLine) {
   const RunResult r = run_gonio({"materials"});
@@ -84,14 +84,14 @@ TEST(CliMaterials, UnknownParameterListsTheValidOnes) {
   expect_bad_input(r);
   EXPECT_EQ(r.err,
             "gonio: --bsdf: roughconductor: unknown parameter 'distrib'; roughconductor takes alpha, distribution, "
-            "fresnel, eta, k, material, f0, multiscatter\n");
+            "fresnel, eta, k, material, f0, multiscatter, thin_film\n");
   // A misspelt required parameter is named as unknown, not reported missing.
   const RunResult typo = run_gonio({"eval", "--bsdf", R"({"type":"roughconductor","alpah":0.2,"material":"Au"})"},
                                    "0 0 1 0 0 1\n");
   expect_bad_input(typo);
   EXPECT_EQ(typo.err,
             "gonio: --bsdf: roughconductor: unknown parameter 'alpah'; roughconductor takes alpha, distribution, "
-            "fresnel, eta, k, material, f0, multiscatter\n");
+            "fresnel, eta, k, material, f0, multiscatter, thin_film\n");
 }
 
 TEST(CliMaterials, UnknownParameterInABlendComponent) {
@@ -127,6 +127,7 @@ const std::map<std::string, nlohmann::json> kMinimal = {
     {"measured", {{"type", "measured"}, {"file", gonio_test_merl::lambert_table()}}},
     {"subsurface", {{"type", "subsurface"}, {"sigma_s", 1}, {"sigma_a", 0.1}}},
     {"sheen", {{"type", "sheen"}}},
+    {"thindielectric", {{"type", "thindielectric"}}},
 };
 
 bool parses(const nlohmann::json& j, std::string* error = nullptr) {

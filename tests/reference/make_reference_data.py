@@ -397,6 +397,38 @@ def main():
     recs += eval_records(mat, rng, 20)
     write("blend", recs)
 
+    issue34_thin_sheet()
+
+
+# --- issue 34: thin dielectric sheet ----------------------------------------------------------
+def thin_sheet_samples(mat, rng, n):
+    """Both sides, both modes: u0 = 0 reflects (weight 1, probability R), u0 near 1
+    transmits straight through (wi = −wo, weight 1, probability T = 1 − R)."""
+    eta = mat.get("eta", 1.5)
+    out = []
+    while len(out) < n:
+        wo = direction(rng, rng.random() < 0.5, grazing_share=0.1)
+        mode = rng.choice(("radiance", "importance"))
+        Rr, Tt = R.thin_sheet(abs(wo[2]), eta)
+        if rng.random() < 0.5 or Rr >= 1:
+            out.append(sample_record(mat, mode, wo, [0.0, 0.5, 0.5], R.mirror_dir(wo), "reflection",
+                                     weight=[1.0] * 3, prob=Rr))
+        else:
+            if Rr > 0.99: continue
+            out.append(sample_record(mat, mode, wo, [0.999999, 0.5, 0.5], R.neg(wo), "transmission",
+                                     weight=[1.0] * 3, prob=Tt, wxp=[Tt] * 3))
+    return out
+
+
+def issue34_thin_sheet():
+    rng = random.Random(3401)
+    recs = []
+    for mat in ({"type": "thindielectric"}, {"type": "thindielectric", "eta": 1.33},
+                {"type": "thindielectric", "eta": 0.75}, {"type": "thindielectric", "eta": 2.4}):
+        recs += thin_sheet_samples(mat, rng, 30)
+        recs += zero_evals(mat, rng, 4)
+    write("thindielectric", recs)
+
 
 def layered_family():
     """layered.jsonl. The walk's f is a Monte Carlo estimate, so the records are those with a

@@ -100,6 +100,33 @@ def fresnel(cos_i, eta, k=0.0):
     return min(1.0, (abs(rs) ** 2 + abs(rp) ** 2) / 2)
 
 
+def fresnel_sp(cos_i, eta):
+    """(|r_s|², |r_p|²) of the same interface as fresnel() (Born & Wolf), light from index 1."""
+    c = min(1.0, abs(cos_i))
+    n2 = complex(eta, 0.0) ** 2
+    w = cmath.sqrt(n2 - (1 - c * c))
+    if w.imag < 0: w = -w
+    rs = (c - w) / (c + w)
+    rp = (n2 * c - w) / (n2 * c + w)
+    return min(1.0, abs(rs) ** 2), min(1.0, abs(rp) ** 2)
+
+
+def thin_sheet(cos_i, eta):
+    """(R, T) of a thin sheet of relative index eta (issue 34; SPEC §2 thindielectric): per
+    polarization the reflected paths r, t²r, t²r³, ... with t = 1 − r summed incoherently,
+    R = r + t² r / (1 − r²), the transmitted paths t², t²r², ... summed, T = t² / (1 − r²);
+    then the average over s and p."""
+    R = T = 0.0
+    for r in fresnel_sp(cos_i, eta):
+        t = 1 - r
+        if r >= 1:
+            R += 0.5
+            continue
+        R += 0.5 * (r + t * t * r / (1 - r * r))
+        T += 0.5 * (t * t / (1 - r * r))
+    return R, T
+
+
 def schlick(cos_i, f0):
     return f0 + (1 - f0) * (1 - abs(cos_i)) ** 5
 
@@ -714,7 +741,7 @@ EVAL = {
     "roughconductor": roughconductor, "roughdielectric": roughdielectric,
     "orennayar": orennayar, "eon": eon, "phong": phong, "blinnphong": blinnphong, "ward": ward,
     "ashikhminshirley": ashikhminshirley, "plastic": plastic_smooth, "sheen": sheen,
-    "layered": layered,
+    "thindielectric": delta_zero, "layered": layered,
 }
 
 

@@ -109,6 +109,7 @@ std::map<std::string, std::string> grey_materials(double g) {
       {"sheen", R"({"type":"sheen","color":)" + G + R"(,"roughness":0.3})"},
       {"layered", R"({"type":"layered","top":{"type":"roughdielectric","alpha":0.3,"eta":1.4},"bottom":{"type":"diffuse","reflectance":)" +
                       G + R"(},"thickness":0.2,"albedo":)" + H + "}"},
+      {"thindielectric", R"({"type":"thindielectric","eta":1.4})"},
   };
 }
 

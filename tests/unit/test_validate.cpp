@@ -147,7 +147,31 @@ INSTANTIATE_TEST_SUITE_P(
       // `gonio check` in 30-50 s, too long for this suite; a medium with g = -0.9 under a
       // smooth top fails `weights` (docs/testing.md, "layered").
       R"({"type":"layered","top":{"type":"dielectric","eta":1.5},"bottom":{"type":"diffuse","reflectance":0.8},"thickness":0})",
-      R"({"type":"layered","top":{"type":"dielectric","eta":1.5},"bottom":{"type":"mirror"},"thickness":0.3})"));
+      R"({"type":"layered","top":{"type":"dielectric","eta":1.5},"bottom":{"type":"mirror"},"thickness":0.3})",
+      // issue 34: the thin sheet over the index range, index-matched, below 1.
+      R"({"type":"thindielectric"})",
+      R"({"type":"thindielectric","eta":1})",
+      R"({"type":"thindielectric","eta":1.0001})",
+      R"({"type":"thindielectric","eta":0.6666667})",
+      R"({"type":"thindielectric","eta":2.4})",
+      R"({"type":"thindielectric","eta":0.0001})",
+      R"({"type":"thindielectric","eta":10000})",
+      R"({"type":"blend","weight":0.5,"bsdfs":[{"type":"thindielectric"},{"type":"diffuse"}]})",
+      // issue 34: thin films (thickness 0, thin, thick; low and high index; every host).
+      R"({"type":"dielectric","thin_film":{"thickness":0,"eta":1.38}})",
+      R"({"type":"dielectric","thin_film":{"thickness":99.6,"eta":1.38}})",
+      R"({"type":"dielectric","eta":0.6666667,"thin_film":{"thickness":500,"eta":2.4}})",
+      R"({"type":"dielectric","eta":1.5,"thin_film":{"thickness":10000,"eta":1}})",
+      R"({"type":"dielectric","eta":1.5,"thin_film":{"thickness":300,"eta":10000}})",
+      R"({"type":"thindielectric","thin_film":{"thickness":400,"eta":1.33}})",
+      R"({"type":"thindielectric","thin_film":{"thickness":1,"eta":1}})",
+      R"({"type":"conductor","material":"Au","thin_film":{"thickness":300,"eta":1.5}})",
+      R"({"type":"conductor","eta":[0.2,0.9,1.1],"k":[3.6,2.6,2.4],"thin_film":{"thickness":120,"eta":2}})",
+      R"({"type":"roughconductor","alpha":0.2,"material":"Cu","thin_film":{"thickness":250,"eta":1.6}})",
+      R"({"type":"roughconductor","alpha":[0.05,0.5],"material":"Ag","thin_film":{"thickness":800,"eta":1.4}})",
+      R"({"type":"roughdielectric","alpha":0.3,"eta":1.5,"thin_film":{"thickness":400,"eta":1.38}})",
+      R"({"type":"roughdielectric","alpha":0.6,"eta":0.7,"distribution":"beckmann","thin_film":{"thickness":200,"eta":2}})",
+      R"({"type":"roughdielectric","alpha":0.0001,"eta":1.5,"thin_film":{"thickness":300,"eta":1.4}})"));
 
 // --- models broken on purpose, each through the extension point -----------------------
 

@@ -125,8 +125,9 @@ TEST(VaryingParams, OnlyModelParametersMayVary) {
   // boundary's index may not vary for the reason dielectric's may not) has something that
   // may vary.
   for (auto type : material_type_names())
-    EXPECT_EQ(varying_param_keys(type).empty(), type == "dielectric" || type == "blend" || type == "layered" ||
-                                                    type == "measured" || type == "subsurface")
+    EXPECT_EQ(varying_param_keys(type).empty(),
+              type == "dielectric" || type == "blend" || type == "layered" || type == "measured" ||
+                  type == "subsurface" || type == "thindielectric")
         << type;
 }
 

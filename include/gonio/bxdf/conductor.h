@@ -11,6 +11,7 @@
 #include <string_view>
 
 #include "gonio/bxdf/contract.h"
+#include "gonio/bxdf/thin_film.h"
 #include "gonio/fresnel.h"
 #include "gonio/hemispherical_average.h"
 #include "gonio/polarization/fresnel_factor.h"
@@ -29,12 +30,15 @@ struct ConductorFresnelT {
   C k{0.0f};    // extinction coefficient
   C f0{1.0f};   // reflectance at normal incidence, used by Schlick and F82
   C f82{1.0f};  // F82: the tint at μ = 1/7, in [0, 1] (1 = Schlick)
+  // A thin film on the metal (thin_film.h; exact model only; inactive: the bare metal).
+  ThinFilmT<C> film{};
 
   C operator()(Float cos_i) const { return (*this)(cos_i, cos_i * cos_i); }
   // The same with cos²θi given as well (callers that have it before cos θi: the exact
   // formula needs cos θi only after two square roots of its own).
   C operator()(Float cos_i, Float cos2_i) const {
     const Float c = std::abs(cos_i);
+    if (film.active()) return film.reflectance(std::min(c, Float(1)), eta, k);
     if (model == FresnelModel::Schlick) return fresnel_schlick(f0, c);
     if (model == FresnelModel::F82) return fresnel_f82(f0, f82, c);
 #if defined(__GNUC__)
@@ -72,6 +76,7 @@ struct ConductorFresnelT {
   // Schlick's generalisation (Hoffman 2023), which has no phase either.
   MuellerT<C> mueller(Float cos_i) const {
     const Float c = std::min(std::abs(cos_i), Float(1));
+    if (film.active()) return film.mueller(c, eta, k, true, false);
     MuellerT<C> m;
     for (int ch = 0; ch < C::size(); ++ch) {
       MuellerT<Float> one;

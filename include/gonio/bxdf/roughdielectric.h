@@ -31,6 +31,9 @@ struct RoughDielectricBxDFT {
   // Kulla & Conty's energy compensation (dielectric_multiscatter.h), when enabled; only
   // for a model that is not specular().
   std::optional<DielectricMultiscatterLobe> multiscatter;
+  // A thin film on the outside face (thin_film.h; inactive: the bare interface). The
+  // parser refuses it together with multiscatter (whose tables are of the bare interface).
+  ThinFilmT<Unpolarized<C>> film{};
 
   // An index-matched interface (η = 1) refracts nothing: light goes straight through,
   // a delta lobe whatever the roughness; near η = 1 the transmitted lobe is about
@@ -74,7 +77,7 @@ struct RoughDielectricBxDFT {
 
   std::optional<BSDFSampleT<C>> sample(const Vec3& wo, Float u_lobe, Float u1, Float u2,
                                    TransportMode mode = TransportMode::Radiance) const {
-    if (specular()) return DielectricBxDFT<C>{eta}.sample(wo, u_lobe, u1, u2, mode);
+    if (specular()) return DielectricBxDFT<C>{eta, film}.sample(wo, u_lobe, u1, u2, mode);
     if (grazing(wo)) return std::nullopt;
     if (multiscatter) return sample_mixture(wo, u_lobe, u1, u2, mode);
     constexpr int kGGX = static_cast<int>(MicrofacetType::GGX), kBeckmann = static_cast<int>(MicrofacetType::Beckmann);
@@ -161,7 +164,18 @@ struct RoughDielectricBxDFT {
     const bool tir = !(t > 0);
     const Float st = std::sqrt(std::max(t, Float(0)));
     // Fresnel (Hecht §4.6.2) of the sampled facet chooses the lobe.
-    const Float F = tir ? Float(1) : fresnel_dielectric_parts(std::min(std::abs(om) * inv_m, Float(1)), st * inv_m, e).r();
+    // With a film: its reflectance per channel at the facet's outside cosine, the lobe
+    // chosen by the channel average (each channel weighted by its share over it).
+    using U = Unpolarized<C>;
+    U film_r{};
+    Float F;
+    if (film.active()) {
+      const Float c_out = std::min(outside ? std::abs(om) * inv_m : st * inv_m, Float(1));
+      film_r = tir ? U(1) : film.reflectance(c_out, U(eta), U(0));
+      F = tir ? Float(1) : std::clamp(film_r.average(), Float(0), Float(1));
+    } else {
+      F = tir ? Float(1) : fresnel_dielectric_parts(std::min(std::abs(om) * inv_m, Float(1)), st * inv_m, e).r();
+    }
     // The weight f |cos θi| / pdf is G2/G1(wo) in closed form, times (n_wo/n_wi)² for a
     // refraction in radiance mode (Heitz & d'Eon 2014; Walter et al. 2007, eqs. 20, 21):
     // D, F and the Jacobian cancel. The pdf is that of the returned pair, computed as pdf()
@@ -193,6 +207,20 @@ struct RoughDielectricBxDFT {
     const Float cos_i = std::abs(wi.z);
     const Float g2_den = cos_i * to + cos_o * distribution.smith_t<kType>(wi);
     const Float cos_m = std::min(std::abs(om) * inv_m, Float(1));
+    if (film.active()) {
+      const Float c_out = std::min(outside ? cos_m : st * inv_m, Float(1));
+      const auto shape = [&] {
+        if (tir) return broadcast<U>(dielectric_reflection_mueller(cos_m, e));
+        return film.mueller(c_out, U(eta), U(0), reflect_lobe, reflect_lobe && !outside);
+      };
+      if (reflect_lobe)
+        return BSDFSampleT<C>{wi, fresnel_factor<C>(film_r * (cos_i * to_plus / (g2_den * F)), shape, wo, wi), pdf,
+                              false, Lobe::Reflection, 1};
+      const Float scale = mode == TransportMode::Radiance ? e * e : Float(1);
+      return BSDFSampleT<C>{
+          wi, fresnel_factor<C>((U(1) - film_r) * (cos_i * to_plus / (g2_den * scale * (1 - F))), shape, wo, wi), pdf,
+          false, Lobe::Transmission, e};
+    }
     if (reflect_lobe) {
       const C w = fresnel_factor<C>(
           cos_i * to_plus / g2_den, [&] { return broadcast<Unpolarized<C>>(dielectric_reflection_mueller(cos_m, e)); },
@@ -210,6 +238,24 @@ struct RoughDielectricBxDFT {
   // relative index to cross is e = 1/inv_e; 1 under total internal reflection.
   [[gnu::always_inline]] static Float fresnel(Float c, Float c2, Float e, Float inv_e) {
     return fresnel_dielectric_oriented(c, c2, e, inv_e);
+  }
+
+  // The reflection term with a film at the facet cosine c (from wo's side): pdf = F̄ ·
+  // pdf_per_F, f = R · f_per_F per channel, R the film's reflectance (1 beyond the
+  // critical angle inside), F̄ its channel average.
+  template <bool kWithF>
+  [[gnu::always_inline]] BSDFEvalT<C> film_reflection(const Vec3& wo, const Vec3& wi, Float c, Float pdf_per_F,
+                                                      Float f_per_F) const {
+    using U = Unpolarized<C>;
+    const Float c1 = film_read_cos(c, eta, wo.z < 0);
+    const U r = c1 < 0 ? U(1) : film.reflectance(c1, U(eta), U(0));
+    const Float pdf = std::clamp(r.average(), Float(0), Float(1)) * pdf_per_F;
+    if constexpr (!kWithF) return {C{}, pdf};
+    const auto shape = [&] {
+      if (c1 < 0) return broadcast<U>(dielectric_reflection_mueller(c, wo.z < 0 ? 1 / eta : eta));
+      return film.mueller(c1, U(eta), U(0), true, wo.z < 0);
+    };
+    return {fresnel_factor<C>(r * f_per_F, shape, wo, wi), pdf};
   }
 
   // The (unnormalised) half vector of a pair and its dot products.
@@ -268,8 +314,9 @@ struct RoughDielectricBxDFT {
       // F at wo·wm = wi·wm = |wo + wi|/2 (for unit wo, wi): symmetric in the pair, and free
       // of the cancellation in wo·h = 1 + wo·wi near grazing.
       const Float c2 = std::min(hv.h2 / 4, Float(1)), c = std::sqrt(c2);
-      const Float F = wo.z < 0 ? fresnel(c, c2, 1 / eta, eta) : fresnel(c, c2, eta, 1 / eta);
       const Float D = distribution.D_unnormalized<kType>(hv.h, hv.h2);
+      if (film.active()) return film_reflection<kWithF>(wo, wi, c, D / (2 * to_plus), D * g2_over_cos() / 4);
+      const Float F = wo.z < 0 ? fresnel(c, c2, 1 / eta, eta) : fresnel(c, c2, eta, 1 / eta);
       // pdf = D_wo / (4 |wo·wm|) F = F D / (2 (T(wo) + |cos θo|)) (Walter et al. 2007, eq. 14)
       const Float pdf = F * (D / (2 * to_plus));
       if constexpr (!kWithF) return {C{}, pdf};
@@ -288,8 +335,14 @@ struct RoughDielectricBxDFT {
     const auto fr = fresnel_dielectric_parts(ca, cb, eta);
     const Float dots = ca * cb;
     const Float D = distribution.D_unnormalized<kType>(hv.h, hv.h2);
+    // With a film: 1 − R of the film-covered facet at its outside cosine (thin_film.h),
+    // the channel average for the density.
+    using U = Unpolarized<C>;
+    const Float c_film = film.active() ? std::min(ca / std::sqrt(hv.h2), Float(1)) : Float(0);
+    const U film_t = film.active() ? U(1) - film.reflectance(c_film, U(eta), U(0)) : U(1);
     // (1 − F) / |h|⁴ as one quotient (D kept apart: it can be huge for a narrow lobe)
-    const Float num = fr.t_numerator(), den = fr.t_denominator() * (hv.h2 * hv.h2);
+    const Float num = film.active() ? std::max(film_t.average(), Float(0)) : fr.t_numerator();
+    const Float den = (film.active() ? Float(1) : fr.t_denominator()) * (hv.h2 * hv.h2);
     // pdf = D_wo(wm) dωm/dωi (1 − F), with dωm/dωi = n_wi² |wi·wm| / S (eq. 17) and
     // S = (n_a a·wm + n_b b·wm)² = |h|² for h = n_a a + n_b b; in terms of h:
     // 2 (1 − F) (D/|h|⁴) |a·h| |b·h| n_wi² / (T(wo) + |cos θo|).
@@ -305,8 +358,15 @@ struct RoughDielectricBxDFT {
     const Float f = base * (wo.z > 0 ? Float(1) : eta * eta) * (mode == TransportMode::Radiance ? Float(1) : eta_crossed * eta_crossed);
     // The power transmission of the facet, the same from either side (polarization/interface.h).
     const auto shape = [&] {
+      if (film.active()) return film.mueller(c_film, U(eta), U(0), false, false);
       return broadcast<Unpolarized<C>>(dielectric_transmission_mueller(std::min(ca / std::sqrt(hv.h2), Float(1)), eta));
     };
+    if (film.active()) {
+      // f as above with the channel's own 1 − R in place of the average.
+      const Float avg = num;
+      const U fc = avg > 0 ? film_t * (f / avg) : U(0);
+      return {fresnel_factor<C>(fc, shape, wo, wi), pdf};
+    }
     return {fresnel_factor<C>(f, shape, wo, wi), pdf};
   }
 };

@@ -3,7 +3,7 @@
 // colour channel (MuellerT<C>), from the frame of the incident beam (travelling along −wi)
 // to that of the outgoing one (along wo), each the s/p frame of its direction's plane of
 // incidence (polarization/fresnel_factor.h, SPEC §3). The polarizing models — conductor,
-// dielectric, roughconductor, roughdielectric, plastic — are the very same templates as in
+// dielectric, roughconductor, roughdielectric, plastic, thindielectric — are the very same templates as in
 // unpolarized mode, instantiated with C = MuellerT<colour>: their one Fresnel customization
 // point (fresnel_factor) turns into the interface's Mueller matrix there. Every other model
 // depolarizes: M = f · diag(1, 0, 0, 0). M00 is always exactly the unpolarized value, and
@@ -26,7 +26,7 @@ class PolarizedBxDFT {
   using color_type = MuellerT<C>;
   using Polarizing = std::variant<std::monostate, ConductorBxDFT<MuellerT<C>>, DielectricBxDFT<MuellerT<C>>,
                                   RoughConductorBxDFT<MuellerT<C>>, RoughDielectricBxDFT<MuellerT<C>>,
-                                  PlasticBxDFT<MuellerT<C>>>;
+                                  PlasticBxDFT<MuellerT<C>>, ThinDielectricBxDFT<MuellerT<C>>>;
 
   explicit PolarizedBxDFT(const BxDFT<C>& model) : base_(model) {
     using P = MuellerT<C>;
@@ -34,13 +34,15 @@ class PolarizedBxDFT {
         [&](const auto& m) {
           using M = std::decay_t<decltype(m)>;
           if constexpr (std::is_same_v<M, ConductorBxDFT<C>>) polar_ = ConductorBxDFT<P>{m.fresnel};
-          else if constexpr (std::is_same_v<M, DielectricBxDFT<C>>) polar_ = DielectricBxDFT<P>{m.eta};
+          else if constexpr (std::is_same_v<M, DielectricBxDFT<C>>) polar_ = DielectricBxDFT<P>{m.eta, m.film};
           else if constexpr (std::is_same_v<M, RoughConductorBxDFT<C>>)
             polar_ = RoughConductorBxDFT<P>{m.distribution, m.fresnel, m.multiscatter};
           else if constexpr (std::is_same_v<M, RoughDielectricBxDFT<C>>)
-            polar_ = RoughDielectricBxDFT<P>{m.distribution, m.eta, m.multiscatter};
+            polar_ = RoughDielectricBxDFT<P>{m.distribution, m.eta, m.multiscatter, m.film};
           else if constexpr (std::is_same_v<M, PlasticBxDFT<C>>)
             polar_ = PlasticBxDFT<P>::make(static_cast<const PlasticCoat&>(m), m.reflectance);
+          else if constexpr (std::is_same_v<M, ThinDielectricBxDFT<C>>)
+            polar_ = ThinDielectricBxDFT<P>{m.eta, m.film};
         },
         model.models());
   }
