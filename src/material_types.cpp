@@ -201,9 +201,6 @@ constexpr MaterialTypeSpec kTypes[] = {
      "Walter et al. 2007, eqs. 16, 20, 21; Heitz 2014; Kulla & Conty 2017 (multiscatter)", kRoughDielectric,
      "multiscatter needs an isotropic alpha and eta in [0.25, 4] (the range of its albedo tables)."},
     {"orennayar", "Rough diffuse reflection from V-cavities of Lambertian facets.", "Oren & Nayar 1994", kOrenNayar, ""},
-    {"eon", "Energy-preserving Oren-Nayar: Fujii's single-scattering lobe plus an analytic multiple-scattering lobe; "
-            "a white base reflects everything at every angle and roughness.",
-     "Portsmouth, Kutz & Hill 2025 (JCGT 14(1)); Fujii (FON); CLTC sampling of the paper", kEon, ""},
     {"phong", "Energy-conserving modified Phong.", "Lafortune & Willems 1994", kPhong, "kd + ks <= 1 per channel."},
     {"blinnphong", "Blinn-Phong, normalised by (n+2)(n+4) / (8π(2^(-n/2) + n)) so that its albedo never exceeds ks.",
      "Blinn 1977; normalisation of SPEC §2", kPhong, "kd + ks <= 1 per channel."},
@@ -216,12 +213,6 @@ constexpr MaterialTypeSpec kTypes[] = {
      "A rough coat needs an isotropic alpha (a number)."},
     {"blend", "Linear blend of two materials: (1 - w) f0 + w f1.", "The lecture, §2 and §3.4", kBlend,
      "Two parts that both refract must have the same eta."},
-    {"layered", "A dielectric interface over any reflecting material, with an optional medium between them.",
-     "Guo, Hasan & Zhao 2018 (position-free random walk); Pharr, Jakob & Humphreys, PBR 4th ed., 14.3 (LayeredBxDF)",
-     kLayered,
-     "f is a Monte Carlo estimate, seeded by the unordered pair of directions and run from both ends, so that it is "
-     "reciprocal exactly; sample() draws from a closed-form mixture. The bottom must not transmit. Polarized mode: "
-     "depolarizing."},
     {"measured", "A measured isotropic BRDF: a MERL table, interpolated in half/difference angles and importance-sampled.",
      "Matusik et al. 2003 (MERL format); Rusinkiewicz 1998 (half/difference angles)", kMeasured,
      "Reflection only; an entry whose f (stored x scale) exceeds 1e30 1/sr is refused. docs/measured.md says how it "
@@ -234,6 +225,9 @@ constexpr MaterialTypeSpec kTypes[] = {
      "sigma_s = sigma_s' / (1 - g)). Per channel the transport coefficient sigma_a + (1 - g) sigma_s is 0 (a clear "
      "channel) or at least 1e-15 per unit. As a BSDF (eval, sample, check) it is its boundary; the medium belongs to the "
      "renderer and gonio subsurface. docs/subsurface.md."},
+    {"eon", "Energy-preserving Oren-Nayar: Fujii's single-scattering lobe plus an analytic multiple-scattering lobe; "
+            "a white base reflects everything at every angle and roughness.",
+     "Portsmouth, Kutz & Hill 2025 (JCGT 14(1)); Fujii (FON); CLTC sampling of the paper", kEon, ""},
     {"sheen",
      "Sheen/fuzz lobe of OpenPBR: a layer of normal-oriented fibres fitted by a linearly transformed cosine, "
      "importance-sampled exactly.",
@@ -253,6 +247,12 @@ constexpr MaterialTypeSpec kTypes[] = {
      "ThinDielectricBxDF; with thin_film, Belcour & Barla 2017 eq. 1",
      kThinDielectric, "The same medium on both sides: the sheet does not refract (relative_eta 1). With thin_film the "
      "sheet is that one coherent film (the soap bubble): R = Airy(outside | film | outside), T = 1 - R."},
+    {"layered", "A dielectric interface over any reflecting material, with an optional medium between them.",
+     "Guo, Hasan & Zhao 2018 (position-free random walk); Pharr, Jakob & Humphreys, PBR 4th ed., 14.3 (LayeredBxDF)",
+     kLayered,
+     "f is a Monte Carlo estimate, seeded by the unordered pair of directions and run from both ends, so that it is "
+     "reciprocal exactly; sample() draws from a closed-form mixture. The bottom must not transmit. Polarized mode: "
+     "depolarizing."},
 };
 
 std::string number_text(double v) {

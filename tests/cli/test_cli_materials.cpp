@@ -46,7 +46,7 @@ TEST(CliMaterials, DocsMaterialsMdIsTheGeneratedReference) {
 const std::vector<std::string> kImplemented = {"diffuse", "mirror",     "conductor", "dielectric", "roughconductor",
                                                "roughdielectric", "orennayar", "phong", "blinnphong", "ward",
                                                "ashikhminshirley", "plastic", "blend", "measured", "subsurface",
-                                               "sheen", "thindielectric", "layered"};
+                                               "eon", "sheen", "thindielectric", "layered"};
 
 TEST(CliMaterials, ListsEveryTypeOnOneLine) {
   const RunResult r = run_gonio({"materials"});
@@ -84,14 +84,14 @@ TEST(CliMaterials, UnknownParameterListsTheValidOnes) {
   expect_bad_input(r);
   EXPECT_EQ(r.err,
             "gonio: --bsdf: roughconductor: unknown parameter 'distrib'; roughconductor takes alpha, distribution, "
-            "fresnel, eta, k, material, f0, multiscatter, thin_film\n");
+            "fresnel, eta, k, material, f0, f82, multiscatter, thin_film\n");
   // A misspelt required parameter is named as unknown, not reported missing.
   const RunResult typo = run_gonio({"eval", "--bsdf", R"({"type":"roughconductor","alpah":0.2,"material":"Au"})"},
                                    "0 0 1 0 0 1\n");
   expect_bad_input(typo);
   EXPECT_EQ(typo.err,
             "gonio: --bsdf: roughconductor: unknown parameter 'alpah'; roughconductor takes alpha, distribution, "
-            "fresnel, eta, k, material, f0, multiscatter, thin_film\n");
+            "fresnel, eta, k, material, f0, f82, multiscatter, thin_film\n");
 }
 
 TEST(CliMaterials, UnknownParameterInABlendComponent) {
@@ -117,6 +117,7 @@ const std::map<std::string, nlohmann::json> kMinimal = {
     {"roughconductor", {{"type", "roughconductor"}, {"alpha", 0.3}, {"eta", 1.5}}},
     {"roughdielectric", {{"type", "roughdielectric"}, {"alpha", 0.3}}},
     {"orennayar", {{"type", "orennayar"}, {"sigma", 20}}},
+    {"eon", {{"type", "eon"}}},
     {"phong", {{"type", "phong"}, {"kd", 0}, {"ks", 0}, {"exponent", 10}}},
     {"blinnphong", {{"type", "blinnphong"}, {"kd", 0}, {"ks", 0}, {"exponent", 10}}},
     {"ward", {{"type", "ward"}, {"kd", 0}, {"ks", 0}, {"alpha", 0.3}}},
@@ -155,6 +156,11 @@ TEST(CliMaterials, ParserFollowsTheReference) {
       const std::string key(p.name);
       nlohmann::json base = kMinimal.at(type);
       if (type == "plastic" && key == "distribution") base["alpha"] = 0.3;  // a rough coat
+      if (key == "f82") {  // F82-tint: f0 and f82, no index
+        base.erase("eta");
+        base["fresnel"] = "f82";
+        base["f0"] = 0.5;
+      }
       if (type == "subsurface") {  // each key within its form of the medium
         if (key == "distribution") base["alpha"] = 0.3;  // a rough boundary
         if (key == "albedo" || key == "mfp") base = {{"type", "subsurface"}, {"albedo", 0.5}, {"mfp", 1}};
