@@ -33,6 +33,7 @@ from ._gonio import (  # noqa: F401  (the public surface)
     named_index,
     read_material_file,
     subsurface,
+    thin_film,
 )
 from . import _gonio
 
@@ -100,4 +101,5 @@ __all__ = [
     "read_material_file",
     "spherical",
     "subsurface",
+    "thin_film",
 ] + [n for n in ("render", "measure", "fit") if hasattr(_gonio, n)]

@@ -9,6 +9,8 @@ KIND is one of
   albedo    directional albedo against θ: reflectance, transmittance and their sum
   slice     f over θh × θd at φd = 90° (Burley 2012's slice), log scale
   sampling  histogram of sample() against the pdf on a (cos θ, φ) grid: the χ² picture
+  thinfilm  a thin film's reflectance against its thickness and the wavelength, an image
+            (--film-eta on --eta/--k or a named --material; default: a soap film in air)
 
 OUT ends in .png or .svg. Each kind is also a function (lobe(...), fresnel(...), ...)
 returning the matplotlib Figure. See docs/python.md.
@@ -28,7 +30,7 @@ import numpy as np  # noqa: E402
 
 import gonio  # noqa: E402
 
-KINDS = ("lobe", "fresnel", "albedo", "slice", "sampling")
+KINDS = ("lobe", "fresnel", "albedo", "slice", "sampling", "thinfilm")
 
 # A material for each kind when --bsdf is not given.
 DEFAULT_BSDF = {
@@ -262,6 +264,30 @@ def slice_plot(bsdf, resolution=180, phi_d=90.0):
     return fig
 
 
+# --- thinfilm ----------------------------------------------------------------------------
+
+
+def thin_film(film_eta=1.33, eta=1.0, k=0.0, material=None, theta=0.0, max_thickness=1000.0, count=(300, 161)):
+    """R of a film (index film_eta) on an interface (eta + i k, or a named material) against
+    the film's thickness (x, nm) and the wavelength (y, nm) at incidence theta, computed by
+    gonio.thin_film (the models' own Airy sum). eta = 1 is a free-standing film: the soap
+    bubble of `thindielectric` with a `thin_film`."""
+    d = np.linspace(0.0, max_thickness, count[0])
+    nm = np.linspace(380.0, 780.0, count[1])
+    D, L = np.meshgrid(d, nm)
+    r = gonio.thin_film(theta, L.ravel(), D.ravel(), film_eta, eta=eta, k=k, material=material)["R"].reshape(D.shape)
+    fig, ax = plt.subplots(figsize=(7.5, 4.4))
+    im = ax.imshow(r, origin="lower", extent=(0, max_thickness, 380, 780), aspect="auto", cmap="magma")
+    fig.colorbar(im, ax=ax, label="reflectance R (unpolarised)")
+    ax.set_xlabel("film thickness d (nm)")
+    ax.set_ylabel("wavelength λ (nm)")
+    on = material or ("air" if eta == 1 and k == 0 else "η = %g" % eta + (" + %gi" % k if k > 0 else ""))
+    ax.set_title("thin film n = %g on %s at θ = %g° (Airy sum, Belcour & Barla 2017)" % (film_eta, on, theta),
+                 fontsize=9)
+    fig.tight_layout()
+    return fig
+
+
 # --- sampling ----------------------------------------------------------------------------
 
 
@@ -336,6 +362,9 @@ def _parser():
     p.add_argument("--material", help="fresnel: a named metal (Au, Ag, Cu, Al, CuZn) or glass (BK7, ...)")
     p.add_argument("--theta", type=float, action="append",
                    help="lobe: an incidence angle in degrees (repeat; default 0, 30, 60); sampling: θo (45)")
+    p.add_argument("--film-eta", type=float, default=1.33, help="thinfilm: the film's index (default 1.33)")
+    p.add_argument("--max-thickness", type=float, default=1000.0,
+                   help="thinfilm: the largest thickness plotted, in nm (default 1000)")
     p.add_argument("--3d", dest="surface3d", action="store_true", help="lobe: a 3D surface at the first --theta")
     p.add_argument("--samples", type=int, help="albedo: samples per angle (65536); sampling: samples (200000)")
     p.add_argument("--dpi", type=float, default=120, help="resolution of a PNG in dots per inch (default 120)")
@@ -367,6 +396,15 @@ def main(argv=None):
             if args.material and args.eta is not None:
                 raise ValueError("--material excludes --eta")
             fig = fresnel(eta=1.5 if args.eta is None else args.eta, k=args.k, material=args.material)
+        elif args.kind == "thinfilm":
+            if args.material and args.eta is not None:
+                raise ValueError("--material excludes --eta")
+            for t in args.theta or ():
+                _check_theta(t, "--theta")
+            if not (0 < args.max_thickness <= 1e4):
+                raise ValueError("--max-thickness must be in (0, 10000] nm, got %r" % args.max_thickness)
+            fig = thin_film(film_eta=args.film_eta, eta=1.0 if args.eta is None else args.eta, k=args.k,
+                            material=args.material, theta=(args.theta or [0.0])[0], max_thickness=args.max_thickness)
         else:
             m = gonio.Material(_bsdf_text(args.bsdf, args.kind))
             for t in args.theta or ():

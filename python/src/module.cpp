@@ -20,11 +20,13 @@
 #include <optional>
 #include <string>
 #include <thread>
+#include <tuple>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
 #include "gonio/batch.h"
+#include "gonio/bxdf/thin_film.h"
 #include "gonio/fresnel.h"
 #include "gonio/math/degrees.h"
 #include "gonio/json_text.h"
@@ -534,6 +536,46 @@ py::dict fresnel(const DoubleArray& theta_a, double eta, double k, const std::op
   return d;
 }
 
+// thin_film(theta, wavelength, thickness, film_eta, ...): the reflectance of a film on an
+// interface from the outside (SPEC §2 "thin_film"), by the models' own Airy sum
+// (bxdf/thin_film.h) at each (θ, λ, d); the arguments broadcast as numbers or 1-D arrays
+// of one common length.
+py::dict thin_film(const DoubleArray& theta_a, const DoubleArray& nm_a, const DoubleArray& d_a, double film_eta,
+                   double eta, double k, const std::optional<std::string>& material) {
+  const Vec1 theta = vec1(theta_a, "theta"), nm = vec1(nm_a, "wavelength"), d = vec1(d_a, "thickness");
+  std::size_t n = 1;
+  for (const Vec1* v : {&theta, &nm, &d}) {
+    if (v->n == 1) continue;
+    if (n != 1 && v->n != n)
+      throw InputError("theta, wavelength and thickness must be numbers or arrays of one length, got lengths " +
+                       std::to_string(theta.n) + ", " + std::to_string(nm.n) + ", " + std::to_string(d.n));
+    n = v->n;
+  }
+  // The ranges of the material descriptions (SPEC §2 "thin_film").
+  if (!(film_eta >= 1 && film_eta <= 1e4)) throw InputError("film_eta must be in [1, 10000], got " + format_number(film_eta));
+  if (!material) check_fresnel_index(eta, k);
+  std::vector<double> rs(n), rp(n), r(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!(theta[i] >= 0 && theta[i] <= 90)) throw InputError("theta must be in [0, 90] degrees, got " + format_number(theta[i]));
+    if (!(nm[i] >= double(kLambdaMin) && nm[i] <= double(kLambdaMax)))
+      throw InputError("wavelength must be a number of nanometres in [" + format_number(double(kLambdaMin)) + ", " +
+                       format_number(double(kLambdaMax)) + "], got " + format_number(nm[i]));
+    if (!(d[i] >= 0 && d[i] <= 1e4)) throw InputError("thickness must be in [0, 10000] nm, got " + format_number(d[i]));
+    double n3 = eta, k3 = k;
+    if (material) std::tie(n3, k3) = named_index(*material, Float(nm[i])).front();
+    const double cos_i = cos_degrees(theta[i]);
+    const FilmAmplitudes<double> a = airy_film<double>(cos_i, film_eta, d[i], n3, k3, nm[i]);
+    rs[i] = a.Rs;
+    rp[i] = a.Rp;
+    r[i] = a.R();
+  }
+  py::dict out;
+  out["Rs"] = py::array_t<double>(py::ssize_t(n), rs.data());
+  out["Rp"] = py::array_t<double>(py::ssize_t(n), rp.data());
+  out["R"] = py::array_t<double>(py::ssize_t(n), r.data());
+  return out;
+}
+
 // "name" for a number, "name[i]" for an element of an array.
 std::string element_name(const char* name, const DoubleArray& a, std::size_t i) {
   return a.ndim() == 0 ? std::string(name) : std::string(name) + "[" + std::to_string(i) + "]";
@@ -790,6 +832,15 @@ as `gonio fresnel`: a dict of float64 arrays Rs, Rp, R, T, cos_t, schlick, the b
 array tir, theta, and the index used (lists eta, k). A named material in RGB mode gives
 arrays of shape (N, 3), else (N,). cos_t is 0 for a conductor and under total internal
 reflection (the CLI prints null). wavelength (nm): a named material's index there.
+)doc");
+  mod.def("thin_film", &thin_film, py::arg("theta"), py::arg("wavelength"), py::arg("thickness"),
+          py::arg("film_eta"), py::arg("eta") = 1.5, py::arg("k") = 0.0, py::arg("material") = py::none(), R"doc(
+Reflectance of a thin film (index film_eta, thickness in nm) on an interface of relative
+index eta + i k (or a named metal or glass, material="Au", "BK7", read at each
+wavelength), for light from the outside at theta degrees and wavelength nm: the Airy sum
+of the film's two faces (Belcour & Barla 2017, eq. 1) that the models use in spectral
+mode (SPEC §2 "thin_film"). theta, wavelength and thickness are numbers or 1-D arrays of
+one common length. Returns a dict of float64 arrays Rs, Rp and R.
 )doc");
   mod.def("fresnel_dielectric",
           [](const DoubleArray& c, double eta) {

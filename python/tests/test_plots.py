@@ -21,6 +21,8 @@ CASES = {
     "albedo": ["--samples", "2048"],
     "slice": [],
     "sampling": ["--samples", "20000"],
+    "thinfilm": [],
+    "thinfilm_gold": ["--material", "Au", "--film-eta", "1.5", "--theta", "40"],
 }
 
 
@@ -100,3 +102,25 @@ def test_bsdf_files_are_read_through_the_clis_bound(tmp_path):
     good = tmp_path / "m.json"
     good.write_text('{"type": "diffuse"}')
     assert gonio.read_material_file(str(good)) == b'{"type": "diffuse"}'
+
+
+def test_thin_film_values_are_closed_forms():
+    """gonio.thin_film against closed forms written here (Hecht, Optics, §9.7.1): a
+    quarter-wave film (n_f d = λ/4) at normal incidence reflects ((n3 − n_f²)/(n3 + n_f²))²,
+    a half-wave film is absent (the bare interface's ((n3 − 1)/(n3 + 1))²), and a free
+    film's reflectance peaks at ((n_f² − 1)/(n_f² + 1))² (the soap film of `thinfilm`)."""
+    r = gonio.thin_film(0, 550, 550 / (4 * 1.38), 1.38, eta=1.5)["R"][0]
+    assert r == pytest.approx(((1.5 - 1.38**2) / (1.5 + 1.38**2)) ** 2, rel=1e-9)
+    assert gonio.thin_film(0, 550, 99.6, 1.38, eta=1.5)["R"][0] == pytest.approx(0.0141, abs=5e-5)  # issue 34
+    r = gonio.thin_film(0, 600, 600 / (2 * 2.0), 2.0, eta=1.5)["R"][0]
+    assert r == pytest.approx((0.5 / 2.5) ** 2, rel=1e-9)
+    d = np.linspace(0, 400, 4001)
+    peak = gonio.thin_film(0, 500, d, 1.33, eta=1.0)["R"].max()
+    assert peak == pytest.approx(((1.33**2 - 1) / (1.33**2 + 1)) ** 2, rel=1e-5)
+    # Thickness 0 is the bare interface, at any angle.
+    th = np.array([0.0, 30.0, 60.0, 85.0])
+    assert np.allclose(gonio.thin_film(th, 550, 0, 1.7, eta=1.5)["R"], gonio.fresnel(th, eta=1.5)["R"], rtol=1e-12)
+    with pytest.raises(ValueError, match="thickness must be in"):
+        gonio.thin_film(0, 550, -1, 1.38)
+    with pytest.raises(ValueError, match="film_eta must be in"):
+        gonio.thin_film(0, 550, 100, 0.5)
