@@ -27,6 +27,8 @@ EXAMPLES = {
              '{"type":"roughconductor","material":"Al","alpha":0.1}]}',
     "measured": None,  # the MERL file of conftest
     "subsurface": '{"type":"subsurface","medium":"marble","alpha":0.2}',
+    "sheen": '{"type":"sheen","color":[0.9,0.5,0.7],"roughness":0.4}',
+    "thindielectric": '{"type":"thindielectric","eta":1.45}',
     "layered": '{"type":"layered","top":{"type":"roughdielectric","eta":1.5,"alpha":0.2},'
                '"bottom":{"type":"diffuse","reflectance":0.5},"thickness":0.1,"albedo":0.5}',
 }
@@ -36,6 +38,8 @@ VARIANTS = [
     '{"type":"roughdielectric","eta":0.7,"alpha":0.2,"multiscatter":true}',
     '{"type":"plastic","reflectance":0.5}',
     '{"type":"conductor","fresnel":"schlick","f0":[1,0.8,0.3]}',
+    '{"type":"roughdielectric","eta":1.5,"alpha":0.25,"thin_film":{"thickness":350,"eta":1.38}}',
+    '{"type":"conductor","material":"Cu","thin_film":{"thickness":200,"eta":1.6}}',
     '{"type":"roughconductor","fresnel":"f82","f0":[0.95,0.64,0.54],"f82":[0.9,0.7,0.5],"alpha":0.3,"multiscatter":true}',
 ]
 
