@@ -15,35 +15,13 @@
 #include <functional>
 #include <vector>
 
+#include "../test_common.h"
 #include "gonio/bxdf.h"
 #include "gonio/material.h"
 #include "gonio/validate.h"
 
 namespace gonio {
 namespace eon_test {
-
-// Gauss–Legendre nodes and weights on [a, b] (Newton on P_n).
-void gauss_legendre(int n, double a, double b, std::vector<double>& x, std::vector<double>& w) {
-  x.assign(size_t(n), 0);
-  w.assign(size_t(n), 0);
-  for (int i = 0; i < n; ++i) {
-    double z = std::cos(kPiD * (i + 0.75) / (n + 0.5)), dp = 0;
-    for (int it = 0; it < 100; ++it) {
-      double p0 = 1, p1 = z;
-      for (int k = 2; k <= n; ++k) {
-        const double p2 = ((2 * k - 1) * z * p1 - (k - 1) * p0) / k;
-        p0 = p1;
-        p1 = p2;
-      }
-      dp = n * (z * p1 - p0) / (z * z - 1);
-      const double dz = p1 / dp;
-      z -= dz;
-      if (std::abs(dz) < 1e-15) break;
-    }
-    x[size_t(i)] = a + (b - a) * (z + 1) / 2;
-    w[size_t(i)] = (b - a) / ((1 - z * z) * dp * dp);
-  }
-}
 
 // Fujii's lobe at ρ = 1, in his notation (not the paper's A_F = π A).
 double fujii(double mu_o, double mu_i, double cos_dphi, double sigma) {

@@ -10,6 +10,7 @@
 #include <utility>
 #include <vector>
 
+#include "../test_common.h"
 #include "gonio/bxdf/dielectric.h"
 #include "gonio/subsurface/diffusion.h"
 #include "gonio/subsurface/random_walk.h"
@@ -19,29 +20,6 @@
 namespace gonio {
 namespace {
 
-// Gauss–Legendre nodes and weights on [0, 1] (Newton on P_n; Abramowitz & Stegun 25.4.29).
-void gauss_legendre01(int n, std::vector<double>& x, std::vector<double>& w) {
-  x.resize(size_t(n));
-  w.resize(size_t(n));
-  for (int i = 0; i < n; ++i) {
-    double z = std::cos(kPiD * (i + 0.75) / (n + 0.5)), dp = 0;
-    for (int it = 0; it < 100; ++it) {
-      double p0 = 1, p1 = z;
-      for (int k = 2; k <= n; ++k) {
-        const double p2 = ((2 * k - 1) * z * p1 - (k - 1) * p0) / k;
-        p0 = p1;
-        p1 = p2;
-      }
-      dp = n * (z * p1 - p0) / (z * z - 1);
-      const double dz = p1 / dp;
-      z -= dz;
-      if (std::abs(dz) < 1e-15) break;
-    }
-    x[size_t(i)] = (1 - z) / 2;
-    w[size_t(i)] = 1 / ((1 - z * z) * dp * dp);  // 2/((1 − z²) P'²) on [−1, 1], halved
-  }
-}
-
 // Chandrasekhar's H-function for isotropic scattering with albedo ϖ (Radiative Transfer,
 // 1960, ch. V: H(μ) = 1 + (ϖ/2) μ H(μ) ∫₀¹ H(μ′)/(μ + μ′) dμ′), by fixed-point
 // iteration on Gauss–Legendre nodes. (The "alternate" form 1/H = √(1 − ϖ) + (ϖ/2) ∫ μ′H/(μ + μ′)
@@ -49,7 +27,7 @@ void gauss_legendre01(int n, std::vector<double>& x, std::vector<double>& w) {
 // iteration converges slowly, hence the many rounds; for ϖ < 1 it is geometric.
 double chandrasekhar_h(double albedo, double mu, int nodes = 24) {
   std::vector<double> x, w;
-  gauss_legendre01(nodes, x, w);
+  gauss_legendre(nodes, 0, 1, x, w);
   std::vector<double> h(x.size(), 1.0), next(x.size());
   const auto integral = [&](double m) {
     double s = 0;
@@ -71,7 +49,7 @@ double chandrasekhar_h(double albedo, double mu, int nodes = 24) {
 // ∫₀¹ H dμ, for the moment identity.
 double h_moment0(double albedo) {
   std::vector<double> x, w;
-  gauss_legendre01(24, x, w);
+  gauss_legendre(24, 0, 1, x, w);
   double s = 0;
   for (size_t i = 0; i < x.size(); ++i) s += w[i] * chandrasekhar_h(albedo, x[i]);
   return s;
