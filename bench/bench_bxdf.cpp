@@ -268,7 +268,7 @@ void register_model(const std::string& name, const M& model) {
 // depth tau and albedo a (HG g 0).
 LayeredBxDF layered_stack(bool rough, Float tau, Float a) {
   RoughDielectricBxDF top{{MicrofacetType::GGX, rough ? 0.2f : 0.0f, rough ? 0.2f : 0.0f}, 1.5f, {}};
-  return LayeredBxDF::make(top, std::make_shared<const BxDF>(DiffuseBxDF{Color(0.5f)}), tau, Color(a), 0, 100, 1);
+  return LayeredBxDF::make(top, false, std::make_shared<const BxDF>(DiffuseBxDF{Color(0.5f)}), tau, Color(a), 0, 100, 1);
 }
 
 // --variance: the directional albedo estimated from sample weights, plastic against

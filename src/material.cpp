@@ -837,12 +837,12 @@ BxDF make_layered(Params& p, const std::string& where, int depth) {
     return it != j.end() && it->is_string() ? it->get<std::string>() : "";
   };
   const std::string top_type = type_of(top_json);
-  if (top_type == "thindielectric")
-    p.fail("top: thindielectric is not supported as a top yet (dielectric or roughdielectric)");
-  if (!top_json.is_object()) p.fail("top must be a material (a dielectric or roughdielectric), got " + show(top_json));
+  if (!top_json.is_object())
+    p.fail("top must be a material (a dielectric, roughdielectric or thindielectric), got " + show(top_json));
   if (!bottom_json.is_object()) p.fail("bottom must be a material, got " + show(bottom_json));
-  if (top_type != "dielectric" && top_type != "roughdielectric")
-    p.fail("top must be a dielectric or roughdielectric material, got type " + show(top_json.value("type", json())));
+  if (top_type != "dielectric" && top_type != "roughdielectric" && top_type != "thindielectric")
+    p.fail("top must be a dielectric, roughdielectric or thindielectric material, got type " +
+           show(top_json.value("type", json())));
   p.spectra().parts.resize(2);
   const BxDF top = parse_description(top_json, where + ".top", depth + 1, p.spectra().parts[0], p.base_dir());
   auto bottom = std::make_shared<const BxDF>(
@@ -850,10 +850,18 @@ BxDF make_layered(Params& p, const std::string& where, int depth) {
   if (is_transmissive(bottom->flags()))
     p.fail("bottom must not transmit light (a " + bottom->name() +
            " does): a transmitting bottom is not supported; the stack reflects only");
+  // The top as the stack holds it (layered.h): smooth ones with alpha 0 (specular()), a
+  // sheet with its eta and film.
   RoughDielectricBxDF interface;
+  const auto* sheet = std::get_if<ThinDielectricBxDF>(&top.models());
   if (const auto* d = std::get_if<DielectricBxDF>(&top.models())) {
     interface.eta = d->eta;
-    interface.distribution.alpha_x = interface.distribution.alpha_y = 0;  // smooth: specular()
+    interface.film = d->film;
+    interface.distribution.alpha_x = interface.distribution.alpha_y = 0;
+  } else if (sheet) {
+    interface.eta = sheet->eta;
+    interface.film = sheet->film;
+    interface.distribution.alpha_x = interface.distribution.alpha_y = 0;
   } else {
     interface = std::get<RoughDielectricBxDF>(top.models());
   }
@@ -861,7 +869,7 @@ BxDF make_layered(Params& p, const std::string& where, int depth) {
   // Below HG's isotropic threshold its sampler draws the isotropic phase; the walk then
   // uses g = 0 throughout, so that the sampled density is the one it evaluates.
   const Float g_used = std::abs(Float(g)) < kHgIsotropicBelow ? Float(0) : Float(g);
-  return LayeredBxDF::make(interface, std::move(bottom), Float(p.number("thickness")), p.color("albedo"), g_used,
+  return LayeredBxDF::make(interface, sheet != nullptr, std::move(bottom), Float(p.number("thickness")), p.color("albedo"), g_used,
                            whole_number(p, "max_depth"), whole_number(p, "samples"));
 }
 }  // namespace

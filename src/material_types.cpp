@@ -127,7 +127,7 @@ constexpr ParamSpec kBlend[] = {
 };
 constexpr ParamSpec kLayered[] = {
     {"top", K::Material, "", {}, "", "", true,
-     "The interface on top: a dielectric or roughdielectric material (its eta is relative to the medium below it)."},
+     "The interface on top: a dielectric or roughdielectric material (its eta is relative to the medium below it), or a thindielectric sheet."},
     {"bottom", K::Material, "", {}, "", "", true,
      "The material under the medium: any material that does not transmit; layered materials and blends nest at most 8 deep."},
     {"thickness", K::Number, "0.01", closed(0, 1e4), "", "", false,

@@ -188,6 +188,7 @@ struct Converter {
     const SpectralBxDF top = Converter{spectra.parts[0], w, scratch, 0}(m.top);
     LayeredBxDFT<SS> s;
     s.top = std::get<RoughDielectricBxDFT<SS>>(top.models());
+    s.thin_top = m.thin_top;
     s.bottom = &(*parts)[0];
     s.thickness = m.thickness;
     s.albedo = colour(MP::Reflectance, m.albedo);

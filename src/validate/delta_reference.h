@@ -149,28 +149,35 @@ inline std::optional<DeltaReference> delta_reference(const BxDF& bxdf, const Vec
           return r;
         } else if constexpr (std::is_same_v<M, LayeredBxDF>) {
           // A smooth top's specular chain, summed in closed form: light reflected by the
-          // top (F), or refracted in, attenuated by e^{−τ/μ'} each way, reflected by the
-          // bottom's delta lobe (R_b, the validator's own reference at the refracted
+          // top (F: the dielectric's, under its film when it has one, or the thin sheet's
+          // 2r/(1 + r), each per channel from the references above), or refracted in
+          // (a sheet does not bend it), attenuated by e^{−τ/μ'} each way, reflected by the
+          // bottom's delta lobe (R_b, the validator's own reference at the inner
           // direction) and bounced between bottom and top (F from inside equals F from
-          // outside at Snell's pair of angles; the radiance scalings in and out cancel):
+          // outside at Snell's pair of angles, for a lossless film too; the radiance
+          // scalings in and out cancel):
           //   R = F + (1 − F)² T R_b / (1 − F T R_b),  T = e^{−2τ/μ'}.
           // A rough top has no delta lobe.
           if (!m.top.specular() || wo.z == 0) return r;
-          const double mu = std::abs(double(wo.z)), eta = m.top.eta;
-          const double F = reference_fresnel_dielectric(mu, eta);
+          const double mu = std::abs(double(wo.z));
+          const double eta = m.thin_top ? 1.0 : double(m.top.eta);
+          const Vec3 up{wo.x, wo.y, Float(mu)};
+          const std::array<double, kColorChannels> F =
+              m.thin_top ? thin_sheet_reference(up, m.top.eta, &m.top.film).reflection
+                         : dielectric_reference(up, m.top.eta, mode, &m.top.film).reflection;
           const double s2 = (1 - mu * mu) / (eta * eta);
           if (!(s2 < 1)) {  // total internal reflection from outside (η < 1)
-            r.reflection.fill(F);
+            r.reflection = F;
             return r;
           }
-          const double mu_in = std::sqrt(1 - s2);
+          const double mu_in = m.thin_top ? mu : std::sqrt(1 - s2);
           const Vec3 inner{Float(wo.x / eta), Float(wo.y / eta), Float(mu_in)};
           const auto b = delta_reference(*m.bottom, inner, mode);
           if (!b) return std::nullopt;
           const double T = m.thickness > 0 ? std::exp(-2 * double(m.thickness) / mu_in) : 1.0;
           for (size_t c = 0; c < size_t(kColorChannels); ++c) {
-            const double rb = b->reflection[c];
-            r.reflection[c] = F + (1 - F) * (1 - F) * T * rb / (1 - F * T * rb);
+            const double rb = b->reflection[c], f = F[c];
+            r.reflection[c] = f + (1 - f) * (1 - f) * T * rb / (1 - f * T * rb);
           }
           return r;
         } else if constexpr (std::is_same_v<M, UserBxDF>) {

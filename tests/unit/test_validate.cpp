@@ -142,12 +142,16 @@ INSTANTIATE_TEST_SUITE_P(
       R"({"type":"sheen","roughness":0.1})",
       R"({"type":"sheen","roughness":0.3})",
       R"({"type":"sheen","roughness":1})",
-      // layered (issue 34): a smooth top over a diffuse and over a delta bottom (a few
-      // seconds each here). Rough tops over rough gold and over a scattering medium pass
-      // `gonio check` in 30-50 s, too long for this suite; a medium with g = -0.9 under a
-      // smooth top fails `weights` (docs/testing.md, "layered").
+      // layered (issue 34): smooth tops (a few seconds each here) over a diffuse and over a
+      // delta bottom; over a backward-scattering medium (its retroreflection; g -0.9 is
+      // marginal, docs/testing.md); a thin sheet over a scattering medium; a top under a
+      // thin film. Rough tops over rough gold and over a scattering medium pass
+      // `gonio check` in 30-50 s, too long for this suite (docs/testing.md, "layered").
       R"({"type":"layered","top":{"type":"dielectric","eta":1.5},"bottom":{"type":"diffuse","reflectance":0.8},"thickness":0})",
       R"({"type":"layered","top":{"type":"dielectric","eta":1.5},"bottom":{"type":"mirror"},"thickness":0.3})",
+      R"({"type":"layered","top":{"type":"dielectric","eta":0.7},"bottom":{"type":"orennayar","reflectance":0.8,"sigma":20},"thickness":2,"albedo":1,"g":-0.7})",
+      R"({"type":"layered","top":{"type":"thindielectric","eta":1.5},"bottom":{"type":"diffuse","reflectance":0.5},"thickness":0.5,"albedo":[0.9,0.5,0.1],"g":0.5})",
+      R"({"type":"layered","top":{"type":"dielectric","eta":1.5,"thin_film":{"thickness":400,"eta":1.38}},"bottom":{"type":"diffuse","reflectance":0.8},"thickness":0})",
       // issue 34: the thin sheet over the index range, index-matched, below 1.
       R"({"type":"thindielectric"})",
       R"({"type":"thindielectric","eta":1})",

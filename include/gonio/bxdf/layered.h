@@ -23,11 +23,23 @@
 //    not needed by the walk. Two-sided: wo below the surface sees the same stack mirrored.
 //  - sample() draws wi from a closed-form mixture whose density is exactly pdf(): the
 //    top's own microfacet reflection lobe and a wider copy (rough top), the bottom's own
-//    sampling seen through the top's macroscopic refraction (a non-delta bottom), and a
-//    cosine lobe; the weight is f |cos θi| / pdf with the stochastic f. A smooth top has a
+//    sampling seen through the top's macroscopic refraction (a non-delta bottom), the
+//    medium's phase function once about the refracted wo, folded up at the bottom and
+//    refracted out (a scattering medium: its backward peak is a retroreflection, its
+//    forward one a mirror reflection), and a cosine lobe; the weight is f |cos θi| / pdf
+//    with the stochastic f. A smooth top has a
 //    delta reflection: its weight is an unbiased estimate of the whole specular chain
 //    (F + (1 − F)² Tr² R_b / (1 − F Tr² R_b) for a specular bottom of reflectance R_b,
 //    summed path by path), seeded per sample.
+//  - The two ends are weighted by w(wo, wi) = cos²θi / (cos²θo + cos²θi) and its mirror
+//    (weights that sum to 1 keep the average unbiased, and swapping the directions swaps
+//    the two products, so reciprocity stays exact): the walk that leaves towards a grazing
+//    direction connects through a transmission drawn from it, whose 1/|cos| next to a
+//    vertex just under the top makes rare huge estimates (weights of 400 × the albedo at
+//    89.99°, gonio check); the walk that enters there does not.
+// The top: a dielectric (smooth or rough, with its thin film) or a thin dielectric sheet
+// (`thin_top`: light crosses it straight, wi = −wo, and it reflects 2r/(1 + r) from both
+// sides, thindielectric.h; `top` then holds the sheet's eta and film, and is smooth).
 // Polarized mode: depolarizing (the walk sums unpolarized energy; docs/polarization.md).
 // The bottom is held as the blend holds its parts (blend.h): `bottom` points at it and
 // `owner` keeps it alive when the model owns it; spectral models made per shading point
@@ -53,6 +65,7 @@ struct LayeredBxDFT {
   static constexpr std::string_view kName = "layered";
   // A smooth top is a RoughDielectricBxDFT below the smoothness threshold (specular()).
   RoughDielectricBxDFT<C> top;
+  bool thin_top = false;
   const BxDFT<C>* bottom = nullptr;
   std::shared_ptr<const BxDFT<C>> owner;
   Float thickness = 0.01f;  // optical depth of the medium (σt = 1); 0: no medium
@@ -61,10 +74,11 @@ struct LayeredBxDFT {
   int max_depth = 100;
   int samples = 1;
 
-  static LayeredBxDFT make(const RoughDielectricBxDFT<C>& top, std::shared_ptr<const BxDFT<C>> bottom,
+  static LayeredBxDFT make(const RoughDielectricBxDFT<C>& top, bool thin_top, std::shared_ptr<const BxDFT<C>> bottom,
                            Float thickness, const C& albedo, Float g, int max_depth, int samples) {
     LayeredBxDFT m;
     m.top = top;
+    m.thin_top = thin_top;
     m.bottom = bottom.get();
     m.owner = std::move(bottom);
     m.thickness = thickness;
@@ -91,9 +105,21 @@ struct LayeredBxDFT {
   // An unbiased estimate of the smooth top's specular chain for wo (upper side): the
   // stack's delta reflectance in the mirror direction.
   C specular_chain(const Vec3& wo, std::uint64_t seed) const;
+  // The smooth top (or sheet) seen by light along w (w.z < 0: from inside): its
+  // reflectance per channel, and its crossing, the direction beyond it (refracted, or
+  // straight through a sheet) with the share carried, (1 − R) times the mode's radiance
+  // scaling (none under total internal reflection).
+  C smooth_reflectance(const Vec3& w) const;
+  struct Crossing {
+    Vec3 w;
+    C weight;
+  };
+  std::optional<Crossing> cross_smooth_top(const Vec3& w, TransportMode mode) const;
+  // The index that bends directions at the top: 1 for a sheet.
+  Float geometric_eta() const { return thin_top ? Float(1) : top.eta; }
   // Mixture probabilities of sample() for wo (upper side).
   struct Mixture {
-    Float delta = 0, lobe = 0, wide = 0, base = 0, cosine = 0;
+    Float delta = 0, lobe = 0, wide = 0, base = 0, medium = 0, cosine = 0;
   };
   Mixture mixture(const Vec3& wo) const;
   Float mixture_pdf(const Mixture& p, const Vec3& wo, const Vec3& wi) const;
