@@ -72,6 +72,9 @@ inline std::vector<std::string> extreme_materials() {
       R"({"type":"layered","top":{"type":"dielectric","eta":10000},"bottom":{"type":"diffuse","reflectance":1},"thickness":0})",
       R"({"type":"layered","top":{"type":"roughdielectric","alpha":0.001,"eta":0.0001},"bottom":{"type":"mirror"},"thickness":10000,"albedo":1,"g":0.9,"max_depth":1})",
       R"({"type":"layered","top":{"type":"roughdielectric","alpha":10,"eta":1},"bottom":{"type":"conductor","eta":10000,"k":10000},"thickness":0.01,"albedo":0,"g":-0.5})",
+      R"({"type":"layered","top":{"type":"thindielectric","eta":0.0001},"bottom":{"type":"diffuse","reflectance":1},"thickness":10000,"albedo":1,"g":-0.9})",
+      R"({"type":"layered","top":{"type":"thindielectric","eta":10000,"thin_film":{"thickness":10000,"eta":10000}},"bottom":{"type":"mirror"},"thickness":0.001,"albedo":0.5})",
+      R"({"type":"layered","top":{"type":"dielectric","eta":1.5,"thin_film":{"thickness":300,"eta":1.38}},"bottom":{"type":"eon","reflectance":0.5},"thickness":0})",
   };
   for (const char* eta : {"1", "1.000001", "0.0001", "10000", "1.5", "0.6667"}) {
     v.push_back(std::string(R"({"type":"dielectric","eta":)") + eta + "}");

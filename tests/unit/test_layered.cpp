@@ -211,6 +211,41 @@ TEST(Layered, SpectralWhiteFurnace) {
   EXPECT_NEAR(mean, 1.0, 4.5 * se + 2e-3);  // the upsampled grey 1 is 1 to ~1e-3
 }
 
+// Single scattering in a slab, derived here: a beam entering along −wi through an
+// index-matched top (η = 1: no refraction, no reflection) is attenuated to e^{−t/μi} at
+// optical depth t, scatters there with albedo ω and phase p(cos Θ) (Henyey–Greenstein,
+// per steradian, Θ between the directions of travel −wi and wo), and leaves attenuated by
+// e^{−t/μo}; with dt/μo along the viewing ray and f = L / (E μi),
+//   f_ss = ω p(−wi·wo) (1 − e^{−τ (1/μo + 1/μi)}) / (μo + μi)
+// (the single-scattering term of a plane-parallel slab; Chandrasekhar 1960, Radiative
+// Transfer, §I.14). With a black bottom and max_depth 1 the walk keeps exactly that
+// order, so the mean of (f − f_ss) over nearby pairs (each its own seed) is 0.
+TEST(Layered, SingleScatteringIsTheSlabsClosedForm) {
+  const double omega = 0.8, tau = 0.3, g = 0.6;
+  const BxDF m = parse_material(
+      R"({"type":"layered","top":{"type":"dielectric","eta":1},"bottom":{"type":"diffuse","reflectance":0},"thickness":0.3,"albedo":0.8,"g":0.6,"max_depth":1})");
+  const auto hg = [&](double c) { return (1 - g * g) / (4 * kPiD * std::pow(1 + g * g - 2 * g * c, 1.5)); };
+  const int n = int(test::scaled(4000));
+  const double pairs[][4] = {{0, 0, 30, 180}, {40, 0, 40, 180}, {60, 0, 60, 0}, {75, 30, 20, 100}};
+  Pcg32 rng(43);
+  for (const auto& p : pairs) {
+    double s = 0, s2 = 0, ref = 0;
+    for (int i = 0; i < n; ++i) {
+      const auto j = [&] { return 2 * rng.next_double() - 1; };
+      const Vec3 wo = layered_test_dir(std::abs(p[0] + j()), p[1] + j()), wi = layered_test_dir(p[2] + j(), p[3] + j());
+      const double mo = wo.z, mi = wi.z;
+      const double cos_travel = -(double(wi.x) * wo.x + double(wi.y) * wo.y + double(wi.z) * wo.z);
+      const double want = omega * hg(cos_travel) * -std::expm1(-tau * (1 / mo + 1 / mi)) / (mo + mi);
+      const double d = m.f(wo, wi)[0] - want;
+      s += d;
+      s2 += d * d;
+      ref += want;
+    }
+    const double mean = s / n, se = std::sqrt(std::max(0.0, s2 / n - mean * mean) / n);
+    EXPECT_NEAR(mean, 0.0, 4.5 * se + 1e-6) << p[0] << " " << p[2] << " (f_ss " << ref / n << ")";
+  }
+}
+
 // A thin dielectric sheet as the top (SPEC §2): per polarization r from Fresnel's amplitudes
 // (above), the sheet reflects 2r/(1 + r) (Stokes' series; thindielectric.h), written here
 // in double, and light crosses it without bending.
