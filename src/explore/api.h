@@ -1,0 +1,47 @@
+#pragma once
+// The JSON API of `gonio explore` (issue 36, SPEC §3), without HTTP: each endpoint is a
+// function from the request body (JSON text) to the response body (JSON text), computed by
+// the core library and the renderer's slice — no model is evaluated anywhere else. A bad
+// request throws gonio::InputError with the one-line message the CLI would print (the
+// server answers it with HTTP 400 {"error": message}). docs/explore.md documents each one.
+
+#include <string>
+
+namespace gonio::explore {
+
+// What every request may refer to: the --data directory (canonical, absolute; empty when
+// none was given). A material's file names ("file" of `measured`, a {"spectrum": "x.csv"})
+// must name files inside it; anything else is refused, so that a page cannot make the
+// server read the rest of the disk.
+struct ApiContext {
+  std::string data_dir;
+};
+
+// GET /api/materials: the registry behind `gonio materials` — every type with its
+// parameters (kind, default, range, choices, meaning), a valid example per type, the
+// named metals and glasses, and the wavelength range of spectral mode.
+std::string api_materials();
+// GET /api/data: the regular files directly inside --data (names only).
+std::string api_data(const ApiContext& ctx);
+
+// POST endpoints. Every body is a JSON object; "bsdf" holds the material (an object, or
+// its JSON text as a string: the parser then reports syntax errors as `gonio eval` does),
+// and "wavelength" (nm, where the CLI has --wavelength) selects spectral mode.
+std::string api_validate(const std::string& body, const ApiContext& ctx);     // /api/validate
+std::string api_eval(const std::string& body, const ApiContext& ctx);         // /api/eval (SPEC §3)
+std::string api_lobe(const std::string& body, const ApiContext& ctx);         // /api/lobe
+std::string api_slice(const std::string& body, const ApiContext& ctx);        // /api/slice
+std::string api_slice_point(const std::string& body, const ApiContext& ctx);  // /api/slice_point
+std::string api_albedo(const std::string& body, const ApiContext& ctx);       // /api/albedo
+std::string api_fresnel(const std::string& body, const ApiContext& ctx);      // /api/fresnel
+std::string api_check(const std::string& body, const ApiContext& ctx);        // /api/check
+
+// Request bounds (a larger request is a 400): the server stays responsive for everyone.
+inline constexpr int kMaxLobeCount = 2001;
+inline constexpr int kMaxSliceSize = 512;
+inline constexpr int kMaxAlbedoCount = 91;
+inline constexpr long long kMaxAlbedoSamples = 1 << 20;
+inline constexpr int kMaxFresnelCount = 1801;
+inline constexpr long long kMaxEvalPairs = 100000;
+
+}  // namespace gonio::explore
