@@ -1,0 +1,263 @@
+// The page: the state (material, angles, wavelength) kept in the URL hash, and every view
+// redrawn from the server's answers when it changes.
+"use strict";
+
+(() => {
+  const $ = (id) => document.getElementById(id);
+  const state = { material: null, theta_i: 30, phi_d: 90, spectral: false, wavelength: 550, lobe: "f_cos", eta: 1.5 };
+  let sliceData = null, slicePanel = null, timer = null;
+
+  function status(text, kind) {
+    const s = $("status");
+    s.textContent = text;
+    s.className = "status " + (kind || "");
+  }
+
+  // The request body every view shares: the material and, in spectral mode, the wavelength.
+  function body(extra, spectral = true) {
+    const b = Object.assign({ bsdf: state.material }, extra);
+    if (spectral && state.spectral) b.wavelength = state.wavelength;
+    return b;
+  }
+
+  function saveHash() {
+    history.replaceState(null, "", "#" + encodeURIComponent(JSON.stringify(state)));
+  }
+  function loadHash() {
+    if (location.hash.length < 2) return false;
+    try {
+      const s = JSON.parse(decodeURIComponent(location.hash.slice(1)));
+      if (!s || typeof s.material !== "object" || s.material === null) return false;
+      Object.assign(state, s);
+      return true;
+    } catch (e) {
+      return false;
+    }
+  }
+
+  function syncControls() {
+    $("theta-i").value = state.theta_i; $("theta-i-out").textContent = state.theta_i + "°";
+    $("phi-d").value = state.phi_d; $("phi-d-out").textContent = state.phi_d + "°";
+    $("spectral").checked = state.spectral;
+    $("wavelength").value = state.wavelength; $("wavelength-out").textContent = state.wavelength + " nm";
+    $("wavelength").disabled = !state.spectral;
+    $("fresnel-eta").value = state.eta;
+    for (const r of document.querySelectorAll("input[name=lobe-mode]")) r.checked = r.value === state.lobe;
+  }
+
+  function buildEditor() {
+    editor.build($("editor"), state.material, onMaterialEdited);
+  }
+  function onMaterialEdited() {
+    $("json").value = JSON.stringify(state.material, null, 2);
+    schedule();
+  }
+  function schedule() {
+    saveHash();
+    clearTimeout(timer);
+    timer = setTimeout(update, 40);
+  }
+
+  const shown = (e, canvas) => {
+    if (api.isAbort(e)) return;
+    plot.message($(canvas), e.message);
+  };
+
+  async function update() {
+    try {
+      const v = await api.post("/api/validate", body({}, false), "validate");
+      status("valid: " + v.name, "ok");
+    } catch (e) {
+      if (!api.isAbort(e)) status(e.message, "error");
+      return;
+    }
+    updateLobe(); updateSlice(); updateAlbedo(); updateFresnel();
+  }
+
+  async function updateLobe() {
+    try {
+      const d = await api.post("/api/lobe", body({ theta_i: state.theta_i, count: 181 }), "lobe");
+      plot.lobe($("lobe"), d, d[state.lobe], d.channels);
+      const i = d.theta_o.findIndex((t) => t >= d.mirror);
+      $("lobe-readout").textContent = `${state.lobe === "f" ? "f" : "f·cos θo"} at the mirror direction θo = ${d.mirror}°: ` +
+        JSON.stringify(d[state.lobe][i]);
+    } catch (e) { shown(e, "lobe"); }
+  }
+
+  async function updateSlice() {
+    try {
+      sliceData = await api.post("/api/slice", body({ phi_d: state.phi_d, size: 90 }, false), "slice");
+      if (sliceData.lo === null) {
+        sliceData = null;
+        plot.message($("slice"), "f is 0 at every pixel (a delta lobe has no finite f)");
+        return;
+      }
+      slicePanel = plot.slice($("slice"), sliceData);
+      $("slice-readout").textContent = state.spectral ? "the slice is in RGB (luminance), as gonio slice" :
+        "move the cursor over the slice to read f";
+    } catch (e) { sliceData = null; shown(e, "slice"); }
+  }
+
+  // The cursor: the pixel's value at once, then f in RGB at its centre from the server.
+  async function sliceCursor(ev) {
+    if (!sliceData || !slicePanel) return;
+    const c = $("slice"), r = c.getBoundingClientRect();
+    const x = ((ev.clientX - r.left) * c.width) / r.width - slicePanel.x;
+    const y = ((ev.clientY - r.top) * c.height) / r.height - slicePanel.y;
+    const n = sliceData.size;
+    const px = Math.floor((x / slicePanel.s) * n), py = Math.floor((y / slicePanel.s) * n);
+    if (px < 0 || py < 0 || px >= n || py >= n) return;
+    const u = (px + 0.5) / n;
+    const thetaH = (sliceData.sqrt_theta_h ? u * u : u) * 90, thetaD = (1 - (py + 0.5) / n) * 90;
+    const v = sliceData.values[py * n + px];
+    const where = `θh ${thetaH.toFixed(2)}°, θd ${thetaD.toFixed(2)}°, φd ${sliceData.phi_d}°: `;
+    $("slice-readout").textContent = where + (v < 0 ? "below the horizon" : "luminance of f " + plot.fmt(v) + " /sr");
+    if (v < 0) return;
+    try {
+      const p = await api.post("/api/slice_point", body({ theta_h: thetaH, theta_d: thetaD, phi_d: sliceData.phi_d }, false), "slice_point");
+      $("slice-readout").textContent = where + "luminance " + plot.fmt(p.luminance) + " /sr, f = " + JSON.stringify(p.f);
+    } catch (e) { /* a newer position, or the material changed */ }
+  }
+
+  async function updateAlbedo() {
+    try {
+      const d = await api.post("/api/albedo", body({ count: 19, samples: 16384 }), "albedo");
+      const channels = d.albedo[0].length;
+      const colours = channels === 1 ? ["#222"] : plot.CHANNEL_COLOURS;
+      let max = 1;
+      for (const a of d.albedo) for (const v of a) max = Math.max(max, v);
+      const series = [];
+      for (let c = 0; c < channels; ++c) {
+        series.push({ x: d.theta, y: d.reflectance.map((v) => v[c]), color: colours[c], label: "reflectance", legendColor: "#222" });
+        series.push({ x: d.theta, y: d.transmittance.map((v) => v[c]), color: colours[c], dash: [6, 4], label: "transmittance", legendColor: "#222" });
+        series.push({ x: d.theta, y: d.albedo.map((v) => v[c]), color: colours[c], dash: [1, 3], width: 1, label: "albedo", legendColor: "#222" });
+      }
+      plot.lines($("albedo"), { xRange: [0, 90], yRange: [0, Math.ceil(max * 10) / 10], xLabel: "θi (incidence)", yLabel: "fraction", series });
+      $("albedo-readout").textContent = `normal incidence: reflectance ${JSON.stringify(d.reflectance[0].map((v) => +v.toPrecision(4)))}, ` +
+        `transmittance ${JSON.stringify(d.transmittance[0].map((v) => +v.toPrecision(4)))}` + (d.exact[0] ? " (exact)" : ` (${d.samples} samples per angle)`);
+    } catch (e) { shown(e, "albedo"); }
+  }
+
+  async function updateFresnel() {
+    try {
+      let d = await api.post("/api/fresnel", body({ count: 181 }), "fresnel");
+      let note = "";
+      if (d.interface === null) {
+        note = "no interface in this material: η from the field below. ";
+        d = await api.post("/api/fresnel", { eta: state.eta, count: 181, wavelength: state.spectral ? state.wavelength : undefined }, "fresnel");
+      }
+      const colours = d.channels.length === 1 ? ["#222"] : plot.CHANNEL_COLOURS;
+      const series = [], markers = [];
+      d.channels.forEach((ch, c) => {
+        for (const [side, faded] of [["outside", false], ["inside", true]]) {
+          const s = ch[side];
+          if (!s) continue;
+          const colour = faded ? "#999" : colours[c];
+          const tag = faded ? " (inside)" : "";
+          series.push({ x: d.theta, y: s.R, color: colour, label: "R" + tag, legendColor: faded ? "#999" : "#222" });
+          series.push({ x: d.theta, y: s.Rs, color: colour, dash: [6, 4], label: "Rs" + tag, legendColor: faded ? "#999" : "#222" });
+          series.push({ x: d.theta, y: s.Rp, color: colour, dash: [1, 3], label: "Rp" + tag, legendColor: faded ? "#999" : "#222" });
+          if (c === 0) {
+            markers.push({ x: s.brewster, label: (s.pseudo_brewster ? "pseudo-Brewster " : "Brewster ") + s.brewster.toFixed(2) + "°" + tag, color: faded ? "#999" : "#7a3db8", row: markers.length });
+            if (s.critical !== null) markers.push({ x: s.critical, label: "critical " + s.critical.toFixed(2) + "°" + tag, color: "#e69500", row: markers.length });
+          }
+        }
+      });
+      plot.lines($("fresnel"), { xRange: [0, 90], yRange: [0, 1], xLabel: "θ (incidence)", yLabel: "reflectance", series, markers });
+      const ch = d.channels[0].outside;
+      $("fresnel-readout").textContent = note + `${d.interface}: η = ${+ch.eta.toPrecision(6)}` + (ch.k ? `, k = ${+ch.k.toPrecision(6)}` : "") +
+        `, R(0°) = ${+ch.R[0].toPrecision(6)}`;
+    } catch (e) { shown(e, "fresnel"); }
+  }
+
+  async function runCheck() {
+    const out = $("check-result");
+    out.textContent = "running gonio check…";
+    $("check").disabled = true;
+    try {
+      const d = await api.post("/api/check", { bsdf: state.material }, "check");
+      const table = document.createElement("table");
+      table.className = "check";
+      table.innerHTML = "<tr><th>property</th><th>figure</th><th>threshold</th><th></th><th>where / how</th></tr>";
+      for (const p of d.properties) {
+        const tr = document.createElement("tr");
+        const cells = [p.name, p.figure === null ? "n/a" : plot.fmt(p.figure), plot.fmt(p.threshold),
+          p.pass ? (p.applicable === false ? "n/a" : "pass") : "FAIL", p.reason || p.detail || ""];
+        cells.forEach((t, i) => {
+          const td = document.createElement("td");
+          td.textContent = t;
+          if (i === 3) td.className = p.pass ? "pass" : "fail";
+          tr.append(td);
+        });
+        table.append(tr);
+      }
+      out.textContent = d.pass ? "every property holds" : "some properties FAIL";
+      out.append(table);
+    } catch (e) {
+      if (!api.isAbort(e)) out.textContent = e.message;
+    } finally {
+      $("check").disabled = false;
+    }
+  }
+
+  async function onJsonEdited() {
+    const text = $("json").value;
+    try {
+      await api.post("/api/validate", { bsdf: text }, "validate");
+    } catch (e) {
+      if (!api.isAbort(e)) status(e.message, "error");
+      return;
+    }
+    state.material = JSON.parse(text);
+    buildEditor();
+    schedule();
+  }
+
+  function wire() {
+    $("theta-i").addEventListener("input", (e) => { state.theta_i = +e.target.value; $("theta-i-out").textContent = state.theta_i + "°"; saveHash(); updateLobe(); });
+    $("phi-d").addEventListener("input", (e) => { state.phi_d = +e.target.value; $("phi-d-out").textContent = state.phi_d + "°"; saveHash(); updateSlice(); });
+    for (const r of document.querySelectorAll("input[name=lobe-mode]"))
+      r.addEventListener("change", () => { state.lobe = r.value; saveHash(); updateLobe(); });
+    $("spectral").addEventListener("change", (e) => { state.spectral = e.target.checked; syncControls(); schedule(); });
+    $("wavelength").addEventListener("input", (e) => { state.wavelength = +e.target.value; $("wavelength-out").textContent = state.wavelength + " nm"; schedule(); });
+    $("fresnel-eta").addEventListener("input", (e) => { const v = parseFloat(e.target.value); if (v > 0) { state.eta = v; saveHash(); updateFresnel(); } });
+    $("json").addEventListener("input", () => { clearTimeout(timer); timer = setTimeout(onJsonEdited, 150); });
+    $("slice").addEventListener("mousemove", sliceCursor);
+    $("check").addEventListener("click", runCheck);
+    $("permalink").addEventListener("click", async () => {
+      saveHash();
+      try { await navigator.clipboard.writeText(location.href); status("link copied: " + location.href, "ok"); }
+      catch (e) { status("link: " + location.href, "ok"); }
+    });
+    $("export-json").addEventListener("click", () => {
+      const a = document.createElement("a");
+      a.href = URL.createObjectURL(new Blob([JSON.stringify(state.material, null, 2) + "\n"], { type: "application/json" }));
+      a.download = (state.material.type || "material") + ".json";
+      a.click();
+    });
+    for (const b of document.querySelectorAll("button.png")) b.addEventListener("click", () => plot.exportPNG($(b.dataset.canvas), b.dataset.canvas));
+    window.addEventListener("hashchange", () => { if (loadHash()) { syncControls(); buildEditor(); onMaterialEdited(); } });
+  }
+
+  async function start() {
+    try {
+      const registry = await api.get("/api/materials");
+      editor.setRegistry(registry);
+      $("version").textContent = "gonio " + registry.version;
+      $("wavelength").min = registry.wavelength.min;
+      $("wavelength").max = registry.wavelength.max;
+      const data = await api.get("/api/data");
+      editor.setDataFiles(data.files);
+    } catch (e) {
+      status("cannot reach the server: " + e.message, "error");
+      return;
+    }
+    if (!loadHash()) state.material = editor.example("roughconductor");
+    syncControls();
+    wire();
+    buildEditor();
+    onMaterialEdited();
+  }
+
+  start();
+})();

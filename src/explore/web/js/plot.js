@@ -1,0 +1,214 @@
+// Plots on canvas: line plots, the polar lobe and the slice image with its colour bar.
+// They draw the numbers the server computed; nothing here evaluates a model.
+"use strict";
+
+const plot = (() => {
+  const INK = "#222", GRID = "#e3e3e3", FONT = "12px system-ui, sans-serif";
+  const CHANNEL_COLOURS = ["#d62728", "#2ca02c", "#1f77b4"];
+
+  function begin(canvas) {
+    const ctx = canvas.getContext("2d");
+    ctx.setTransform(1, 0, 0, 1, 0, 0);
+    ctx.fillStyle = "#fff";
+    ctx.fillRect(0, 0, canvas.width, canvas.height);
+    ctx.font = FONT;
+    ctx.lineJoin = "round";
+    return ctx;
+  }
+
+  function message(canvas, text) {
+    const ctx = begin(canvas);
+    ctx.fillStyle = "#777";
+    ctx.textAlign = "center";
+    ctx.fillText(text, canvas.width / 2, canvas.height / 2);
+  }
+
+  const fmt = (v) => (v === 0 ? "0" : Math.abs(v) >= 1e4 || Math.abs(v) < 1e-3 ? v.toExponential(2) : +v.toPrecision(3) + "");
+
+  // Line plot. opts: xRange, yRange, xLabel, yLabel, xTicks, series [{x, y, color, dash,
+  // width, label}], markers [{x, label, color}].
+  function lines(canvas, opts) {
+    const ctx = begin(canvas);
+    const L = 52, R = 12, T = 12, B = 40;
+    const w = canvas.width - L - R, h = canvas.height - T - B;
+    const [x0, x1] = opts.xRange, [y0, y1] = opts.yRange;
+    const X = (x) => L + ((x - x0) / (x1 - x0)) * w;
+    const Y = (y) => T + h - ((y - y0) / (y1 - y0)) * h;
+    ctx.strokeStyle = GRID;
+    ctx.fillStyle = INK;
+    ctx.textAlign = "center";
+    for (const x of opts.xTicks || [0, 15, 30, 45, 60, 75, 90]) {
+      ctx.beginPath(); ctx.moveTo(X(x), T); ctx.lineTo(X(x), T + h); ctx.stroke();
+      ctx.fillText(x + "°", X(x), T + h + 14);
+    }
+    ctx.textAlign = "right";
+    for (let i = 0; i <= 5; ++i) {
+      const y = y0 + ((y1 - y0) * i) / 5;
+      ctx.beginPath(); ctx.moveTo(L, Y(y)); ctx.lineTo(L + w, Y(y)); ctx.stroke();
+      ctx.fillText(fmt(y), L - 4, Y(y) + 4);
+    }
+    ctx.strokeStyle = INK;
+    ctx.strokeRect(L, T, w, h);
+    ctx.textAlign = "center";
+    ctx.fillText(opts.xLabel || "", L + w / 2, canvas.height - 6);
+    ctx.save(); ctx.translate(12, T + h / 2); ctx.rotate(-Math.PI / 2); ctx.fillText(opts.yLabel || "", 0, 0); ctx.restore();
+    ctx.save();
+    ctx.beginPath(); ctx.rect(L, T, w, h); ctx.clip();
+    for (const m of opts.markers || []) {
+      ctx.strokeStyle = m.color || "#888";
+      ctx.setLineDash([2, 3]);
+      ctx.beginPath(); ctx.moveTo(X(m.x), T); ctx.lineTo(X(m.x), T + h); ctx.stroke();
+      ctx.setLineDash([]);
+      ctx.fillStyle = m.color || "#555";
+      ctx.textAlign = "left";
+      ctx.fillText(m.label, X(m.x) + 3, T + 14 + 14 * (m.row || 0));
+    }
+    for (const s of opts.series) {
+      ctx.strokeStyle = s.color || INK;
+      ctx.lineWidth = s.width || 1.5;
+      ctx.setLineDash(s.dash || []);
+      ctx.beginPath();
+      s.x.forEach((x, i) => (i ? ctx.lineTo(X(x), Y(s.y[i])) : ctx.moveTo(X(x), Y(s.y[i]))));
+      ctx.stroke();
+    }
+    ctx.restore();
+    ctx.setLineDash([]);
+    ctx.lineWidth = 1;
+    // Legend: one entry per distinct label.
+    const seen = new Set();
+    let ly = T + 14;
+    ctx.textAlign = "left";
+    for (const s of opts.series) {
+      if (!s.label || seen.has(s.label)) continue;
+      seen.add(s.label);
+      ctx.strokeStyle = s.legendColor || s.color || INK;
+      ctx.setLineDash(s.dash || []);
+      ctx.beginPath(); ctx.moveTo(L + w - 90, ly - 4); ctx.lineTo(L + w - 66, ly - 4); ctx.stroke();
+      ctx.setLineDash([]);
+      ctx.fillStyle = INK;
+      ctx.fillText(s.label, L + w - 62, ly);
+      ly += 15;
+    }
+  }
+
+  // Polar plot of the lobe: radius ∝ value along θo in [−90°, 90°] (up is the normal),
+  // the light at +θi and the mirror direction −θi marked.
+  function lobe(canvas, data, values, channels) {
+    const ctx = begin(canvas);
+    const cx = canvas.width / 2, cy = canvas.height - 24, r = Math.min(cx - 20, cy - 16);
+    let max = 0;
+    for (const v of values) for (const c of v) max = Math.max(max, c);
+    ctx.strokeStyle = GRID;
+    for (const f of [0.25, 0.5, 0.75, 1]) { ctx.beginPath(); ctx.arc(cx, cy, r * f, Math.PI, 2 * Math.PI); ctx.stroke(); }
+    for (let a = -90; a <= 90; a += 30) {
+      const t = (a * Math.PI) / 180;
+      ctx.beginPath(); ctx.moveTo(cx, cy); ctx.lineTo(cx + r * Math.sin(t), cy - r * Math.cos(t)); ctx.stroke();
+    }
+    ctx.strokeStyle = INK;
+    ctx.beginPath(); ctx.moveTo(cx - r - 10, cy); ctx.lineTo(cx + r + 10, cy); ctx.stroke();
+    const ray = (deg, colour, dash, label) => {
+      const t = (deg * Math.PI) / 180;
+      ctx.strokeStyle = colour; ctx.fillStyle = colour; ctx.setLineDash(dash);
+      ctx.beginPath(); ctx.moveTo(cx, cy); ctx.lineTo(cx + r * Math.sin(t), cy - r * Math.cos(t)); ctx.stroke();
+      ctx.setLineDash([]);
+      ctx.textAlign = deg >= 0 ? "left" : "right";
+      ctx.fillText(label, cx + (r + 4) * Math.sin(t), cy - (r + 4) * Math.cos(t));
+    };
+    ray(data.theta_i, "#e69500", [], "light θi = " + data.theta_i + "°");
+    ray(data.mirror, "#7a3db8", [5, 4], "mirror");
+    ctx.fillStyle = INK; ctx.textAlign = "left";
+    if (!(max > 0)) {
+      ctx.fillText(data.delta_only ? "delta lobe: all of it along the mirror direction" : "f = 0 in this plane", 8, 16);
+      return;
+    }
+    ctx.fillText("outer circle: " + fmt(max) + " (1/sr)", 8, 16);
+    const colours = channels === 1 ? [INK] : CHANNEL_COLOURS;
+    for (let c = 0; c < channels; ++c) {
+      ctx.strokeStyle = colours[c];
+      ctx.lineWidth = 1.5;
+      ctx.beginPath();
+      data.theta_o.forEach((deg, i) => {
+        const t = (deg * Math.PI) / 180, rr = (r * values[i][c]) / max;
+        const x = cx + rr * Math.sin(t), y = cy - rr * Math.cos(t);
+        i ? ctx.lineTo(x, y) : ctx.moveTo(x, y);
+      });
+      ctx.stroke();
+    }
+    ctx.lineWidth = 1;
+  }
+
+  // A sequential colour map for the log scale: dark blue → purple → orange → pale yellow.
+  const STOPS = [[0, [13, 8, 60]], [0.3, [100, 30, 130]], [0.6, [220, 80, 70]], [0.85, [250, 170, 50]], [1, [252, 250, 190]]];
+  function colour(t) {
+    t = Math.min(1, Math.max(0, t));
+    for (let i = 1; i < STOPS.length; ++i) {
+      if (t <= STOPS[i][0]) {
+        const [a, ca] = STOPS[i - 1], [b, cb] = STOPS[i];
+        const u = (t - a) / (b - a);
+        return ca.map((v, k) => Math.round(v + (cb[k] - v) * u));
+      }
+    }
+    return STOPS[STOPS.length - 1][1];
+  }
+
+  // The slice: pixel values (row 0 at θd = 90°, -1 below the horizon) on the log scale
+  // [lo, hi], axes and colour bar. Returns the panel rectangle for the cursor.
+  function slice(canvas, data) {
+    const ctx = begin(canvas);
+    const n = data.size, P = { x: 44, y: 10, s: Math.min(canvas.height - 48, canvas.width - 170) };
+    const img = ctx.createImageData(n, n);
+    const llo = Math.log10(data.lo), lhi = Math.log10(data.hi);
+    for (let i = 0; i < n * n; ++i) {
+      const v = data.values[i];
+      const c = v < 0 ? [140, 140, 140] : v > 0 ? colour((Math.log10(v) - llo) / (lhi - llo)) : colour(0);
+      img.data.set([c[0], c[1], c[2], 255], 4 * i);
+    }
+    const off = document.createElement("canvas");
+    off.width = n; off.height = n;
+    off.getContext("2d").putImageData(img, 0, 0);
+    ctx.imageSmoothingEnabled = false;
+    ctx.drawImage(off, P.x, P.y, P.s, P.s);
+    ctx.strokeStyle = INK;
+    ctx.strokeRect(P.x - 0.5, P.y - 0.5, P.s + 1, P.s + 1);
+    ctx.fillStyle = INK;
+    ctx.textAlign = "center";
+    for (const d of [0, 30, 60, 90]) {
+      const u = data.sqrt_theta_h ? Math.sqrt(d / 90) : d / 90;
+      ctx.fillText(d + "", P.x + u * P.s, P.y + P.s + 14);
+    }
+    ctx.fillText("θh (deg)", P.x + P.s / 2, P.y + P.s + 30);
+    ctx.textAlign = "right";
+    for (const d of [0, 30, 60, 90]) ctx.fillText(d + "", P.x - 4, P.y + P.s - (d / 90) * P.s + 4);
+    ctx.save(); ctx.translate(12, P.y + P.s / 2); ctx.rotate(-Math.PI / 2); ctx.textAlign = "center";
+    ctx.fillText("θd (deg)", 0, 0); ctx.restore();
+    // Colour bar with its decades.
+    const B = { x: P.x + P.s + 20, y: P.y, w: 16, h: P.s };
+    for (let row = 0; row < B.h; ++row) {
+      const c = colour(1 - (row + 0.5) / B.h);
+      ctx.fillStyle = `rgb(${c[0]},${c[1]},${c[2]})`;
+      ctx.fillRect(B.x, B.y + row, B.w, 1);
+    }
+    ctx.strokeRect(B.x - 0.5, B.y - 0.5, B.w + 1, B.h + 1);
+    ctx.fillStyle = INK;
+    ctx.textAlign = "left";
+    for (let e = Math.ceil(llo - 1e-9); e <= Math.floor(lhi + 1e-9); ++e) {
+      const y = B.y + B.h - ((e - llo) / (lhi - llo)) * B.h;
+      ctx.fillRect(B.x + B.w, y, 4, 1);
+      ctx.fillText(e >= -2 && e <= 2 ? String(10 ** e) : "1e" + e, B.x + B.w + 6, y + 4);
+    }
+    ctx.fillText("f (1/sr)", B.x - 4, B.y + B.h + 30);
+    return P;
+  }
+
+  function exportPNG(canvas, name) {
+    canvas.toBlob((blob) => {
+      const a = document.createElement("a");
+      a.href = URL.createObjectURL(blob);
+      a.download = name + ".png";
+      a.click();
+      setTimeout(() => URL.revokeObjectURL(a.href), 1000);
+    }, "image/png");
+  }
+
+  return { lines, lobe, slice, message, exportPNG, fmt, CHANNEL_COLOURS };
+})();

@@ -1,0 +1,361 @@
+// gonio explore's JSON API over HTTP (issue 36, SPEC §3): a server on a free port in this
+// process, asked as the page asks it, its answers checked against closed forms written
+// here (Lambert's ρ/π, Fresnel at normal incidence, Brewster's and the critical angle),
+// against the CLI run on the same input (the error messages, /api/eval's numbers), and for
+// the safety rules (Host, Origin, files outside --data, the page fetching nothing).
+
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <regex>
+#include <string>
+#include <thread>
+
+#include <gtest/gtest.h>
+#include <httplib.h>
+#include <nlohmann/json.hpp>
+
+#include "../cli/run_gonio.h"
+#include "explore/api.h"
+#include "explore/server.h"
+#include "explore/web_files.h"
+
+namespace {
+
+using nlohmann::json;
+using gonio_cli_test::run_gonio;
+namespace fs = std::filesystem;
+
+constexpr double kPi = 3.14159265358979323846;
+
+// One server for the suite, with a --data directory the file tests fill.
+class ExploreApi : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    data_dir() = fs::temp_directory_path() / ("gonio_explore_test_" + std::to_string(::getpid()));
+    fs::create_directories(data_dir());
+    gonio::explore::ServerOptions o;
+    o.port = 0;
+    o.data_dir = data_dir().string();
+    server() = std::make_unique<gonio::explore::Server>(o);
+    server()->bind();
+    thread() = std::thread([] { server()->run(); });
+  }
+  static void TearDownTestSuite() {
+    server()->stop();
+    thread().join();
+    server().reset();
+    fs::remove_all(data_dir());
+  }
+  static std::unique_ptr<gonio::explore::Server>& server() {
+    static std::unique_ptr<gonio::explore::Server> s;
+    return s;
+  }
+  static std::thread& thread() {
+    static std::thread t;
+    return t;
+  }
+  static fs::path& data_dir() {
+    static fs::path p;
+    return p;
+  }
+
+  static httplib::Client client() {
+    httplib::Client c("127.0.0.1", server()->port());
+    c.set_read_timeout(60);
+    return c;
+  }
+  // POST path with `body`; the status and the parsed answer.
+  static std::pair<int, json> post(const std::string& path, const json& body) {
+    auto c = client();
+    const auto res = c.Post(path.c_str(), body.dump(), "application/json");
+    if (!res) return {-1, json()};
+    return {res->status, json::parse(res->body, nullptr, false)};
+  }
+};
+
+const json kLambert = {{"type", "diffuse"}, {"reflectance", {0.2, 0.5, 0.8}}};
+
+TEST_F(ExploreApi, LobeOfLambertIsRhoOverPiAtEveryAngle) {
+  const auto [status, d] = post("/api/lobe", {{"bsdf", kLambert}, {"theta_i", 40}, {"count", 37}});
+  ASSERT_EQ(status, 200) << d;
+  ASSERT_EQ(d["theta_o"].size(), 37u);
+  EXPECT_DOUBLE_EQ(d["mirror"].get<double>(), -40);
+  const double rho[3] = {0.2, 0.5, 0.8};
+  for (size_t i = 0; i < 37; ++i) {
+    const double theta_o = -90 + 5.0 * double(i);
+    EXPECT_NEAR(d["theta_o"][i].get<double>(), theta_o, 1e-12);
+    for (int c = 0; c < 3; ++c) {
+      EXPECT_NEAR(d["f"][i][c].get<double>(), rho[c] / kPi, 1e-6) << i;
+      EXPECT_NEAR(d["f_cos"][i][c].get<double>(), rho[c] / kPi * std::cos(theta_o * kPi / 180), 1e-6) << i;
+    }
+  }
+}
+
+TEST_F(ExploreApi, SpectralLobeOfAFlatSpectrumIsItsValueOverPi) {
+  const json flat = {{"type", "diffuse"}, {"reflectance", {{"spectrum", {{360, 0.3}, {830, 0.3}}}}}};
+  const auto [status, d] = post("/api/lobe", {{"bsdf", flat}, {"theta_i", 10}, {"count", 5}, {"wavelength", 600}});
+  ASSERT_EQ(status, 200) << d;
+  EXPECT_EQ(d["channels"], 1);
+  for (const auto& f : d["f"]) {
+    ASSERT_EQ(f.size(), 1u);
+    EXPECT_NEAR(f[0].get<double>(), 0.3 / kPi, 1e-6);
+  }
+  const auto [bad, e] = post("/api/lobe", {{"bsdf", flat}, {"wavelength", 200}});
+  EXPECT_EQ(bad, 400);
+  EXPECT_NE(e["error"].get<std::string>().find("wavelength must be a number of nanometres in [360, 830]"),
+            std::string::npos)
+      << e;
+}
+
+TEST_F(ExploreApi, FresnelOfADielectricAtNormalIncidenceBrewsterAndCritical) {
+  for (const double eta : {1.33, 1.5, 2.4}) {
+    const auto [status, d] = post("/api/fresnel", {{"bsdf", {{"type", "dielectric"}, {"eta", eta}}}, {"count", 91}});
+    ASSERT_EQ(status, 200) << d;
+    const json& out = d["channels"][0]["outside"];
+    const json& in = d["channels"][0]["inside"];
+    const double r0 = std::pow((eta - 1) / (eta + 1), 2);  // Hecht, Optics, eq. 4.47
+    EXPECT_NEAR(out["R"][0].get<double>(), r0, 1e-12);
+    EXPECT_NEAR(out["Rs"][0].get<double>(), r0, 1e-12);
+    EXPECT_NEAR(in["R"][0].get<double>(), r0, 1e-12);  // the same from inside
+    EXPECT_NEAR(out["brewster"].get<double>(), std::atan(eta) * 180 / kPi, 1e-9);
+    EXPECT_NEAR(in["brewster"].get<double>(), std::atan(1 / eta) * 180 / kPi, 1e-9);
+    EXPECT_TRUE(out["critical"].is_null());
+    EXPECT_NEAR(in["critical"].get<double>(), std::asin(1 / eta) * 180 / kPi, 1e-9);
+    // Total reflection from inside past the critical angle, full reflection at grazing.
+    EXPECT_NEAR(in["R"][90].get<double>(), 1, 1e-12);
+    EXPECT_NEAR(out["R"][90].get<double>(), 1, 1e-9);
+  }
+}
+
+TEST_F(ExploreApi, FresnelOfAConductorAtNormalIncidence) {
+  const double n = 0.2, k = 3.0;
+  const auto [status, d] = post("/api/fresnel", {{"eta", n}, {"k", k}, {"count", 10}});
+  ASSERT_EQ(status, 200) << d;
+  const double r0 = ((n - 1) * (n - 1) + k * k) / ((n + 1) * (n + 1) + k * k);  // Born & Wolf §14.2
+  EXPECT_NEAR(d["channels"][0]["outside"]["R"][0].get<double>(), r0, 1e-12);
+  EXPECT_TRUE(d["channels"][0]["inside"].is_null());
+  EXPECT_TRUE(d["channels"][0]["outside"]["pseudo_brewster"].get<bool>());
+  // A material with no interface says so (the page then takes an index).
+  const auto [s2, none] = post("/api/fresnel", {{"bsdf", kLambert}});
+  ASSERT_EQ(s2, 200);
+  EXPECT_TRUE(none["interface"].is_null());
+  // A layered material's interface is its top's.
+  const json layered = {{"type", "layered"},
+                        {"top", {{"type", "dielectric"}, {"eta", 1.6}}},
+                        {"bottom", {{"type", "diffuse"}}}};
+  const auto [s3, top] = post("/api/fresnel", {{"bsdf", layered}, {"count", 2}});
+  ASSERT_EQ(s3, 200) << top;
+  EXPECT_NEAR(top["channels"][0]["outside"]["R"][0].get<double>(), std::pow(0.6 / 2.6, 2), 1e-12);
+}
+
+TEST_F(ExploreApi, AlbedoOfLambertAndOfASmoothDielectric) {
+  const auto [status, d] = post("/api/albedo", {{"bsdf", kLambert}, {"count", 4}});
+  ASSERT_EQ(status, 200) << d;
+  for (size_t i = 0; i < 4; ++i) {
+    EXPECT_NEAR(d["reflectance"][i][1].get<double>(), 0.5, 1e-6);
+    EXPECT_NEAR(d["transmittance"][i][1].get<double>(), 0, 1e-12);
+  }
+  const auto [s2, g] = post("/api/albedo", {{"bsdf", {{"type", "dielectric"}, {"eta", 1.5}}}, {"count", 2}});
+  ASSERT_EQ(s2, 200) << g;
+  EXPECT_NEAR(g["reflectance"][0][0].get<double>(), 0.04, 1e-6);
+  EXPECT_NEAR(g["transmittance"][0][0].get<double>(), 0.96, 1e-6);
+}
+
+TEST_F(ExploreApi, SliceOfLambertIsFlatAndTheCursorReadsRhoOverPi) {
+  const auto [status, d] = post("/api/slice", {{"bsdf", {{"type", "diffuse"}, {"reflectance", 0.5}}}, {"size", 32},
+                                               {"phi_d", 0}});
+  ASSERT_EQ(status, 200) << d;
+  ASSERT_EQ(d["values"].size(), 32u * 32u);
+  int below = 0;
+  for (const auto& v : d["values"]) {
+    if (v.get<double>() == -1) {
+      ++below;
+      continue;
+    }
+    EXPECT_NEAR(v.get<double>(), 0.5 / kPi, 1e-6);
+  }
+  // At φd = 0, wi dips below the horizon where θh + θd > 90°: about half the panel.
+  EXPECT_GT(below, 32 * 32 / 4);
+  EXPECT_LT(below, 3 * 32 * 32 / 4);
+  const auto [s2, p] = post("/api/slice_point", {{"bsdf", kLambert}, {"theta_h", 10}, {"theta_d", 20}, {"phi_d", 90}});
+  ASSERT_EQ(s2, 200) << p;
+  EXPECT_TRUE(p["above"].get<bool>());
+  EXPECT_NEAR(p["f"][2].get<double>(), 0.8 / kPi, 1e-6);
+  // θh = 10° is the angle between the normal and the half vector of wo and wi.
+  double h[3];
+  for (int i = 0; i < 3; ++i) h[i] = p["wo"][i].get<double>() + p["wi"][i].get<double>();
+  EXPECT_NEAR(std::acos(h[2] / std::sqrt(h[0] * h[0] + h[1] * h[1] + h[2] * h[2])) * 180 / kPi, 10, 1e-4);
+}
+
+TEST_F(ExploreApi, EvalAnswersWhatGonioEvalPrints) {
+  const std::string m = R"({"type":"roughconductor","alpha":[0.1,0.3],"material":"Au"})";
+  const json pairs = {{0, 0.5, 1, 0.3, 0, 1}, {0.2, -0.1, 0.7, -0.4, 0.2, 0.9}, {1, 0, 0.2, 0, 1, 0.3}};
+  const auto c = client().Post("/api/eval", json({{"bsdf", json::parse(m)}, {"pairs", pairs}}).dump(),
+                               "application/json");
+  ASSERT_TRUE(c);
+  ASSERT_EQ(c->status, 200) << c->body;
+  std::string lines;
+  for (const auto& p : pairs) {
+    for (size_t i = 0; i < 6; ++i) lines += (i ? " " : "") + p[i].dump();
+    lines += "\n";
+  }
+  const auto cli = run_gonio({"eval", "--bsdf", m}, lines);
+  ASSERT_EQ(cli.status, 0) << cli.err;
+  // The same numbers, printed the same way (%.9g): compare the text of each value.
+  std::istringstream out(cli.out);
+  std::string line, f_text = "[", pdf_text = "[";
+  for (int i = 0; std::getline(out, line); ++i) {
+    const std::regex form(R"(\{"f":(\[[^\]]*\]),"pdf":([^}]*)\})");
+    std::smatch mm;
+    ASSERT_TRUE(std::regex_match(line, mm, form)) << line;
+    f_text += (i ? "," : "") + mm[1].str();
+    pdf_text += (i ? "," : "") + mm[2].str();
+  }
+  EXPECT_EQ(c->body, "{\"f\":" + f_text + "],\"pdf\":" + pdf_text + "]}");
+}
+
+TEST_F(ExploreApi, ABadMaterialIs400WithTheCliMessage) {
+  for (const std::string m : {R"({"type":"roughconductor","alpha":-0.1,"material":"Au"})",
+                              R"({"type":"diffuse","reflectance":0.5,"colour":1})", R"({"type":"nosuch"})",
+                              R"({"type":"diffuse",)"}) {
+    const auto cli = run_gonio({"eval", "--bsdf", m}, "0 0 1 0 0 1\n");
+    ASSERT_EQ(cli.status, 2) << m;
+    std::string expected = cli.err.substr(std::string("gonio: ").size());
+    expected.pop_back();  // the newline
+    // The material as text (the JSON editor's case) and, when it parses, as an object.
+    for (const char* path : {"/api/validate", "/api/lobe", "/api/slice", "/api/check"}) {
+      const auto [status, d] = post(path, {{"bsdf", m}});
+      EXPECT_EQ(status, 400) << path << " " << m;
+      EXPECT_EQ(d["error"], expected) << path;
+    }
+    const json parsed = json::parse(m, nullptr, false);
+    if (!parsed.is_discarded()) {
+      const auto [status, d] = post("/api/albedo", {{"bsdf", parsed}});
+      EXPECT_EQ(status, 400);
+      EXPECT_EQ(d["error"], expected);
+    }
+  }
+}
+
+TEST_F(ExploreApi, MalformedRequestsAre400WithOneLine) {
+  auto c = client();
+  for (const std::string body : {"", "not json", "[1,2]", R"({"theta_i":30})",
+                                 R"({"bsdf":{"type":"diffuse"},"theta_i":95})",
+                                 R"({"bsdf":{"type":"diffuse"},"count":100000})",
+                                 R"({"bsdf":{"type":"diffuse"},"count":2.5})"}) {
+    const auto res = c.Post("/api/lobe", body, "application/json");
+    ASSERT_TRUE(res);
+    EXPECT_EQ(res->status, 400) << body;
+    const json d = json::parse(res->body, nullptr, false);
+    ASSERT_TRUE(d.is_object()) << res->body;
+    const std::string e = d["error"];
+    EXPECT_FALSE(e.empty());
+    EXPECT_EQ(e.find('\n'), std::string::npos) << e;
+  }
+  const auto zero = post("/api/eval", {{"bsdf", kLambert}, {"pairs", {{0, 0, 0, 0, 0, 1}}}});
+  EXPECT_EQ(zero.first, 400);
+  EXPECT_EQ(zero.second["error"], "pairs[0]: wo is a zero vector");
+}
+
+TEST_F(ExploreApi, CheckIsTheValidatorsTable) {
+  const auto [status, d] = post("/api/check", {{"bsdf", kLambert}});
+  ASSERT_EQ(status, 200) << d;
+  EXPECT_TRUE(d["pass"].get<bool>());
+  std::vector<std::string> names;
+  for (const auto& p : d["properties"]) names.push_back(p["name"]);
+  // SPEC §3's properties, in its order.
+  EXPECT_EQ(names, (std::vector<std::string>{"finite", "reciprocity", "energy", "chi2", "pdf_integral", "consistency",
+                                             "isotropy", "linearity", "weights"}));
+}
+
+TEST_F(ExploreApi, RegistryListsEveryTypeWithAValidExample) {
+  auto c = client();
+  const auto res = c.Get("/api/materials");
+  ASSERT_TRUE(res);
+  ASSERT_EQ(res->status, 200);
+  const json d = json::parse(res->body);
+  // The types of `gonio materials`, in its order.
+  const auto cli = run_gonio({"materials"});
+  std::istringstream list(cli.out);
+  std::vector<std::string> expected, got;
+  for (std::string line; std::getline(list, line);) expected.push_back(line.substr(0, line.find(' ')));
+  for (const auto& t : d["types"]) got.push_back(t["name"]);
+  EXPECT_EQ(got, expected);
+  for (const auto& t : d["types"]) {
+    if (t["name"] == "measured") continue;  // its example names a file of --data
+    const auto [status, v] = post("/api/validate", {{"bsdf", t["example"]}});
+    EXPECT_EQ(status, 200) << t["name"] << ": " << v;
+  }
+}
+
+TEST_F(ExploreApi, FilesOnlyFromData) {
+  {
+    std::ofstream(data_dir() / "short.binary") << "not a MERL table";
+  }
+  fs::create_symlink("/etc/hostname", data_dir() / "out.binary");
+  const auto measured = [](const std::string& file) { return json{{"type", "measured"}, {"file", file}}; };
+  for (const std::string bad : {"/etc/passwd", "../short.binary", "sub/../../x", "out.binary", "missing.binary"}) {
+    const auto [status, d] = post("/api/validate", {{"bsdf", measured(bad)}});
+    EXPECT_EQ(status, 400) << bad;
+    EXPECT_NE(d["error"].get<std::string>().find("--data"), std::string::npos) << d;
+  }
+  // A spectrum file is a file too.
+  const json spectrum = {{"type", "diffuse"}, {"reflectance", {{"spectrum", "/etc/passwd"}}}};
+  EXPECT_EQ(post("/api/validate", {{"bsdf", spectrum}}).first, 400);
+  // A file inside --data reaches the MERL reader, whose own message comes back.
+  const auto [status, d] = post("/api/validate", {{"bsdf", measured("short.binary")}});
+  EXPECT_EQ(status, 400);
+  EXPECT_EQ(d["error"].get<std::string>().find("--data"), std::string::npos) << d;
+  auto c = client();
+  const auto list = c.Get("/api/data");
+  ASSERT_TRUE(list);
+  EXPECT_EQ(json::parse(list->body)["files"], json::array({"short.binary"}));  // not the symlink
+}
+
+TEST_F(ExploreApi, RefusesOtherHostsAndOrigins) {
+  auto c = client();
+  const auto get = [&](const httplib::Headers& h) {
+    const auto r = c.Get("/api/materials", h);
+    return r ? r->status : -1;
+  };
+  EXPECT_EQ(get({}), 200);
+  EXPECT_EQ(get({{"Host", "localhost:9999"}}), 200);  // an SSH tunnel's port
+  EXPECT_EQ(get({{"Host", "[::1]:8080"}}), 200);
+  EXPECT_EQ(get({{"Host", "evil.example"}}), 403);
+  EXPECT_EQ(get({{"Host", "127.0.0.1.evil.example"}}), 403);
+  EXPECT_EQ(get({{"Origin", "http://127.0.0.1:1234"}}), 200);
+  EXPECT_EQ(get({{"Origin", "http://evil.example"}}), 403);
+  EXPECT_EQ(get({{"Origin", "null"}}), 403);
+  const auto r = c.Post("/api/lobe", {{"Origin", "https://attacker.example"}}, json({{"bsdf", kLambert}}).dump(),
+                        "application/json");
+  ASSERT_TRUE(r);
+  EXPECT_EQ(r->status, 403);
+}
+
+TEST_F(ExploreApi, ThePageIsServedAndFetchesNothingOutside) {
+  auto c = client();
+  const auto index = c.Get("/");
+  ASSERT_TRUE(index);
+  EXPECT_EQ(index->status, 200);
+  EXPECT_NE(index->body.find("<canvas id=\"lobe\""), std::string::npos);
+  EXPECT_NE(index->get_header_value("Content-Security-Policy").find("default-src 'self'"), std::string::npos);
+  ASSERT_FALSE(gonio::explore::web_files().empty());
+  const std::regex external(R"(https?://|//[a-z0-9-]+\.[a-z]{2,}/|\bimport\s*\(|@import)", std::regex::icase);
+  for (const auto& f : gonio::explore::web_files()) {
+    const auto res = c.Get(("/" + std::string(f.name)).c_str());
+    ASSERT_TRUE(res);
+    EXPECT_EQ(res->status, 200) << f.name;
+    EXPECT_EQ(res->body, std::string(f.data));
+    EXPECT_FALSE(std::regex_search(res->body, external)) << f.name << " names an outside URL";
+  }
+  const auto missing = c.Get("/../CMakeLists.txt");
+  ASSERT_TRUE(missing);
+  EXPECT_EQ(missing->status, 404);
+}
+
+}  // namespace
