@@ -2,8 +2,18 @@
 // redrawn from the server's answers when it changes.
 "use strict";
 
+// Errors the page meets are listed in #errors (hidden), where the browser test reads them.
+window.addEventListener("error", (e) => reportError(e.message));
+window.addEventListener("unhandledrejection", (e) => reportError(String(e.reason)));
+function reportError(text) {
+  const list = document.getElementById("errors");
+  if (list) list.textContent += text + "\n";
+}
+
 (() => {
   const $ = (id) => document.getElementById(id);
+  // Each view marks itself drawn (data-drawn on its canvas), for the browser test.
+  const drawn = (id) => { $(id).dataset.drawn = String(+($(id).dataset.drawn || 0) + 1); };
   const state = { material: null, theta_i: 30, phi_d: 90, spectral: false, wavelength: 550, lobe: "f_cos", eta: 1.5 };
   let sliceData = null, slicePanel = null, timer = null;
 
@@ -78,6 +88,7 @@
     try {
       const d = await api.post("/api/lobe", body({ theta_i: state.theta_i, count: 181 }), "lobe");
       plot.lobe($("lobe"), d, d[state.lobe], d.channels);
+      drawn("lobe");
       const i = d.theta_o.findIndex((t) => t >= d.mirror);
       $("lobe-readout").textContent = `${state.lobe === "f" ? "f" : "f·cos θo"} at the mirror direction θo = ${d.mirror}°: ` +
         JSON.stringify(d[state.lobe][i]);
@@ -93,6 +104,7 @@
         return;
       }
       slicePanel = plot.slice($("slice"), sliceData);
+      drawn("slice");
       $("slice-readout").textContent = state.spectral ? "the slice is in RGB (luminance), as gonio slice" :
         "move the cursor over the slice to read f";
     } catch (e) { sliceData = null; shown(e, "slice"); }
@@ -122,7 +134,7 @@
   async function updateAlbedo() {
     try {
       const d = await api.post("/api/albedo", body({ count: 19, samples: 16384 }), "albedo");
-      const channels = d.albedo[0].length;
+      const channels = plot.grey(d.reflectance) && plot.grey(d.transmittance) ? 1 : d.albedo[0].length;
       const colours = channels === 1 ? ["#222"] : plot.CHANNEL_COLOURS;
       let max = 1;
       for (const a of d.albedo) for (const v of a) max = Math.max(max, v);
@@ -133,6 +145,7 @@
         series.push({ x: d.theta, y: d.albedo.map((v) => v[c]), color: colours[c], dash: [1, 3], width: 1, label: "albedo", legendColor: "#222" });
       }
       plot.lines($("albedo"), { xRange: [0, 90], yRange: [0, Math.ceil(max * 10) / 10], xLabel: "θi (incidence)", yLabel: "fraction", series });
+      drawn("albedo");
       $("albedo-readout").textContent = `normal incidence: reflectance ${JSON.stringify(d.reflectance[0].map((v) => +v.toPrecision(4)))}, ` +
         `transmittance ${JSON.stringify(d.transmittance[0].map((v) => +v.toPrecision(4)))}` + (d.exact[0] ? " (exact)" : ` (${d.samples} samples per angle)`);
     } catch (e) { shown(e, "albedo"); }
@@ -164,6 +177,7 @@
         }
       });
       plot.lines($("fresnel"), { xRange: [0, 90], yRange: [0, 1], xLabel: "θ (incidence)", yLabel: "reflectance", series, markers });
+      drawn("fresnel");
       const ch = d.channels[0].outside;
       $("fresnel-readout").textContent = note + `${d.interface}: η = ${+ch.eta.toPrecision(6)}` + (ch.k ? `, k = ${+ch.k.toPrecision(6)}` : "") +
         `, R(0°) = ${+ch.R[0].toPrecision(6)}`;

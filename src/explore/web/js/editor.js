@@ -207,7 +207,7 @@ const editor = (() => {
       add.title = "set " + p.name;
       add.addEventListener("click", () => { m[p.name] = initial(p); rebuild(); onChange(); });
       row.append(add);
-      return row;
+      return [row];
     }
     const c = control(p, m, onChange, depth);
     if (nested) {

@@ -61,7 +61,7 @@ const plot = (() => {
       ctx.setLineDash([]);
       ctx.fillStyle = m.color || "#555";
       ctx.textAlign = "left";
-      ctx.fillText(m.label, X(m.x) + 3, T + 14 + 14 * (m.row || 0));
+      ctx.fillText(m.label, X(m.x) + 3, T + h - 6 - 14 * (m.row || 0));
     }
     for (const s of opts.series) {
       ctx.strokeStyle = s.color || INK;
@@ -76,26 +76,31 @@ const plot = (() => {
     ctx.lineWidth = 1;
     // Legend: one entry per distinct label.
     const seen = new Set();
-    let ly = T + 14;
+    let ly = T + 14, widest = 0;
+    for (const s of opts.series) if (s.label) widest = Math.max(widest, ctx.measureText(s.label).width);
+    const lx = L + w - widest - 36;
     ctx.textAlign = "left";
     for (const s of opts.series) {
       if (!s.label || seen.has(s.label)) continue;
       seen.add(s.label);
       ctx.strokeStyle = s.legendColor || s.color || INK;
       ctx.setLineDash(s.dash || []);
-      ctx.beginPath(); ctx.moveTo(L + w - 90, ly - 4); ctx.lineTo(L + w - 66, ly - 4); ctx.stroke();
+      ctx.beginPath(); ctx.moveTo(lx, ly - 4); ctx.lineTo(lx + 24, ly - 4); ctx.stroke();
       ctx.setLineDash([]);
       ctx.fillStyle = INK;
-      ctx.fillText(s.label, L + w - 62, ly);
+      ctx.fillText(s.label, lx + 28, ly);
       ly += 15;
     }
   }
+
+  // Whether every row of per-channel values holds one value (a grey material): drawn once.
+  const grey = (rows) => rows.every((v) => v.every((x) => x === v[0]));
 
   // Polar plot of the lobe: radius ∝ value along θo in [−90°, 90°] (up is the normal),
   // the light at +θi and the mirror direction −θi marked.
   function lobe(canvas, data, values, channels) {
     const ctx = begin(canvas);
-    const cx = canvas.width / 2, cy = canvas.height - 24, r = Math.min(cx - 20, cy - 16);
+    const cx = canvas.width / 2, cy = canvas.height - 24, r = Math.min(cx - 90, cy - 30);
     let max = 0;
     for (const v of values) for (const c of v) max = Math.max(max, c);
     ctx.strokeStyle = GRID;
@@ -122,6 +127,7 @@ const plot = (() => {
       return;
     }
     ctx.fillText("outer circle: " + fmt(max) + " (1/sr)", 8, 16);
+    if (grey(values)) channels = 1;
     const colours = channels === 1 ? [INK] : CHANNEL_COLOURS;
     for (let c = 0; c < channels; ++c) {
       ctx.strokeStyle = colours[c];
@@ -210,5 +216,5 @@ const plot = (() => {
     }, "image/png");
   }
 
-  return { lines, lobe, slice, message, exportPNG, fmt, CHANNEL_COLOURS };
+  return { lines, lobe, slice, message, exportPNG, fmt, grey, CHANNEL_COLOURS };
 })();
