@@ -506,7 +506,7 @@ std::string api_slice_point(const std::string& body, const ApiContext& ctx) {
 std::string api_albedo(const std::string& body, const ApiContext& ctx) {
   const json b = parse_request(body);
   const int count = int(integer_field(b, "count", 19, 2, kMaxAlbedoCount));
-  const auto samples = std::uint64_t(integer_field(b, "samples", 1 << 14, 1, kMaxAlbedoSamples));
+  const auto samples = std::uint64_t(integer_field(b, "samples", 4096, 1, kMaxAlbedoSamples));
   const auto seed = std::uint64_t(integer_field(b, "seed", 1, 0, 2'147'483'647));
   const bool inside = bool_field(b, "inside", false);
   return with_material(b, ctx, [&](const auto& bxdf) {

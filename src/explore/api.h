@@ -35,6 +35,10 @@ std::string api_slice_point(const std::string& body, const ApiContext& ctx);  //
 std::string api_albedo(const std::string& body, const ApiContext& ctx);       // /api/albedo
 std::string api_fresnel(const std::string& body, const ApiContext& ctx);      // /api/fresnel
 std::string api_check(const std::string& body, const ApiContext& ctx);        // /api/check
+// A sphere of the material rendered by gonio render's path tracer under a movable point
+// light and a uniform environment: one pass of `spp` samples per pixel with `seed`, linear
+// RGB (the page averages passes and tone-maps).
+std::string api_sphere(const std::string& body, const ApiContext& ctx);       // /api/sphere
 
 // Request bounds (a larger request is a 400): the server stays responsive for everyone.
 inline constexpr int kMaxLobeCount = 2001;
@@ -43,5 +47,7 @@ inline constexpr int kMaxAlbedoCount = 91;
 inline constexpr long long kMaxAlbedoSamples = 1 << 20;
 inline constexpr int kMaxFresnelCount = 1801;
 inline constexpr long long kMaxEvalPairs = 100000;
+inline constexpr int kMaxSphereSize = 256;
+inline constexpr int kMaxSphereSpp = 64;
 
 }  // namespace gonio::explore

@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <memory>
@@ -179,9 +180,15 @@ TEST_F(ExploreApi, SliceOfLambertIsFlatAndTheCursorReadsRhoOverPi) {
     }
     EXPECT_NEAR(v.get<double>(), 0.5 / kPi, 1e-6);
   }
-  // At φd = 0, wi dips below the horizon where θh + θd > 90°: about half the panel.
-  EXPECT_GT(below, 32 * 32 / 4);
-  EXPECT_LT(below, 3 * 32 * 32 / 4);
+  // At φd = 0, wi dips below the horizon where θh + θd > 90° (wi.z = cos(θh + θd)): the
+  // 496 pixel centres above the anti-diagonal, plus those of the 32 on it (θh + θd = 90°
+  // exactly) whose wi.z rounds to 0 or below.
+  EXPECT_GE(below, 496);
+  EXPECT_LE(below, 496 + 32);
+  // At φd = 90°, wi.z = cos θh cos θd (Rusinkiewicz 1998): never below.
+  const auto [s90, d90] = post("/api/slice", {{"bsdf", kLambert}, {"size", 32}, {"phi_d", 90}});
+  ASSERT_EQ(s90, 200);
+  for (const auto& v : d90["values"]) EXPECT_GT(v.get<double>(), 0);
   const auto [s2, p] = post("/api/slice_point", {{"bsdf", kLambert}, {"theta_h", 10}, {"theta_d", 20}, {"phi_d", 90}});
   ASSERT_EQ(s2, 200) << p;
   EXPECT_TRUE(p["above"].get<bool>());
@@ -190,6 +197,55 @@ TEST_F(ExploreApi, SliceOfLambertIsFlatAndTheCursorReadsRhoOverPi) {
   double h[3];
   for (int i = 0; i < 3; ++i) h[i] = p["wo"][i].get<double>() + p["wi"][i].get<double>();
   EXPECT_NEAR(std::acos(h[2] / std::sqrt(h[0] * h[0] + h[1] * h[1] + h[2] * h[2])) * 180 / kPi, 10, 1e-4);
+}
+
+// The float32 RGB pixels of an /api/sphere answer.
+std::vector<float> sphere_pixels(const json& d) {
+  const std::string b64 = d["pixels"];
+  std::string bytes;
+  int bits = 0;
+  std::uint32_t acc = 0;
+  for (const char c : b64) {
+    const char* k = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    const char* at = std::strchr(k, c);
+    if (c == '=' || !at) break;
+    acc = acc << 6 | std::uint32_t(at - k);
+    bits += 6;
+    if (bits >= 8) {
+      bits -= 8;
+      bytes += char((acc >> bits) & 0xff);
+    }
+  }
+  std::vector<float> px(bytes.size() / sizeof(float));
+  std::memcpy(px.data(), bytes.data(), px.size() * sizeof(float));
+  return px;
+}
+
+TEST_F(ExploreApi, SphereUnderAPointLightIsLambertsLaw) {
+  // The light straight behind the camera, 5 from the centre: 4 from the sphere's nearest
+  // point, intensity 16π, so E = 16π / 4² = π there and a Lambertian sphere of albedo ρ has
+  // radiance ρ/π · E = ρ at the image centre (inverse-square law and Lambert's cosine law).
+  const int n = 64;
+  const auto [status, d] = post("/api/sphere", {{"bsdf", {{"type", "diffuse"}, {"reflectance", {0.25, 0.5, 0.75}}}},
+                                                {"size", n}, {"spp", 16}, {"light_x", 0}, {"light_y", 0},
+                                                {"environment", 0.3}});
+  ASSERT_EQ(status, 200) << d;
+  ASSERT_EQ(d["width"], n);
+  const std::vector<float> px = sphere_pixels(d);
+  ASSERT_EQ(px.size(), size_t(n * n * 3));
+  const double rho[3] = {0.25, 0.5, 0.75};
+  for (int c = 0; c < 3; ++c) {
+    double centre = 0;
+    for (const int y : {n / 2 - 1, n / 2})
+      for (const int x : {n / 2 - 1, n / 2}) centre += px[size_t((y * n + x) * 3 + c)] / 4.0;
+    // Plus the environment's 0.3 reflected: ρ · 0.3 · (the visible sky's cosine-weighted
+    // fraction, 1 at the nearest point, as nothing else is in the scene).
+    EXPECT_NEAR(centre, rho[c] * (1 + 0.3), 0.02 * rho[c]) << c;
+    EXPECT_NEAR(px[size_t(c)], 0.3, 1e-6);  // a corner sees the environment
+  }
+  const auto [bad, e] = post("/api/sphere", {{"bsdf", kLambert}, {"size", 4096}});
+  EXPECT_EQ(bad, 400);
+  EXPECT_NE(e["error"].get<std::string>().find("size"), std::string::npos);
 }
 
 TEST_F(ExploreApi, EvalAnswersWhatGonioEvalPrints) {

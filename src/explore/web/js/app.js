@@ -14,7 +14,8 @@ function reportError(text) {
   const $ = (id) => document.getElementById(id);
   // Each view marks itself drawn (data-drawn on its canvas), for the browser test.
   const drawn = (id) => { $(id).dataset.drawn = String(+($(id).dataset.drawn || 0) + 1); };
-  const state = { material: null, theta_i: 30, phi_d: 90, spectral: false, wavelength: 550, lobe: "f_cos", eta: 1.5 };
+  const state = { material: null, theta_i: 30, phi_d: 90, spectral: false, wavelength: 550, lobe: "f_cos", eta: 1.5,
+                  light_x: 0.5, light_y: 0.5, environment: 0.1, exposure: 0, sphere_passes: 64 };
   let sliceData = null, slicePanel = null, timer = null;
 
   function status(text, kind) {
@@ -52,6 +53,8 @@ function reportError(text) {
     $("wavelength").value = state.wavelength; $("wavelength-out").textContent = state.wavelength + " nm";
     $("wavelength").disabled = !state.spectral;
     $("fresnel-eta").value = state.eta;
+    $("exposure").value = state.exposure;
+    $("environment").value = state.environment;
     for (const r of document.querySelectorAll("input[name=lobe-mode]")) r.checked = r.value === state.lobe;
   }
 
@@ -81,7 +84,43 @@ function reportError(text) {
       if (!api.isAbort(e)) status(e.message, "error");
       return;
     }
-    updateLobe(); updateSlice(); updateAlbedo(); updateFresnel();
+    updateLobe(); updateSlice(); updateAlbedo(); updateFresnel(); updateSphere();
+  }
+
+  // The sphere: passes of gonio's renderer with successive seeds, averaged here (1 sample
+  // per pixel first, then 4 per pass, up to 256), restarted when anything changes.
+  const SPHERE_SIZE = 128;
+  let sphereRun = 0, sphereAcc = null, sphereSamples = 0;
+  async function updateSphere() {
+    const run = ++sphereRun;
+    sphereAcc = new Float32Array(SPHERE_SIZE * SPHERE_SIZE * 3);
+    sphereSamples = 0;
+    for (let pass = 0; pass < state.sphere_passes && run === sphereRun; ++pass) {
+      const spp = pass === 0 ? 1 : 4;
+      let d;
+      try {
+        d = await api.post("/api/sphere", body({ size: SPHERE_SIZE, spp, seed: pass, light_x: state.light_x,
+          light_y: state.light_y, environment: state.environment }, false), "sphere");
+      } catch (e) { if (run === sphereRun) shown(e, "sphere"); return; }
+      if (run !== sphereRun) return;
+      const bytes = Uint8Array.from(atob(d.pixels), (c) => c.charCodeAt(0));
+      const px = new Float32Array(bytes.buffer);
+      for (let i = 0; i < px.length; ++i) sphereAcc[i] += px[i] * spp;
+      sphereSamples += spp;
+      plot.image($("sphere"), sphereAcc, sphereSamples, SPHERE_SIZE, state.exposure);
+      if (pass === 0) drawn("sphere");
+      $("sphere-readout").textContent = `${sphereSamples} samples per pixel; drag on the image to move the light`;
+    }
+  }
+  function moveLight(ev) {
+    if (!(ev.buttons & 1)) return;
+    const c = $("sphere"), r = c.getBoundingClientRect();
+    let x = (2 * (ev.clientX - r.left)) / r.width - 1, y = 1 - (2 * (ev.clientY - r.top)) / r.height;
+    const len = Math.hypot(x, y);
+    if (len > 0.999) { x *= 0.999 / len; y *= 0.999 / len; }
+    state.light_x = +x.toFixed(3); state.light_y = +y.toFixed(3);
+    saveHash();
+    updateSphere();
   }
 
   async function updateLobe() {
@@ -133,7 +172,7 @@ function reportError(text) {
 
   async function updateAlbedo() {
     try {
-      const d = await api.post("/api/albedo", body({ count: 19, samples: 16384 }), "albedo");
+      const d = await api.post("/api/albedo", body({ count: 19, samples: 4096 }), "albedo");
       const channels = plot.grey(d.reflectance) && plot.grey(d.transmittance) ? 1 : d.albedo[0].length;
       const colours = channels === 1 ? ["#222"] : plot.CHANNEL_COLOURS;
       let max = 1;
@@ -237,6 +276,13 @@ function reportError(text) {
     $("fresnel-eta").addEventListener("input", (e) => { const v = parseFloat(e.target.value); if (v > 0) { state.eta = v; saveHash(); updateFresnel(); } });
     $("json").addEventListener("input", () => { clearTimeout(timer); timer = setTimeout(onJsonEdited, 150); });
     $("slice").addEventListener("mousemove", sliceCursor);
+    $("sphere").addEventListener("mousedown", moveLight);
+    $("sphere").addEventListener("mousemove", moveLight);
+    $("exposure").addEventListener("input", (e) => {
+      state.exposure = +e.target.value; saveHash();
+      if (sphereSamples) plot.image($("sphere"), sphereAcc, sphereSamples, SPHERE_SIZE, state.exposure);
+    });
+    $("environment").addEventListener("input", (e) => { state.environment = +e.target.value; saveHash(); updateSphere(); });
     $("check").addEventListener("click", runCheck);
     $("permalink").addEventListener("click", async () => {
       saveHash();

@@ -60,8 +60,9 @@ const plot = (() => {
       ctx.beginPath(); ctx.moveTo(X(m.x), T); ctx.lineTo(X(m.x), T + h); ctx.stroke();
       ctx.setLineDash([]);
       ctx.fillStyle = m.color || "#555";
-      ctx.textAlign = "left";
-      ctx.fillText(m.label, X(m.x) + 3, T + h - 6 - 14 * (m.row || 0));
+      const right = X(m.x) > L + 0.6 * w;  // labels near the right edge run leftwards
+      ctx.textAlign = right ? "right" : "left";
+      ctx.fillText(m.label, X(m.x) + (right ? -3 : 3), T + h - 6 - 14 * (m.row || 0));
     }
     for (const s of opts.series) {
       ctx.strokeStyle = s.color || INK;
@@ -206,6 +207,23 @@ const plot = (() => {
     return P;
   }
 
+  // A linear RGB image (the mean of `samples`-weighted sums in `acc`, row 0 at the top),
+  // scaled by 2^exposure, clamped and sRGB-encoded, drawn over the whole canvas.
+  function image(canvas, acc, samples, size, exposure) {
+    const ctx = begin(canvas);
+    const img = ctx.createImageData(size, size);
+    const k = Math.pow(2, exposure) / samples;
+    const encode = (c) => 255 * (c <= 0.0031308 ? 12.92 * c : 1.055 * Math.pow(c, 1 / 2.4) - 0.055);
+    for (let i = 0; i < size * size; ++i) {
+      for (let c = 0; c < 3; ++c) img.data[4 * i + c] = encode(Math.min(1, Math.max(0, acc[3 * i + c] * k)));
+      img.data[4 * i + 3] = 255;
+    }
+    const off = document.createElement("canvas");
+    off.width = size; off.height = size;
+    off.getContext("2d").putImageData(img, 0, 0);
+    ctx.drawImage(off, 0, 0, canvas.width, canvas.height);
+  }
+
   function exportPNG(canvas, name) {
     canvas.toBlob((blob) => {
       const a = document.createElement("a");
@@ -216,5 +234,5 @@ const plot = (() => {
     }, "image/png");
   }
 
-  return { lines, lobe, slice, message, exportPNG, fmt, grey, CHANNEL_COLOURS };
+  return { lines, lobe, slice, image, message, exportPNG, fmt, grey, CHANNEL_COLOURS };
 })();
