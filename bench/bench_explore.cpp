@@ -50,6 +50,9 @@ const std::vector<View>& views() {
       {"fresnel", "/api/fresnel", {{"count", 181}}, &gonio::explore::api_fresnel},
       {"slice_point", "/api/slice_point", {{"theta_h", 20}, {"theta_d", 30}, {"phi_d", 90}},
        &gonio::explore::api_slice_point},
+      // The sphere's first image (1 sample per pixel), at the page's 128² and at 256².
+      {"sphere128", "/api/sphere", {{"size", 128}, {"spp", 1}}, &gonio::explore::api_sphere},
+      {"sphere256", "/api/sphere", {{"size", 256}, {"spp", 1}}, &gonio::explore::api_sphere},
   };
   return v;
 }

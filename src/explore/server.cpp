@@ -75,6 +75,24 @@ void check_bindable(const std::string& host, int port) {
                      std::to_string(port) + " (" + std::strerror(err) + ")");
 }
 
+// httplib listens with a backlog of 5 (CPPHTTPLIB_LISTEN_BACKLOG, compiled into Debian's
+// libcpp-httplib): 20 browser sessions connecting at once overflowed it, and some of
+// their first requests failed. Linux takes a second listen() on a listening socket as a
+// new backlog; the socket is found among this process's descriptors by its port.
+void widen_backlog(int port) {
+  for (int fd = 0; fd < 4096; ++fd) {
+    int listening = 0;
+    socklen_t len = sizeof listening;
+    if (::getsockopt(fd, SOL_SOCKET, SO_ACCEPTCONN, &listening, &len) != 0 || !listening) continue;
+    sockaddr_storage addr{};
+    socklen_t alen = sizeof addr;
+    if (::getsockname(fd, reinterpret_cast<sockaddr*>(&addr), &alen) != 0) continue;
+    const int p = addr.ss_family == AF_INET6 ? ntohs(reinterpret_cast<sockaddr_in6*>(&addr)->sin6_port)
+                                              : ntohs(reinterpret_cast<sockaddr_in*>(&addr)->sin_port);
+    if (p == port) ::listen(fd, SOMAXCONN);
+  }
+}
+
 }  // namespace
 
 std::string host_name_of(const std::string& host_header) {
@@ -243,6 +261,7 @@ void Server::bind() {
                        ":" + std::to_string(s.options.port));
     s.bound_port = s.options.port;
   }
+  widen_backlog(s.bound_port);
 }
 
 std::string Server::url() const {

@@ -13,7 +13,7 @@ struct ServerOptions {
   std::string host = "127.0.0.1";
   int port = 8080;        // 0: any free port (the URL names the one chosen)
   std::string data_dir;   // --data, as given; empty: none
-  int threads = 16;       // requests served at once
+  int threads = 64;       // connections served at once (a browser keeps up to 6 open)
 };
 
 class Server {

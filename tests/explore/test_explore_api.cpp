@@ -7,6 +7,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -391,6 +392,42 @@ TEST_F(ExploreApi, RefusesOtherHostsAndOrigins) {
                         "application/json");
   ASSERT_TRUE(r);
   EXPECT_EQ(r->status, 403);
+}
+
+// Issue 36: 20 concurrent sessions are served without an error. Each is a keep-alive
+// client (a browser tab) asking every view in turn, a few rounds, all at once.
+TEST_F(ExploreApi, TwentyConcurrentSessionsAllAnswered) {
+  constexpr int kSessions = 20, kRounds = 3;
+  std::atomic<int> ok{0}, failed{0};
+  std::vector<std::thread> sessions;
+  for (int s = 0; s < kSessions; ++s) {
+    sessions.emplace_back([&, s] {
+      auto c = client();
+      c.set_keep_alive(true);
+      c.set_read_timeout(30);
+      const json m = {{"type", "roughconductor"}, {"alpha", 0.05 + 0.01 * s}, {"material", "Au"}};
+      for (int r = 0; r < kRounds; ++r) {
+        for (const auto& [path, extra] : std::vector<std::pair<const char*, json>>{
+                 {"/api/validate", json::object()}, {"/api/lobe", {{"theta_i", 10 * r}}},
+                 {"/api/slice", {{"size", 64}}}, {"/api/albedo", {{"count", 10}, {"samples", 1024}}},
+                 {"/api/fresnel", json::object()}, {"/api/sphere", {{"size", 32}}}}) {
+          json body = extra;
+          body["bsdf"] = m;
+          const auto res = c.Post(path, body.dump(), "application/json");
+          if (res && res->status == 200) {
+            ++ok;
+          } else {
+            ++failed;
+            ADD_FAILURE() << path << ": " << (res ? std::to_string(res->status) + " " + res->body
+                                                  : httplib::to_string(res.error()));
+          }
+        }
+      }
+    });
+  }
+  for (auto& t : sessions) t.join();
+  EXPECT_EQ(failed.load(), 0);
+  EXPECT_EQ(ok.load(), kSessions * kRounds * 6);
 }
 
 TEST_F(ExploreApi, ThePageIsServedAndFetchesNothingOutside) {
