@@ -448,16 +448,22 @@ std::string api_slice(const std::string& body, const ApiContext& ctx) {
   o.phi_d = number_field(b, "phi_d", 90, 0, 180, " degrees") * kDegree;
   o.theta_h_axis = bool_field(b, "sqrt_theta_h", false) ? render::ThetaHAxis::Sqrt : render::ThetaHAxis::Linear;
   const BxDF bxdf = load_material(b, ctx);
+  // With "compare", a second material on the same scale (as `gonio slice --compare`).
+  std::optional<BxDF> other;
+  if (b.contains("compare") && !b["compare"].is_null()) other = load_material(b, ctx, "compare");
   // The values and the automatic scale of `gonio slice` (render/slice.h).
   const std::vector<double> values = render::slice_values(bxdf, o);
+  std::vector<std::vector<double>> panels = {values};
+  if (other) panels.push_back(render::slice_values(*other, o));
   std::string out = "{\"size\":" + std::to_string(o.size) + ",\"phi_d\":";
   put_number(out, o.phi_d / kDegree, 17);
   out += ",\"sqrt_theta_h\":";
   out += o.theta_h_axis == render::ThetaHAxis::Sqrt ? "true" : "false";
   bool any = false;
-  for (const double v : values) any |= v > 0;
+  for (const auto& p : panels)
+    for (const double v : p) any |= v > 0;
   if (any) {
-    const auto [lo, hi] = render::slice_auto_scale({values});
+    const auto [lo, hi] = render::slice_auto_scale(panels);
     out += ",\"lo\":";
     put_number(out, lo, 17);
     out += ",\"hi\":";
@@ -466,12 +472,19 @@ std::string api_slice(const std::string& body, const ApiContext& ctx) {
     out += ",\"lo\":null,\"hi\":null";  // a delta-only material: nothing finite to show
   }
   // Luminance of f (1/sr) per pixel, row 0 at the top (θd = 90°); -1 below the horizon.
-  out += ",\"values\":[";
-  for (size_t i = 0; i < values.size(); ++i) {
-    if (i) out += ',';
-    put_number(out, values[i], 7);
-  }
-  return out + "]}";
+  const auto put_values = [&](const char* name, const std::vector<double>& v) {
+    out += ",\"";
+    out += name;
+    out += "\":[";
+    for (size_t i = 0; i < v.size(); ++i) {
+      if (i) out += ',';
+      put_number(out, v[i], 7);
+    }
+    out += ']';
+  };
+  put_values("values", values);
+  if (other) put_values("values_compare", panels[1]);
+  return out + "}";
 }
 
 std::string api_slice_point(const std::string& body, const ApiContext& ctx) {

@@ -73,17 +73,22 @@ std::optional<Float> request_wavelength(const json& body) {
   return Float(nm);
 }
 
-json sanitized_material(const json& body, const ApiContext& ctx) {
-  const auto it = body.find("bsdf");
-  if (it == body.end() || it->is_null()) throw InputError("bsdf: missing (the material, as in gonio eval --bsdf)");
+namespace {
+std::string source_of(const char* key) { return std::string(key) == "bsdf" ? "--bsdf" : "--" + std::string(key); }
+}  // namespace
+
+json sanitized_material(const json& body, const ApiContext& ctx, const char* key) {
+  const auto it = body.find(key);
+  if (it == body.end() || it->is_null())
+    throw InputError(std::string(key) + ": missing (the material, as in gonio eval --bsdf)");
   // Text is parsed as the CLI parses --bsdf, so that a syntax error reads the same.
-  json m = it->is_string() ? parse_json_text(it->get<std::string>(), "--bsdf") : *it;
+  json m = it->is_string() ? parse_json_text(it->get<std::string>(), source_of(key)) : *it;
   confine_files(m, ctx);
   return m;
 }
 
-BxDF load_material(const json& body, const ApiContext& ctx) {
-  return parse_material(sanitized_material(body, ctx).dump(), "--bsdf");
+BxDF load_material(const json& body, const ApiContext& ctx, const char* key) {
+  return parse_material(sanitized_material(body, ctx, key).dump(), source_of(key));
 }
 
 std::unique_ptr<MaterialAtWavelength> load_material_at_wavelength(const json& body, const ApiContext& ctx, Float nm) {

@@ -27,10 +27,13 @@ std::optional<Float> request_wavelength(const nlohmann::json& body);
 // The material of "bsdf" as JSON with every file name replaced by the canonical path of
 // the file inside ctx.data_dir. InputError when "bsdf" is missing, is not JSON, or names a
 // file outside --data (an absolute path, "..", a symlink leading out, or no --data).
-nlohmann::json sanitized_material(const nlohmann::json& body, const ApiContext& ctx);
+// `key` "compare" reads the second material of a comparison, named "--compare" in its
+// errors as `gonio slice --compare` names it.
+nlohmann::json sanitized_material(const nlohmann::json& body, const ApiContext& ctx, const char* key = "bsdf");
 
-// The RGB model of "bsdf", through parse_material with the source "--bsdf".
-BxDF load_material(const nlohmann::json& body, const ApiContext& ctx);
+// The RGB model of "bsdf", through parse_material with the source "--bsdf" (or of
+// "compare", with "--compare").
+BxDF load_material(const nlohmann::json& body, const ApiContext& ctx, const char* key = "bsdf");
 
 // The model at one wavelength (as `gonio eval --wavelength`), kept with what it points into.
 struct MaterialAtWavelength {

@@ -222,6 +222,28 @@ std::vector<float> sphere_pixels(const json& d) {
   return px;
 }
 
+TEST_F(ExploreApi, SliceComparesTwoMaterialsOnOneScale) {
+  const json a = {{"type", "diffuse"}, {"reflectance", 0.2}}, b = {{"type", "diffuse"}, {"reflectance", 0.8}};
+  const auto [status, d] = post("/api/slice", {{"bsdf", a}, {"compare", b}, {"size", 16}});
+  ASSERT_EQ(status, 200) << d;
+  ASSERT_EQ(d["values_compare"].size(), 256u);
+  for (size_t i = 0; i < 256; ++i) {
+    EXPECT_NEAR(d["values"][i].get<double>(), 0.2 / kPi, 1e-6);
+    EXPECT_NEAR(d["values_compare"][i].get<double>(), 0.8 / kPi, 1e-6);
+  }
+  // One scale for both: whole decades around 0.2/π = 0.064 and 0.8/π = 0.25.
+  EXPECT_DOUBLE_EQ(d["lo"].get<double>(), 0.01);
+  EXPECT_DOUBLE_EQ(d["hi"].get<double>(), 1);
+  // A bad second material: the message of gonio slice --compare.
+  const std::string bad = R"({"type":"roughconductor","alpha":-0.1,"material":"Au"})";
+  const std::string png = (data_dir() / "compare.png").string();
+  const auto cli = run_gonio({"slice", "--bsdf", a.dump(), "--compare", bad, "-o", png});
+  ASSERT_EQ(cli.status, 2) << cli.err;
+  const auto [s2, e] = post("/api/slice", {{"bsdf", a}, {"compare", json::parse(bad)}});
+  EXPECT_EQ(s2, 400);
+  EXPECT_EQ("gonio: " + e["error"].get<std::string>() + "\n", cli.err);
+}
+
 TEST_F(ExploreApi, SphereUnderAPointLightIsLambertsLaw) {
   // The light straight behind the camera, 5 from the centre: 4 from the sphere's nearest
   // point, intensity 16π, so E = 16π / 4² = π there and a Lambertian sphere of albedo ρ has

@@ -90,10 +90,11 @@ class ExploreBrowser : public ::testing::Test {
                     "--dump-dom", server_->url() + hash});
   }
 
-  static std::string state_hash(const json& material) {
-    const json state = {{"material", material}, {"theta_i", 40}, {"phi_d", 90}, {"spectral", false},
-                        {"wavelength", 550}, {"lobe", "f_cos"}, {"eta", 1.5},
-                        {"sphere_passes", 2}};  // the sphere's refinement cut short
+  static std::string state_hash(const json& material, const json& more = json::object()) {
+    json state = {{"material", material}, {"theta_i", 40}, {"phi_d", 90}, {"spectral", false},
+                  {"wavelength", 550}, {"lobe", "f_cos"}, {"eta", 1.5},
+                  {"sphere_passes", 2}};  // the sphere's refinement cut short
+    state.update(more);
     std::string s = state.dump(), out = "#";
     const char* hex = "0123456789ABCDEF";
     for (const unsigned char c : s) {
@@ -135,6 +136,18 @@ TEST_F(ExploreBrowser, EveryViewIsDrawnWithoutAnError) {
     // The editor was generated from the registry: a row per parameter of the type.
     EXPECT_NE(d.find("<select"), std::string::npos);
   }
+}
+
+TEST_F(ExploreBrowser, ComparisonDrawsBothMaterials) {
+  json state = json::parse(R"({"compare": true,
+    "material_b": {"type": "roughconductor", "alpha": 0.3, "material": "Cu", "distribution": "beckmann"}})");
+  const std::string d = dom(state_hash({{"type", "roughconductor"}, {"alpha", 0.2}, {"material", "Cu"}}, state));
+  EXPECT_NE(d.find("<pre id=\"errors\" hidden=\"\"></pre>"), std::string::npos)
+      << d.substr(d.find("<pre id=\"errors\""), 400);
+  EXPECT_NE(d.find("B valid: roughconductor"), std::string::npos);
+  for (const char* view : {"lobe", "slice", "albedo"}) EXPECT_GE(drawn(d, view), 1) << view;
+  // The slice figure holds the three panels: wider than alone.
+  EXPECT_NE(d.find("<canvas id=\"slice\" width=\"720\""), std::string::npos);
 }
 
 TEST_F(ExploreBrowser, ABadMaterialShowsTheCliMessage) {

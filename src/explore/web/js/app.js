@@ -15,7 +15,9 @@ function reportError(text) {
   // Each view marks itself drawn (data-drawn on its canvas), for the browser test.
   const drawn = (id) => { $(id).dataset.drawn = String(+($(id).dataset.drawn || 0) + 1); };
   const state = { material: null, theta_i: 30, phi_d: 90, spectral: false, wavelength: 550, lobe: "f_cos", eta: 1.5,
-                  light_x: 0.5, light_y: 0.5, environment: 0.1, exposure: 0, sphere_passes: 64 };
+                  light_x: 0.5, light_y: 0.5, environment: 0.1, exposure: 0, sphere_passes: 64,
+                  compare: false, material_b: null };
+  let bValid = false;
   let sliceData = null, slicePanel = null, timer = null;
 
   function status(text, kind) {
@@ -25,8 +27,8 @@ function reportError(text) {
   }
 
   // The request body every view shares: the material and, in spectral mode, the wavelength.
-  function body(extra, spectral = true) {
-    const b = Object.assign({ bsdf: state.material }, extra);
+  function body(extra, spectral = true, material = state.material) {
+    const b = Object.assign({ bsdf: material }, extra);
     if (spectral && state.spectral) b.wavelength = state.wavelength;
     return b;
   }
@@ -60,6 +62,12 @@ function reportError(text) {
 
   function buildEditor() {
     editor.build($("editor"), state.material, onMaterialEdited);
+    $("compare").checked = state.compare;
+    $("compare-panel").hidden = !state.compare;
+    if (state.compare) {
+      if (!state.material_b) state.material_b = editor.example("diffuse");
+      editor.build($("editor-b"), state.material_b, schedule);
+    }
   }
   function onMaterialEdited() {
     $("json").value = JSON.stringify(state.material, null, 2);
@@ -76,9 +84,27 @@ function reportError(text) {
     plot.message($(canvas), e.message);
   };
 
+  // Material B, when comparing: valid or not, in its own status line.
+  async function validateB() {
+    bValid = false;
+    if (!state.compare) return;
+    const s = $("status-b");
+    try {
+      const v = await api.post("/api/validate", body({}, false, state.material_b), "validate_b");
+      s.textContent = "B valid: " + v.name;
+      s.className = "status ok";
+      bValid = true;
+    } catch (e) {
+      if (api.isAbort(e)) return;
+      s.textContent = "B: " + e.message;
+      s.className = "status error";
+    }
+  }
+  const comparing = () => state.compare && bValid;
+
   async function update() {
     try {
-      const v = await api.post("/api/validate", body({}, false), "validate");
+      const [v] = await Promise.all([api.post("/api/validate", body({}, false), "validate"), validateB()]);
       status("valid: " + v.name, "ok");
     } catch (e) {
       if (!api.isAbort(e)) status(e.message, "error");
@@ -125,8 +151,10 @@ function reportError(text) {
 
   async function updateLobe() {
     try {
-      const d = await api.post("/api/lobe", body({ theta_i: state.theta_i, count: 181 }), "lobe");
-      plot.lobe($("lobe"), d, d[state.lobe], d.channels);
+      const request = { theta_i: state.theta_i, count: 181 };
+      const [d, db] = await Promise.all([api.post("/api/lobe", body(request), "lobe"),
+        comparing() ? api.post("/api/lobe", body(request, true, state.material_b), "lobe_b") : null]);
+      plot.lobe($("lobe"), d, d[state.lobe], d.channels, db && { values: db[state.lobe], channels: db.channels });
       drawn("lobe");
       const i = d.theta_o.findIndex((t) => t >= d.mirror);
       $("lobe-readout").textContent = `${state.lobe === "f" ? "f" : "f·cos θo"} at the mirror direction θo = ${d.mirror}°: ` +
@@ -136,7 +164,15 @@ function reportError(text) {
 
   async function updateSlice() {
     try {
-      sliceData = await api.post("/api/slice", body({ phi_d: state.phi_d, size: 90 }, false), "slice");
+      const request = { phi_d: state.phi_d, size: 90 };
+      if (comparing()) request.compare = state.material_b;
+      // Three panels side by side when comparing: the figure spans the grid's width.
+      const c = $("slice");
+      c.width = comparing() ? 720 : 480;
+      c.height = comparing() ? 230 : 320;
+      c.style.maxWidth = c.width + "px";
+      $("slice-view").style.gridColumn = comparing() ? "1 / -1" : "";
+      sliceData = await api.post("/api/slice", body(request, false), "slice");
       if (sliceData.lo === null) {
         sliceData = null;
         plot.message($("slice"), "f is 0 at every pixel (a delta lobe has no finite f)");
@@ -162,7 +198,13 @@ function reportError(text) {
     const thetaH = (sliceData.sqrt_theta_h ? u * u : u) * 90, thetaD = (1 - (py + 0.5) / n) * 90;
     const v = sliceData.values[py * n + px];
     const where = `θh ${thetaH.toFixed(2)}°, θd ${thetaD.toFixed(2)}°, φd ${sliceData.phi_d}°: `;
-    $("slice-readout").textContent = where + (v < 0 ? "below the horizon" : "luminance of f " + plot.fmt(v) + " /sr");
+    let text = v < 0 ? "below the horizon" : "luminance of f " + plot.fmt(v) + " /sr";
+    if (sliceData.values_compare && v >= 0) {
+      const vb = sliceData.values_compare[py * n + px];
+      text += `; B ${plot.fmt(vb)} /sr, (B − A) / A = ${v > 0 ? plot.fmt((vb - v) / v) : "n/a"}`;
+    }
+    $("slice-readout").textContent = where + text;
+    if (sliceData.values_compare) return;
     if (v < 0) return;
     try {
       const p = await api.post("/api/slice_point", body({ theta_h: thetaH, theta_d: thetaD, phi_d: sliceData.phi_d }, false), "slice_point");
@@ -172,16 +214,28 @@ function reportError(text) {
 
   async function updateAlbedo() {
     try {
-      const d = await api.post("/api/albedo", body({ count: 19, samples: 4096 }), "albedo");
-      const channels = plot.grey(d.reflectance) && plot.grey(d.transmittance) ? 1 : d.albedo[0].length;
-      const colours = channels === 1 ? ["#222"] : plot.CHANNEL_COLOURS;
-      let max = 1;
-      for (const a of d.albedo) for (const v of a) max = Math.max(max, v);
+      const request = { count: 19, samples: 4096 };
+      const [d, db] = await Promise.all([api.post("/api/albedo", body(request), "albedo"),
+        comparing() ? api.post("/api/albedo", body(request, true, state.material_b), "albedo_b") : null]);
       const series = [];
-      for (let c = 0; c < channels; ++c) {
-        series.push({ x: d.theta, y: d.reflectance.map((v) => v[c]), color: colours[c], label: "reflectance", legendColor: "#222" });
-        series.push({ x: d.theta, y: d.transmittance.map((v) => v[c]), color: colours[c], dash: [6, 4], label: "transmittance", legendColor: "#222" });
-        series.push({ x: d.theta, y: d.albedo.map((v) => v[c]), color: colours[c], dash: [1, 3], width: 1, label: "albedo", legendColor: "#222" });
+      let max = 1;
+      // A: reflectance solid, transmittance dashed, albedo dotted; B: reflectance and
+      // transmittance in long dashes, thin.
+      for (const [data, isB] of [[d, false], [db, true]]) {
+        if (!data) continue;
+        const channels = plot.grey(data.reflectance) && plot.grey(data.transmittance) ? 1 : data.albedo[0].length;
+        const colours = channels === 1 ? ["#222"] : plot.CHANNEL_COLOURS;
+        for (const a of data.albedo) for (const v of a) max = Math.max(max, v);
+        for (let c = 0; c < channels; ++c) {
+          if (isB) {
+            series.push({ x: data.theta, y: data.reflectance.map((v) => v[c]), color: colours[c], dash: [12, 4], width: 1, label: "B reflectance", legendColor: "#222" });
+            series.push({ x: data.theta, y: data.transmittance.map((v) => v[c]), color: colours[c], dash: [12, 4, 2, 4], width: 1, label: "B transmittance", legendColor: "#222" });
+            continue;
+          }
+          series.push({ x: data.theta, y: data.reflectance.map((v) => v[c]), color: colours[c], label: "reflectance", legendColor: "#222" });
+          series.push({ x: data.theta, y: data.transmittance.map((v) => v[c]), color: colours[c], dash: [6, 4], label: "transmittance", legendColor: "#222" });
+          series.push({ x: data.theta, y: data.albedo.map((v) => v[c]), color: colours[c], dash: [1, 3], width: 1, label: "albedo", legendColor: "#222" });
+        }
       }
       plot.lines($("albedo"), { xRange: [0, 90], yRange: [0, Math.ceil(max * 10) / 10], xLabel: "θi (incidence)", yLabel: "fraction", series });
       drawn("albedo");
@@ -284,6 +338,12 @@ function reportError(text) {
     });
     $("environment").addEventListener("input", (e) => { state.environment = +e.target.value; saveHash(); updateSphere(); });
     $("check").addEventListener("click", runCheck);
+    $("compare").addEventListener("change", (e) => {
+      state.compare = e.target.checked;
+      if (state.compare && !state.material_b) state.material_b = JSON.parse(JSON.stringify(state.material));
+      buildEditor();
+      schedule();
+    });
     $("permalink").addEventListener("click", async () => {
       saveHash();
       try { await navigator.clipboard.writeText(location.href); status("link copied: " + location.href, "ok"); }

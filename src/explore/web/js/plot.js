@@ -99,11 +99,12 @@ const plot = (() => {
 
   // Polar plot of the lobe: radius ∝ value along θo in [−90°, 90°] (up is the normal),
   // the light at +θi and the mirror direction −θi marked.
-  function lobe(canvas, data, values, channels) {
+  function lobe(canvas, data, values, channels, other) {
     const ctx = begin(canvas);
     const cx = canvas.width / 2, cy = canvas.height - 24, r = Math.min(cx - 90, cy - 30);
     let max = 0;
     for (const v of values) for (const c of v) max = Math.max(max, c);
+    if (other) for (const v of other.values) for (const c of v) max = Math.max(max, c);
     ctx.strokeStyle = GRID;
     for (const f of [0.25, 0.5, 0.75, 1]) { ctx.beginPath(); ctx.arc(cx, cy, r * f, Math.PI, 2 * Math.PI); ctx.stroke(); }
     for (let a = -90; a <= 90; a += 30) {
@@ -128,20 +129,30 @@ const plot = (() => {
       return;
     }
     ctx.fillText("outer circle: " + fmt(max) + " (1/sr)", 8, 16);
-    if (grey(values)) channels = 1;
-    const colours = channels === 1 ? [INK] : CHANNEL_COLOURS;
-    for (let c = 0; c < channels; ++c) {
-      ctx.strokeStyle = colours[c];
-      ctx.lineWidth = 1.5;
-      ctx.beginPath();
-      data.theta_o.forEach((deg, i) => {
-        const t = (deg * Math.PI) / 180, rr = (r * values[i][c]) / max;
-        const x = cx + rr * Math.sin(t), y = cy - rr * Math.cos(t);
-        i ? ctx.lineTo(x, y) : ctx.moveTo(x, y);
-      });
-      ctx.stroke();
+    const curves = (vals, n, dash) => {
+      if (grey(vals)) n = 1;
+      const colours = n === 1 ? [INK] : CHANNEL_COLOURS;
+      ctx.setLineDash(dash);
+      for (let c = 0; c < n; ++c) {
+        ctx.strokeStyle = colours[c];
+        ctx.lineWidth = 1.5;
+        ctx.beginPath();
+        data.theta_o.forEach((deg, i) => {
+          const t = (deg * Math.PI) / 180, rr = (r * vals[i][c]) / max;
+          const x = cx + rr * Math.sin(t), y = cy - rr * Math.cos(t);
+          i ? ctx.lineTo(x, y) : ctx.moveTo(x, y);
+        });
+        ctx.stroke();
+      }
+      ctx.setLineDash([]);
+      ctx.lineWidth = 1;
+    };
+    curves(values, channels, []);
+    if (other) {
+      curves(other.values, other.channels, [6, 4]);
+      ctx.fillStyle = INK;
+      ctx.fillText("A solid, B dashed", 8, 32);
     }
-    ctx.lineWidth = 1;
   }
 
   // A sequential colour map for the log scale: dark blue → purple → orange → pale yellow.
@@ -160,14 +171,26 @@ const plot = (() => {
 
   // The slice: pixel values (row 0 at θd = 90°, -1 below the horizon) on the log scale
   // [lo, hi], axes and colour bar. Returns the panel rectangle for the cursor.
-  function slice(canvas, data) {
-    const ctx = begin(canvas);
-    const n = data.size, P = { x: 44, y: 10, s: Math.min(canvas.height - 48, canvas.width - 170) };
+  // The relative difference (B − A) / A of two slices, and its scale: the smallest of
+  // 1 %, 2 %, 5 %, … 100 % holding every difference (as gonio slice --compare).
+  function sliceDifference(a, b) {
+    const d = a.map((ya, i) => (ya < 0 || b[i] < 0 ? NaN : ya > 0 ? (b[i] - ya) / ya : b[i] > 0 ? Infinity : 0));
+    let max = 0;
+    for (const v of d) if (Number.isFinite(v)) max = Math.max(max, Math.abs(v));
+    if (d.some((v) => v === Infinity)) max = Infinity;
+    const range = [0.01, 0.02, 0.05, 0.1, 0.2, 0.5, 1].find((r) => max <= r * (1 + 1e-6)) || 1;
+    return { d, range };
+  }
+  // Diverging map for t in [−1, 1]: blue, white, red.
+  const diverging = (t) => {
+    t = Math.max(-1, Math.min(1, t));
+    return t < 0 ? [Math.round(255 * (1 + t)), Math.round(255 * (1 + t)), 255] : [255, Math.round(255 * (1 - t)), Math.round(255 * (1 - t))];
+  };
+
+  function panel(ctx, P, n, pixel) {
     const img = ctx.createImageData(n, n);
-    const llo = Math.log10(data.lo), lhi = Math.log10(data.hi);
     for (let i = 0; i < n * n; ++i) {
-      const v = data.values[i];
-      const c = v < 0 ? [140, 140, 140] : v > 0 ? colour((Math.log10(v) - llo) / (lhi - llo)) : colour(0);
+      const c = pixel(i);
       img.data.set([c[0], c[1], c[2], 255], 4 * i);
     }
     const off = document.createElement("canvas");
@@ -177,19 +200,50 @@ const plot = (() => {
     ctx.drawImage(off, P.x, P.y, P.s, P.s);
     ctx.strokeStyle = INK;
     ctx.strokeRect(P.x - 0.5, P.y - 0.5, P.s + 1, P.s + 1);
+  }
+
+  function slice(canvas, data) {
+    const ctx = begin(canvas);
+    const compare = !!data.values_compare;
+    const n = data.size;
+    const s = compare ? Math.min(canvas.height - 48, (canvas.width - 230) / 3) : Math.min(canvas.height - 48, canvas.width - 170);
+    const P = { x: 44, y: 10, s };
+    const llo = Math.log10(data.lo), lhi = Math.log10(data.hi);
+    const logColour = (v) => (v < 0 ? [140, 140, 140] : v > 0 ? colour((Math.log10(v) - llo) / (lhi - llo)) : colour(0));
+    panel(ctx, P, n, (i) => logColour(data.values[i]));
+    const panels = [P];
+    let diff = null;
+    if (compare) {
+      const PB = { x: P.x + s + 10, y: P.y, s };
+      panel(ctx, PB, n, (i) => logColour(data.values_compare[i]));
+      diff = sliceDifference(data.values, data.values_compare);
+      const PD = { x: PB.x + s + 60, y: P.y, s };
+      panel(ctx, PD, n, (i) => (Number.isNaN(diff.d[i]) ? [140, 140, 140] : diverging(diff.d[i] / diff.range)));
+      panels.push(PB, PD);
+      ctx.fillStyle = INK;
+      ctx.textAlign = "left";
+      ctx.fillText("(B − A) / A: ±" + +(100 * diff.range).toPrecision(3) + " %", PD.x, P.y + s + 30);
+    }
     ctx.fillStyle = INK;
     ctx.textAlign = "center";
-    for (const d of [0, 30, 60, 90]) {
-      const u = data.sqrt_theta_h ? Math.sqrt(d / 90) : d / 90;
-      ctx.fillText(d + "", P.x + u * P.s, P.y + P.s + 14);
+    for (const Q of panels.slice(0, compare ? 2 : 1)) {
+      for (const d of [0, 30, 60, 90]) {
+        const u = data.sqrt_theta_h ? Math.sqrt(d / 90) : d / 90;
+        ctx.fillText(d + "", Q.x + u * Q.s, Q.y + Q.s + 14);
+      }
     }
-    ctx.fillText("θh (deg)", P.x + P.s / 2, P.y + P.s + 30);
+    if (compare) {
+      ctx.fillText("A", P.x + s / 2, P.y + s + 30);
+      ctx.fillText("B  (θh across, θd up)", panels[1].x + s / 2, P.y + s + 30);
+    } else {
+      ctx.fillText("θh (deg)", P.x + P.s / 2, P.y + P.s + 30);
+    }
     ctx.textAlign = "right";
     for (const d of [0, 30, 60, 90]) ctx.fillText(d + "", P.x - 4, P.y + P.s - (d / 90) * P.s + 4);
     ctx.save(); ctx.translate(12, P.y + P.s / 2); ctx.rotate(-Math.PI / 2); ctx.textAlign = "center";
     ctx.fillText("θd (deg)", 0, 0); ctx.restore();
     // Colour bar with its decades.
-    const B = { x: P.x + P.s + 20, y: P.y, w: 16, h: P.s };
+    const B = { x: (compare ? panels[1].x : P.x) + P.s + 8, y: P.y, w: 12, h: P.s };
     for (let row = 0; row < B.h; ++row) {
       const c = colour(1 - (row + 0.5) / B.h);
       ctx.fillStyle = `rgb(${c[0]},${c[1]},${c[2]})`;
@@ -203,7 +257,8 @@ const plot = (() => {
       ctx.fillRect(B.x + B.w, y, 4, 1);
       ctx.fillText(e >= -2 && e <= 2 ? String(10 ** e) : "1e" + e, B.x + B.w + 6, y + 4);
     }
-    ctx.fillText("f (1/sr)", B.x - 4, B.y + B.h + 30);
+    if (!compare) ctx.fillText("f (1/sr)", B.x - 4, B.y + B.h + 30);
+    P.diff = diff;
     return P;
   }
 
