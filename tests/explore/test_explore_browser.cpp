@@ -10,6 +10,8 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <memory>
@@ -148,6 +150,38 @@ TEST_F(ExploreBrowser, ComparisonDrawsBothMaterials) {
   for (const char* view : {"lobe", "slice", "albedo"}) EXPECT_GE(drawn(d, view), 1) << view;
   // The slice figure holds the three panels: wider than alone.
   EXPECT_NE(d.find("<canvas id=\"slice\" width=\"720\""), std::string::npos);
+}
+
+// Issue 36: the value under the cursor equals `gonio eval` at that direction. The page
+// moves a pointer over pixel (px, py) of the 90² slice (state "probe"); the directions of
+// that pixel's centre are computed here from Rusinkiewicz's half/difference angles and
+// evaluated by the CLI.
+TEST_F(ExploreBrowser, TheSliceCursorReadsWhatGonioEvalPrints) {
+  const json m = {{"type", "roughconductor"}, {"alpha", 0.3}, {"material", "Au"}};
+  const int n = 90, px = 20, py = 50;
+  const std::string d = dom(state_hash(m, {{"phi_d", 60}, {"probe", {{"px", px}, {"py", py}}}}));
+  std::smatch mm;
+  ASSERT_TRUE(std::regex_search(d, mm, std::regex(R"re(id="slice-readout"[^>]*data-f="(\[[^"]*\])")re")))
+      << d.substr(d.find("slice-readout"), 300);
+  const json f_page = json::parse(mm[1].str());
+  const double deg = 3.14159265358979323846 / 180;
+  const double theta_h = (px + 0.5) / n * 90 * deg, theta_d = (1 - (py + 0.5) / n) * 90 * deg, phi_d = 60 * deg;
+  // Rusinkiewicz (1998): d in the frame whose pole is h; with φh = 0, wi = Ry(θh) d and
+  // wo its mirror image about h.
+  const double dx = std::sin(theta_d) * std::cos(phi_d), dy = std::sin(theta_d) * std::sin(phi_d),
+               dz = std::cos(theta_d);
+  const double wi[3] = {dx * std::cos(theta_h) + dz * std::sin(theta_h), dy,
+                        -dx * std::sin(theta_h) + dz * std::cos(theta_h)};
+  const double h[3] = {std::sin(theta_h), 0, std::cos(theta_h)};
+  const double k = 2 * (wi[0] * h[0] + wi[1] * h[1] + wi[2] * h[2]);
+  const double wo[3] = {k * h[0] - wi[0], k * h[1] - wi[1], k * h[2] - wi[2]};
+  char line[256];
+  std::snprintf(line, sizeof line, "%.17g %.17g %.17g %.17g %.17g %.17g\n", wo[0], wo[1], wo[2], wi[0], wi[1], wi[2]);
+  const auto cli = gonio_cli_test::run_gonio({"eval", "--bsdf", m.dump()}, line);
+  ASSERT_EQ(cli.status, 0) << cli.err;
+  const json f_cli = json::parse(cli.out)["f"];
+  ASSERT_EQ(f_page.size(), 3u);
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(f_page[c].get<double>(), f_cli[c].get<double>(), 1e-5 * f_cli[c].get<double>()) << c;
 }
 
 TEST_F(ExploreBrowser, ABadMaterialShowsTheCliMessage) {

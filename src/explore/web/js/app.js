@@ -180,6 +180,7 @@ function reportError(text) {
       }
       slicePanel = plot.slice($("slice"), sliceData);
       drawn("slice");
+      probeSlice();
       $("slice-readout").textContent = state.spectral ? "the slice is in RGB (luminance), as gonio slice" :
         "move the cursor over the slice to read f";
     } catch (e) { sliceData = null; shown(e, "slice"); }
@@ -208,8 +209,19 @@ function reportError(text) {
     if (v < 0) return;
     try {
       const p = await api.post("/api/slice_point", body({ theta_h: thetaH, theta_d: thetaD, phi_d: sliceData.phi_d }, false), "slice_point");
-      $("slice-readout").textContent = where + "luminance " + plot.fmt(p.luminance) + " /sr, f = " + JSON.stringify(p.f);
+      const r = $("slice-readout");
+      r.textContent = where + "luminance " + plot.fmt(p.luminance) + " /sr, f = " + JSON.stringify(p.f);
+      // What the cursor read, for the browser test: the angles and f.
+      Object.assign(r.dataset, { thetaH, thetaD, phiD: sliceData.phi_d, f: JSON.stringify(p.f) });
     } catch (e) { /* a newer position, or the material changed */ }
+  }
+  // state.probe = {px, py}: a pointer moved over that pixel of the slice once it is drawn
+  // (the browser test's cursor, without a driver).
+  function probeSlice() {
+    if (!state.probe || !slicePanel || !sliceData) return;
+    const c = $("slice"), r = c.getBoundingClientRect(), n = sliceData.size;
+    const x = slicePanel.x + ((state.probe.px + 0.5) / n) * slicePanel.s, y = slicePanel.y + ((state.probe.py + 0.5) / n) * slicePanel.s;
+    c.dispatchEvent(new MouseEvent("mousemove", { clientX: r.left + (x * r.width) / c.width, clientY: r.top + (y * r.height) / c.height }));
   }
 
   async function updateAlbedo() {
