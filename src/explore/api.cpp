@@ -539,6 +539,7 @@ std::string api_albedo(const std::string& body, const ApiContext& ctx) {
       const double t = 90.0 * i / (count - 1);
       const double z = std::cos(t * kDegree);
       const Vec3 wo{Float(std::sin(t * kDegree)), 0, Float(inside ? -z : z)};
+      ctx.check_stale();
       const auto e = directional_albedo(bxdf, wo, ReflectanceOptions{samples, seed});
       theta.push_back(t);
       refl.push_back(colour(e.reflectance));
@@ -604,6 +605,7 @@ std::string api_check(const std::string& body, const ApiContext& ctx) {
   const BxDF bxdf = load_material(b, ctx);
   // One validation at a time: it takes seconds of a core, and the views must stay live.
   const std::lock_guard<std::mutex> lock(check_mutex());
+  ctx.check_stale();  // a newer validation was asked for while this one waited
   const ValidationReport report = validate(bxdf, {seed, 1.0});
   // The object of `gonio check --json` (SPEC §3).
   json props = json::array();

@@ -5,9 +5,18 @@
 // request throws gonio::InputError with the one-line message the CLI would print (the
 // server answers it with HTTP 400 {"error": message}). docs/explore.md documents each one.
 
+#include <atomic>
+#include <memory>
+#include <stdexcept>
 #include <string>
 
 namespace gonio::explore {
+
+// Thrown by an endpoint whose request a newer one of the same page and view replaced
+// (the server answers 409): a slider moved on, and the old answer would be stale.
+struct Superseded : std::runtime_error {
+  Superseded() : std::runtime_error("superseded by a newer request of the same view") {}
+};
 
 // What every request may refer to: the --data directory (canonical, absolute; empty when
 // none was given). A material's file names ("file" of `measured`, a {"spectrum": "x.csv"})
@@ -15,6 +24,12 @@ namespace gonio::explore {
 // server read the rest of the disk.
 struct ApiContext {
   std::string data_dir;
+  // Set (by the server) when a newer request of the same page and view arrived; the long
+  // endpoints (albedo, sphere, check) poll it between steps and throw Superseded.
+  std::shared_ptr<const std::atomic<bool>> stale;
+  void check_stale() const {
+    if (stale && stale->load(std::memory_order_relaxed)) throw Superseded();
+  }
 };
 
 // GET /api/materials: the registry behind `gonio materials` — every type with its

@@ -13,6 +13,8 @@
 #include <cstring>
 #include <filesystem>
 #include <functional>
+#include <map>
+#include <mutex>
 #include <new>
 #include <thread>
 #include <utility>
@@ -113,6 +115,24 @@ struct Server::Impl {
   ApiContext ctx;
   httplib::Server http;
   int bound_port = -1;
+  // The stale flag of the latest request of each page and view (headers X-Gonio-Session
+  // and X-Gonio-View): a newer request sets its predecessor's.
+  std::mutex stale_mutex;
+  std::map<std::string, std::shared_ptr<std::atomic<bool>>> latest;
+
+  std::shared_ptr<std::atomic<bool>> supersede(const httplib::Request& req) {
+    const std::string session = req.get_header_value("X-Gonio-Session");
+    const std::string view = req.get_header_value("X-Gonio-View");
+    if (session.empty() || view.empty() || session.size() > 64 || view.size() > 64) return nullptr;
+    auto flag = std::make_shared<std::atomic<bool>>(false);
+    const std::lock_guard<std::mutex> lock(stale_mutex);
+    if (latest.size() > 10000) latest.clear();  // forgotten pages; the worst is a stale answer
+    auto& slot = latest[session + "\n" + req.path + "\n" + view];
+    if (slot) slot->store(true);
+    slot = flag;
+    return flag;
+  }
+
   std::atomic<bool> stopping{false};
   std::atomic<bool> in_run{false};
   std::atomic<bool> done{false};
@@ -157,6 +177,9 @@ struct Server::Impl {
       res.status = 200;
     } catch (const InputError& e) {
       res.status = 400;
+      res.set_content(error_json(e.what()), "application/json");
+    } catch (const Superseded& e) {
+      res.status = 409;
       res.set_content(error_json(e.what()), "application/json");
     } catch (const std::bad_alloc&) {
       res.status = 400;
@@ -206,7 +229,9 @@ struct Server::Impl {
     };
     for (const auto& [path, fn] : posts) {
       http.Post(path, [this, fn = fn](const httplib::Request& req, httplib::Response& res) {
-        answer(res, [&] { return fn(req.body, ctx); });
+        ApiContext request_ctx = ctx;
+        request_ctx.stale = supersede(req);
+        answer(res, [&] { return fn(req.body, request_ctx); });
       });
     }
     // The page: the embedded files, nothing from the disk.

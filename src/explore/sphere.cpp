@@ -70,7 +70,10 @@ std::string api_sphere(const std::string& body, const ApiContext& ctx) {
   const render::Scene s = render::parse_scene(scene.dump(), "--bsdf", "");
   render::RenderOptions o;
   o.threads = 1;  // one core per request: the other views stay live
-  const render::Image img = render::render(s, o);
+  o.stop = ctx.stale.get();  // a newer pass of the same page stops this one between tiles
+  render::RenderStats stats;
+  const render::Image img = render::render(s, o, &stats);
+  if (stats.stopped) throw Superseded();
   std::string bytes(size_t(img.width()) * size_t(img.height()) * 3 * sizeof(float), '\0');
   size_t at = 0;
   for (int y = 0; y < img.height(); ++y)

@@ -8,6 +8,8 @@
 #include <unistd.h>
 
 #include <atomic>
+#include <chrono>
+#include <tuple>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -414,6 +416,43 @@ TEST_F(ExploreApi, RefusesOtherHostsAndOrigins) {
                         "application/json");
   ASSERT_TRUE(r);
   EXPECT_EQ(r->status, 403);
+}
+
+// Issue 36: stale work is cancelled when a newer request arrives. A long request (seconds
+// of work) of one page and view, then a short one of the same: the first stops with 409
+// soon after, the second is answered; another view of the same page is left alone.
+TEST_F(ExploreApi, ANewerRequestOfTheSameViewStopsTheOlder) {
+  const json layered = {{"type", "layered"}, {"top", {{"type", "roughdielectric"}, {"alpha", 0.1}}},
+                        {"bottom", {{"type", "diffuse"}}}};
+  for (const auto& [path, slow, quick] : std::vector<std::tuple<const char*, json, json>>{
+           {"/api/albedo", {{"count", 91}, {"samples", 1 << 16}}, {{"count", 2}, {"samples", 16}}},
+           {"/api/sphere", {{"size", 256}, {"spp", 64}}, {{"size", 16}, {"spp", 1}}}}) {
+    json slow_body = slow, quick_body = quick;
+    slow_body["bsdf"] = layered;
+    quick_body["bsdf"] = layered;
+    const httplib::Headers view = {{"X-Gonio-Session", "test-page"}, {"X-Gonio-View", "v"}};
+    const httplib::Headers other_view = {{"X-Gonio-Session", "test-page"}, {"X-Gonio-View", "w"}};
+    int first = 0;
+    double first_seconds = 0;
+    std::thread older([&] {
+      auto c = client();
+      const auto start = std::chrono::steady_clock::now();
+      const auto r = c.Post(path, view, slow_body.dump(), "application/json");
+      first_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      first = r ? r->status : -1;
+    });
+    std::this_thread::sleep_for(std::chrono::milliseconds(150));
+    auto c = client();
+    const auto bystander = c.Post(path, other_view, quick_body.dump(), "application/json");
+    const auto newer = c.Post(path, view, quick_body.dump(), "application/json");
+    older.join();
+    ASSERT_TRUE(newer);
+    EXPECT_EQ(newer->status, 200) << path;
+    ASSERT_TRUE(bystander);
+    EXPECT_EQ(bystander->status, 200) << path;
+    EXPECT_EQ(first, 409) << path;
+    EXPECT_LT(first_seconds, 2.0) << path;  // whole, it takes several seconds
+  }
 }
 
 // Issue 36: 20 concurrent sessions are served without an error. Each is a keep-alive
