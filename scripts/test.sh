@@ -67,7 +67,7 @@ fuzz_seconds="${GONIO_FUZZ_SECONDS:-10}"
 # fuzz_seconds (libFuzzer's -max_total_time is wall time).
 fuzz_one() {
   local t="$1" dict=()
-  case "$t" in material | scene | surface) dict=(-dict=fuzz/json.dict) ;; esac
+  case "$t" in material | scene | surface | explore) dict=(-dict=fuzz/json.dict) ;; esac
   # The grown corpus stays in build-sanitize; the repository's seeds are only read.
   mkdir -p "build-sanitize/corpus/$t" "build-sanitize/artifacts/$t"
   build-sanitize/bin/fuzz_"$t" "${dict[@]}" -max_total_time="$fuzz_seconds" -print_final_stats=1 \
@@ -75,6 +75,7 @@ fuzz_one() {
     >"build-sanitize/fuzz_$t.log" 2>&1
 }
 targets=(material merl scene obj png exr surface)
+[ -x build-sanitize/bin/fuzz_explore ] && targets+=(explore)  # built with cpp-httplib (gonio explore)
 for ((i = 0; i < ${#targets[@]}; i += jobs)); do
   batch=("${targets[@]:i:jobs}")
   pids=()

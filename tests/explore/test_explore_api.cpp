@@ -428,9 +428,10 @@ TEST_F(ExploreApi, RefusesOtherHostsAndOrigins) {
 TEST_F(ExploreApi, ANewerRequestOfTheSameViewStopsTheOlder) {
   const json layered = {{"type", "layered"}, {"top", {{"type", "roughdielectric"}, {"alpha", 0.1}}},
                         {"bottom", {{"type", "diffuse"}}}};
-  for (const auto& [path, slow, quick] : std::vector<std::tuple<const char*, json, json>>{
+  for (const auto& [endpoint, slow, quick] : std::vector<std::tuple<const char*, json, json>>{
            {"/api/albedo", {{"count", 91}, {"samples", 1 << 16}}, {{"count", 2}, {"samples", 16}}},
            {"/api/sphere", {{"size", 256}, {"spp", 64}}, {{"size", 16}, {"spp", 1}}}}) {
+    const char* path = endpoint;  // a plain variable: lambdas may not capture a structured binding (C++20 in clang 14)
     json slow_body = slow, quick_body = quick;
     slow_body["bsdf"] = layered;
     quick_body["bsdf"] = layered;
