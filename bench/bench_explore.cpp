@@ -45,6 +45,8 @@ const std::vector<std::pair<const char*, json>>& materials() {
 const std::vector<View>& views() {
   static const std::vector<View> v = {
       {"lobe", "/api/lobe", {{"theta_i", 30}, {"count", 181}}, &gonio::explore::api_lobe},
+      {"lobe3d", "/api/lobe3d", {{"theta_i", 30}, {"count_theta", 24}, {"count_phi", 48}},
+       &gonio::explore::api_lobe3d},
       {"slice", "/api/slice", {{"phi_d", 90}, {"size", 90}}, &gonio::explore::api_slice},
       {"albedo", "/api/albedo", {{"count", 19}, {"samples", 4096}}, &gonio::explore::api_albedo},
       {"fresnel", "/api/fresnel", {{"count", 181}}, &gonio::explore::api_fresnel},

@@ -1,6 +1,6 @@
 // libFuzzer target: the request bodies of gonio explore's JSON API (src/explore/api.h).
 // Input: one byte choosing the endpoint (validate, eval, lobe, slice, slice_point,
-// albedo, fresnel), then the body. Bodies that parse have their work bounded (counts,
+// albedo, fresnel, lobe3d), then the body. Bodies that parse have their work bounded (counts,
 // sizes and samples made small) so that an input runs in milliseconds; the rest go in as
 // they are. Only InputError may escape (the server answers it with 400), and every answer
 // must be JSON.
@@ -20,7 +20,7 @@ using Endpoint = std::string (*)(const std::string&, const gonio::explore::ApiCo
 const Endpoint kEndpoints[] = {&gonio::explore::api_validate, &gonio::explore::api_eval,
                                &gonio::explore::api_lobe,     &gonio::explore::api_slice,
                                &gonio::explore::api_slice_point, &gonio::explore::api_albedo,
-                               &gonio::explore::api_fresnel};
+                               &gonio::explore::api_fresnel, &gonio::explore::api_lobe3d};
 
 // Keeps the fuzzer fast: the limits the server enforces are tested by the unit tests.
 void bound_work(nlohmann::json& b) {
@@ -31,6 +31,8 @@ void bound_work(nlohmann::json& b) {
   cap("count", 8);
   cap("samples", 64);
   cap("size", 16);
+  cap("count_theta", 6);
+  cap("count_phi", 8);
   const auto pairs = b.find("pairs");
   if (pairs != b.end() && pairs->is_array() && pairs->size() > 64) pairs->erase(pairs->begin() + 64, pairs->end());
 }

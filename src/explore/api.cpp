@@ -441,6 +441,44 @@ std::string api_lobe(const std::string& body, const ApiContext& ctx) {
   });
 }
 
+std::string api_lobe3d(const std::string& body, const ApiContext& ctx) {
+  const json b = parse_request(body);
+  const double theta_i = number_field(b, "theta_i", 30, 0, 90, " degrees");
+  const int rings = int(integer_field(b, "count_theta", 24, 2, kMaxLobe3dTheta));
+  const int spokes = int(integer_field(b, "count_phi", 48, 4, kMaxLobe3dPhi));
+  const TransportMode mode = mode_field(b);
+  // wo over the whole upper hemisphere: θo = 0°..90° in `rings` steps (both ends), φo
+  // from 0° in `spokes` steps; the light at +θi in the x–z plane, as /api/lobe.
+  const double ti = theta_i * kDegree;
+  const Vec3 wi{Float(std::sin(ti)), 0, Float(std::cos(ti))};
+  const size_t n = size_t(rings + 1) * size_t(spokes);
+  std::vector<Vec3> wo(n), wis(n, wi);
+  for (int r = 0; r <= rings; ++r)
+    for (int p = 0; p < spokes; ++p) {
+      const double t = 90.0 * r / rings * kDegree, ph = 360.0 * p / spokes * kDegree;
+      wo[size_t(r) * size_t(spokes) + size_t(p)] =
+          Vec3{Float(std::sin(t) * std::cos(ph)), Float(std::sin(t) * std::sin(ph)), Float(std::cos(t))};
+    }
+  return with_material(b, ctx, [&](const auto& bxdf) {
+    using C = std::decay_t<decltype(bxdf.f(Vec3{}, Vec3{}))>;
+    std::vector<C> f(n);
+    std::vector<Float> pdf(n);
+    eval_batch<C>(bxdf, wo, wis, mode, f, pdf);
+    // One number per direction: the luminance of f (of f·cos θo in "f_cos"), as the slice.
+    std::string out = "{\"theta_i\":";
+    put_number(out, theta_i, 17);
+    out += ",\"count_theta\":" + std::to_string(rings) + ",\"count_phi\":" + std::to_string(spokes);
+    for (const bool cosine : {false, true}) {
+      out += cosine ? "],\"f_cos\":[" : ",\"f\":[";
+      for (size_t i = 0; i < n; ++i) {
+        if (i) out += ',';
+        put_number(out, shown_value(f[i]) * (cosine ? std::max(0.0, double(wo[i].z)) : 1.0), 7);
+      }
+    }
+    return out + "]}";
+  });
+}
+
 std::string api_slice(const std::string& body, const ApiContext& ctx) {
   const json b = parse_request(body);
   render::SliceOptions o;

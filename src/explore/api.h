@@ -45,6 +45,7 @@ std::string api_data(const ApiContext& ctx);
 std::string api_validate(const std::string& body, const ApiContext& ctx);     // /api/validate
 std::string api_eval(const std::string& body, const ApiContext& ctx);         // /api/eval (SPEC §3)
 std::string api_lobe(const std::string& body, const ApiContext& ctx);         // /api/lobe
+std::string api_lobe3d(const std::string& body, const ApiContext& ctx);       // /api/lobe3d
 std::string api_slice(const std::string& body, const ApiContext& ctx);        // /api/slice
 std::string api_slice_point(const std::string& body, const ApiContext& ctx);  // /api/slice_point
 std::string api_albedo(const std::string& body, const ApiContext& ctx);       // /api/albedo
@@ -57,6 +58,7 @@ std::string api_sphere(const std::string& body, const ApiContext& ctx);       //
 
 // Request bounds (a larger request is a 400): the server stays responsive for everyone.
 inline constexpr int kMaxLobeCount = 2001;
+inline constexpr int kMaxLobe3dTheta = 90, kMaxLobe3dPhi = 360;
 inline constexpr int kMaxSliceSize = 512;
 inline constexpr int kMaxAlbedoCount = 91;
 inline constexpr long long kMaxAlbedoSamples = 1 << 20;

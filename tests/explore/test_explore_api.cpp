@@ -104,6 +104,30 @@ TEST_F(ExploreApi, LobeOfLambertIsRhoOverPiAtEveryAngle) {
   }
 }
 
+TEST_F(ExploreApi, Lobe3dCoversTheHemisphere) {
+  const auto [status, d] = post("/api/lobe3d", {{"bsdf", kLambert}, {"theta_i", 30}, {"count_theta", 6},
+                                                {"count_phi", 8}});
+  ASSERT_EQ(status, 200) << d;
+  ASSERT_EQ(d["f"].size(), 7u * 8u);
+  // Luminance of ρ/π (Rec. 709 weights), times cos θo for f_cos.
+  const double y = (0.2126 * 0.2 + 0.7152 * 0.5 + 0.0722 * 0.8) / kPi;
+  for (int r = 0; r <= 6; ++r)
+    for (int p = 0; p < 8; ++p) {
+      const size_t i = size_t(r * 8 + p);
+      EXPECT_NEAR(d["f"][i].get<double>(), y, 1e-6);
+      EXPECT_NEAR(d["f_cos"][i].get<double>(), y * std::cos(15.0 * r * kPi / 180), 1e-6);
+    }
+  // A glossy lobe peaks towards the mirror direction: φo = 180°, θo near θi.
+  const auto [s2, g] = post("/api/lobe3d", {{"bsdf", {{"type", "roughconductor"}, {"alpha", 0.1}, {"material", "Au"}}},
+                                            {"theta_i", 30}, {"count_theta", 24}, {"count_phi", 48}});
+  ASSERT_EQ(s2, 200);
+  size_t best = 0;
+  for (size_t i = 0; i < g["f"].size(); ++i)
+    if (g["f"][i].get<double>() > g["f"][best].get<double>()) best = i;
+  EXPECT_EQ(best % 48, 24u);                // φo = 180°
+  EXPECT_NEAR(double(best / 48), 8, 1);     // θo = 8 × 3.75° = 30°
+}
+
 TEST_F(ExploreApi, SpectralLobeOfAFlatSpectrumIsItsValueOverPi) {
   const json flat = {{"type", "diffuse"}, {"reflectance", {{"spectrum", {{360, 0.3}, {830, 0.3}}}}}};
   const auto [status, d] = post("/api/lobe", {{"bsdf", flat}, {"theta_i", 10}, {"count", 5}, {"wavelength", 600}});

@@ -133,7 +133,7 @@ TEST_F(ExploreBrowser, EveryViewIsDrawnWithoutAnError) {
     ASSERT_NE(d.find("<body"), std::string::npos) << "no DOM from chromium";
     EXPECT_NE(d.find("<pre id=\"errors\" hidden=\"\"></pre>"), std::string::npos)
         << "the page met errors: " << d.substr(d.find("<pre id=\"errors\""), 400);
-    for (const char* view : {"lobe", "slice", "albedo", "fresnel", "sphere"}) EXPECT_GE(drawn(d, view), 1) << view;
+    for (const char* view : {"lobe", "lobe3d", "slice", "albedo", "fresnel", "sphere"}) EXPECT_GE(drawn(d, view), 1) << view;
     EXPECT_NE(d.find("valid: " + material["type"].get<std::string>()), std::string::npos);
     // The editor was generated from the registry: a row per parameter of the type.
     EXPECT_NE(d.find("<select"), std::string::npos);

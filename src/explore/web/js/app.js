@@ -16,7 +16,8 @@ function reportError(text) {
   const drawn = (id) => { $(id).dataset.drawn = String(+($(id).dataset.drawn || 0) + 1); };
   const state = { material: null, theta_i: 30, phi_d: 90, spectral: false, wavelength: 550, lobe: "f_cos", eta: 1.5,
                   light_x: 0.5, light_y: 0.5, environment: 0.1, exposure: 0, sphere_passes: 64,
-                  compare: false, material_b: null };
+                  compare: false, material_b: null, yaw: -0.6, pitch: 0.35 };
+  let lobe3dData = null;
   let bValid = false;
   let sliceData = null, slicePanel = null, timer = null;
 
@@ -110,7 +111,29 @@ function reportError(text) {
       if (!api.isAbort(e)) status(e.message, "error");
       return;
     }
-    updateLobe(); updateSlice(); updateAlbedo(); updateFresnel(); updateSphere();
+    updateLobe(); updateLobe3d(); updateSlice(); updateAlbedo(); updateFresnel(); updateSphere();
+  }
+
+  async function updateLobe3d() {
+    try {
+      lobe3dData = await api.post("/api/lobe3d", body({ theta_i: state.theta_i, count_theta: 24, count_phi: 48 }), "lobe3d");
+      drawLobe3d();
+      drawn("lobe3d");
+    } catch (e) { shown(e, "lobe3d"); }
+  }
+  function drawLobe3d() {
+    if (lobe3dData) plot.lobe3d($("lobe3d"), lobe3dData, lobe3dData[state.lobe], state.yaw, state.pitch);
+  }
+  let turning = null;
+  function turnLobe3d(ev) {
+    if (!(ev.buttons & 1)) { turning = null; return; }
+    if (turning) {
+      state.yaw += (ev.clientX - turning.x) * 0.01;
+      state.pitch = Math.max(-1.5, Math.min(1.5, state.pitch + (ev.clientY - turning.y) * 0.01));
+      drawLobe3d();
+      saveHash();
+    }
+    turning = { x: ev.clientX, y: ev.clientY };
   }
 
   // The sphere: passes of gonio's renderer with successive seeds, averaged here (1 sample
@@ -333,10 +356,12 @@ function reportError(text) {
   }
 
   function wire() {
-    $("theta-i").addEventListener("input", (e) => { state.theta_i = +e.target.value; $("theta-i-out").textContent = state.theta_i + "°"; saveHash(); updateLobe(); });
+    $("theta-i").addEventListener("input", (e) => { state.theta_i = +e.target.value; $("theta-i-out").textContent = state.theta_i + "°"; saveHash(); updateLobe(); updateLobe3d(); });
+    $("lobe3d").addEventListener("mousedown", (e) => { turning = { x: e.clientX, y: e.clientY }; });
+    $("lobe3d").addEventListener("mousemove", turnLobe3d);
     $("phi-d").addEventListener("input", (e) => { state.phi_d = +e.target.value; $("phi-d-out").textContent = state.phi_d + "°"; saveHash(); updateSlice(); });
     for (const r of document.querySelectorAll("input[name=lobe-mode]"))
-      r.addEventListener("change", () => { state.lobe = r.value; saveHash(); updateLobe(); });
+      r.addEventListener("change", () => { state.lobe = r.value; saveHash(); updateLobe(); drawLobe3d(); });
     $("spectral").addEventListener("change", (e) => { state.spectral = e.target.checked; syncControls(); schedule(); });
     $("wavelength").addEventListener("input", (e) => { state.wavelength = +e.target.value; $("wavelength-out").textContent = state.wavelength + " nm"; schedule(); });
     $("fresnel-eta").addEventListener("input", (e) => { const v = parseFloat(e.target.value); if (v > 0) { state.eta = v; saveHash(); updateFresnel(); } });

@@ -155,6 +155,60 @@ const plot = (() => {
     }
   }
 
+  // The lobe over the hemisphere as a wire mesh: radius ∝ value along each wo, rings of
+  // constant θo and spokes of constant φo, coloured by value; turned by yaw (about the
+  // normal) and pitch (towards the viewer), drawn in orthographic projection with the
+  // normal up. The light's direction (+θi in x–z) and its mirror image are drawn too.
+  function lobe3d(canvas, data, values, yaw, pitch) {
+    const ctx = begin(canvas);
+    const rings = data.count_theta, spokes = data.count_phi;
+    let max = 0;
+    for (const v of values) max = Math.max(max, v);
+    const cx = canvas.width / 2, cy = canvas.height * 0.68, s = Math.min(canvas.width, canvas.height) * 0.55;
+    const cy_ = Math.cos(yaw), sy = Math.sin(yaw), cp = Math.cos(pitch), sp = Math.sin(pitch);
+    const project = (x, y, z) => {
+      const x1 = cy_ * x - sy * y, y1 = sy * x + cy_ * y;  // about the normal
+      const y2 = cp * y1 - sp * z, z2 = sp * y1 + cp * z;  // tilt
+      return [cx + s * x1, cy - s * z2, y2];
+    };
+    const dir = (t, p) => [Math.sin(t) * Math.cos(p), Math.sin(t) * Math.sin(p), Math.cos(t)];
+    ctx.strokeStyle = GRID;
+    ctx.beginPath();
+    for (let k = 0; k <= 64; ++k) {
+      const [x, y] = project(Math.cos((k / 64) * 2 * Math.PI), Math.sin((k / 64) * 2 * Math.PI), 0);
+      k ? ctx.lineTo(x, y) : ctx.moveTo(x, y);
+    }
+    ctx.stroke();
+    const ti = (data.theta_i * Math.PI) / 180;
+    const arrow = (v, colour, label) => {
+      const [x0, y0] = project(0, 0, 0), [x1, y1] = project(v[0], v[1], v[2]);
+      ctx.strokeStyle = colour; ctx.fillStyle = colour;
+      ctx.beginPath(); ctx.moveTo(x0, y0); ctx.lineTo(x1, y1); ctx.stroke();
+      ctx.textAlign = "left";
+      ctx.fillText(label, x1 + 3, y1);
+    };
+    arrow([0, 0, 1.05], "#999", "n");
+    arrow([Math.sin(ti), 0, Math.cos(ti)], "#e69500", "light");
+    arrow([-Math.sin(ti), 0, Math.cos(ti)], "#7a3db8", "mirror");
+    ctx.fillStyle = INK; ctx.textAlign = "left";
+    if (!(max > 0)) { ctx.fillText("nothing finite to draw (a delta lobe)", 8, 16); return; }
+    ctx.fillText("largest: " + fmt(max), 8, 16);
+    const point = (r, p) => {
+      const v = values[r * spokes + (p % spokes)] / max;
+      const d = dir(((r / rings) * Math.PI) / 2, (p / spokes) * 2 * Math.PI);
+      return project(v * d[0], v * d[1], v * d[2]);
+    };
+    const segment = (a, b, value) => {
+      const c = colour(0.15 + 0.85 * value);
+      ctx.strokeStyle = `rgb(${c[0]},${c[1]},${c[2]})`;
+      ctx.beginPath(); ctx.moveTo(a[0], a[1]); ctx.lineTo(b[0], b[1]); ctx.stroke();
+    };
+    for (let r = 1; r <= rings; ++r)
+      for (let p = 0; p < spokes; ++p) segment(point(r, p), point(r, p + 1), values[r * spokes + p] / max);
+    for (let p = 0; p < spokes; p += 2)
+      for (let r = 0; r < rings; ++r) segment(point(r, p), point(r + 1, p), values[r * spokes + p] / max);
+  }
+
   // A sequential colour map for the log scale: dark blue → purple → orange → pale yellow.
   const STOPS = [[0, [13, 8, 60]], [0.3, [100, 30, 130]], [0.6, [220, 80, 70]], [0.85, [250, 170, 50]], [1, [252, 250, 190]]];
   function colour(t) {
@@ -289,5 +343,5 @@ const plot = (() => {
     }, "image/png");
   }
 
-  return { lines, lobe, slice, image, message, exportPNG, fmt, grey, CHANNEL_COLOURS };
+  return { lines, lobe, lobe3d, slice, image, message, exportPNG, fmt, grey, CHANNEL_COLOURS };
 })();
