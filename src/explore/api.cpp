@@ -310,7 +310,8 @@ std::string api_materials() {
                     {"types", types},
                     {"metals", metals},
                     {"glasses", glasses},
-                    {"wavelength", {{"min", double(kLambdaMin)}, {"max", double(kLambdaMax)}}}};
+                    {"wavelength", {{"min", double(kLambdaMin)}, {"max", double(kLambdaMax)}}},
+                    {"fit_models", json::parse(api_fit_models())}};
   return out.dump();
 }
 

@@ -55,6 +55,11 @@ std::string api_check(const std::string& body, const ApiContext& ctx);        //
 // light and a uniform environment: one pass of `spp` samples per pixel with `seed`, linear
 // RGB (the page averages passes and tone-maps).
 std::string api_sphere(const std::string& body, const ApiContext& ctx);       // /api/sphere
+// `gonio fit` of a MERL table in --data: {"file", "model", "distribution", "metric",
+// "stride"} -> {"material", "measured", "error", "metric", "evaluations", "seconds"}.
+std::string api_fit(const std::string& body, const ApiContext& ctx);          // /api/fit
+// The models api_fit takes, a JSON array (empty without Ceres).
+std::string api_fit_models();
 
 // Request bounds (a larger request is a 400): the server stays responsive for everyone.
 inline constexpr int kMaxLobeCount = 2001;

@@ -225,7 +225,7 @@ struct Server::Impl {
         {"/api/validate", &api_validate}, {"/api/eval", &api_eval},     {"/api/lobe", &api_lobe},
         {"/api/slice", &api_slice},       {"/api/slice_point", &api_slice_point},
         {"/api/albedo", &api_albedo},     {"/api/fresnel", &api_fresnel}, {"/api/check", &api_check},
-        {"/api/sphere", &api_sphere},     {"/api/lobe3d", &api_lobe3d},
+        {"/api/sphere", &api_sphere},     {"/api/lobe3d", &api_lobe3d}, {"/api/fit", &api_fit},
     };
     for (const auto& [path, fn] : posts) {
       http.Post(path, [this, fn = fn](const httplib::Request& req, httplib::Response& res) {

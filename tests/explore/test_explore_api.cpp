@@ -426,6 +426,33 @@ TEST_F(ExploreApi, FilesOnlyFromData) {
   EXPECT_EQ(json::parse(list->body)["files"], json::array({"short.binary"}));  // not the symlink
 }
 
+// gonio fit from the page: a table tabulated from a known rough gold (gonio tabulate)
+// gives back its roughness.
+TEST_F(ExploreApi, FitRecoversTheModelOfATabulatedTable) {
+  const std::string table = (data_dir() / "gold.binary").string();
+  const auto tab = run_gonio({"tabulate", "--bsdf", R"({"type":"roughconductor","alpha":0.15,"material":"Au"})",
+                              "-o", table});
+  ASSERT_EQ(tab.status, 0) << tab.err;
+  const auto [status, d] = post("/api/fit", {{"file", "gold.binary"}, {"model", "roughconductor"}, {"stride", 6}});
+  ASSERT_EQ(status, 200) << d;
+  EXPECT_NEAR(d["material"]["alpha"].get<double>(), 0.15, 0.0015) << d;
+  EXPECT_EQ(d["measured"], json({{"type", "measured"}, {"file", "gold.binary"}}));
+  // The fitted material is valid input to every view.
+  EXPECT_EQ(post("/api/validate", {{"bsdf", d["material"]}}).first, 200);
+  // The measured one too, read once and kept: the second slice is much faster.
+  const json measured = {{"bsdf", d["measured"]}, {"size", 32}};
+  EXPECT_EQ(post("/api/slice", measured).first, 200);
+  const auto start = std::chrono::steady_clock::now();
+  EXPECT_EQ(post("/api/slice", measured).first, 200);
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 0.05);
+  // Files outside --data and unknown models are refused.
+  EXPECT_EQ(post("/api/fit", {{"file", "../gold.binary"}, {"model", "roughconductor"}}).first, 400);
+  const auto [s2, e] = post("/api/fit", {{"file", "gold.binary"}, {"model", "nosuch"}});
+  EXPECT_EQ(s2, 400);
+  EXPECT_NE(e["error"].get<std::string>().find("nosuch"), std::string::npos) << e;
+  std::filesystem::remove(table);
+}
+
 TEST_F(ExploreApi, RefusesOtherHostsAndOrigins) {
   auto c = client();
   const auto get = [&](const httplib::Headers& h) {

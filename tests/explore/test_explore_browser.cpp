@@ -14,6 +14,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <memory>
 #include <regex>
 #include <string>
@@ -74,6 +75,10 @@ class ExploreBrowser : public ::testing::Test {
     profile_ = fs::temp_directory_path() / ("gonio_explore_chromium_" + std::to_string(::getpid()));
     gonio::explore::ServerOptions o;
     o.port = 0;
+    // A --data with a (dummy) table: the page then offers gonio fit.
+    fs::create_directories(profile_ / "data");
+    std::ofstream(profile_ / "data" / "table.binary") << "x";
+    o.data_dir = (profile_ / "data").string();
     server_ = std::make_unique<gonio::explore::Server>(o);
     server_->bind();
     thread_ = std::thread([this] { server_->run(); });
@@ -135,6 +140,9 @@ TEST_F(ExploreBrowser, EveryViewIsDrawnWithoutAnError) {
         << "the page met errors: " << d.substr(d.find("<pre id=\"errors\""), 400);
     for (const char* view : {"lobe", "lobe3d", "slice", "albedo", "fresnel", "sphere"}) EXPECT_GE(drawn(d, view), 1) << view;
     EXPECT_NE(d.find("valid: " + material["type"].get<std::string>()), std::string::npos);
+    // The fit panel lists the table of --data and the models gonio fit takes.
+    EXPECT_NE(d.find("<option value=\"table.binary\">"), std::string::npos);
+    EXPECT_NE(d.find("<div id=\"fit-panel\">"), std::string::npos) << "fit panel hidden";
     // The editor was generated from the registry: a row per parameter of the type.
     EXPECT_NE(d.find("<select"), std::string::npos);
   }

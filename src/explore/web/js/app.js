@@ -342,6 +342,26 @@ function reportError(text) {
     }
   }
 
+  // gonio fit from the page: the table becomes A, the fitted model B, compared.
+  async function runFit() {
+    const out = $("fit-result");
+    out.textContent = "fitting (gonio fit)…";
+    $("fit").disabled = true;
+    try {
+      const d = await api.post("/api/fit", { file: $("fit-file").value, model: $("fit-model").value }, "fit");
+      state.material = d.measured;
+      state.material_b = d.material;
+      state.compare = true;
+      buildEditor();
+      onMaterialEdited();
+      out.textContent = `error ${plot.fmt(d.error)} (${d.metric}) in ${d.seconds.toFixed(2)} s: ` + JSON.stringify(d.material);
+    } catch (e) {
+      if (!api.isAbort(e)) out.textContent = e.message;
+    } finally {
+      $("fit").disabled = false;
+    }
+  }
+
   async function onJsonEdited() {
     const text = $("json").value;
     try {
@@ -375,6 +395,7 @@ function reportError(text) {
     });
     $("environment").addEventListener("input", (e) => { state.environment = +e.target.value; saveHash(); updateSphere(); });
     $("check").addEventListener("click", runCheck);
+    $("fit").addEventListener("click", runFit);
     $("compare").addEventListener("change", (e) => {
       state.compare = e.target.checked;
       if (state.compare && !state.material_b) state.material_b = JSON.parse(JSON.stringify(state.material));
@@ -405,6 +426,16 @@ function reportError(text) {
       $("wavelength").max = registry.wavelength.max;
       const data = await api.get("/api/data");
       editor.setDataFiles(data.files);
+      const tables = data.files.filter((f) => f.endsWith(".binary"));
+      if (tables.length && registry.fit_models.length) {
+        for (const [id, names] of [["fit-file", tables], ["fit-model", registry.fit_models]])
+          for (const n of names) {
+            const o = document.createElement("option");
+            o.value = o.textContent = n;
+            $(id).append(o);
+          }
+        $("fit-panel").hidden = false;
+      }
     } catch (e) {
       status("cannot reach the server: " + e.message, "error");
       return;
