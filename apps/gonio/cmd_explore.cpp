@@ -34,9 +34,17 @@ struct ExploreArgs {
 // --open: the desktop's browser, through xdg-open; a machine without one only warns.
 void open_browser(const std::string& url) {
   const char* argv[] = {"xdg-open", url.c_str(), nullptr};
+  // The browser must not inherit the blocked SIGINT and SIGTERM of this process.
+  posix_spawnattr_t attr;
+  posix_spawnattr_init(&attr);
+  sigset_t none;
+  sigemptyset(&none);
+  posix_spawnattr_setsigmask(&attr, &none);
+  posix_spawnattr_setflags(&attr, POSIX_SPAWN_SETSIGMASK);
   pid_t pid = 0;
-  if (posix_spawnp(&pid, "xdg-open", nullptr, nullptr, const_cast<char* const*>(argv), environ) != 0)
+  if (posix_spawnp(&pid, "xdg-open", nullptr, &attr, const_cast<char* const*>(argv), environ) != 0)
     std::cerr << "gonio: --open: could not start xdg-open; open " << url << " in a browser\n";
+  posix_spawnattr_destroy(&attr);
 }
 
 void run_explore(const ExploreArgs& a) {
