@@ -10,6 +10,8 @@ packages=(
   libceres-dev              # gonio fit (GONIO_BUILD_FIT)
   libembree-dev libtbb-dev libopenexr-dev libpng-dev libtinyobjloader-dev
   libfftw3-dev              # gonio measure: Gaussian random height fields
+  libcpp-httplib-dev        # gonio explore: the HTTP server of the explorer (GONIO_BUILD_EXPLORE)
+  chromium                  # gonio explore's browser tests (headless; tests/explore)
   clang libclang-rt-14-dev  # libFuzzer and the sanitizer runtimes of the fuzz pass
   binutils                  # strings: the consumer test checks the installed files for build paths
   dpkg-dev file             # cpack -G DEB: dpkg-shlibdeps computes Depends, file finds the ELF files

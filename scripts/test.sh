@@ -53,11 +53,13 @@ cmake --build build-sanitize -j"$jobs" --target gonio_tests gonio_fuzz
 # code paths run under the sanitizers in-process (the validator sweep, the model tests,
 # the parser and fuzz targets) and through the CLI's other tests. Also left to the Release
 # pass: the validator sweep's multiple-scattering rough dielectrics and conductors (2 of
-# the pass's 9 CPU-minutes); their code runs here in the Multiscatter tests.
+# the pass's 9 CPU-minutes); their code runs here in the Multiscatter tests. And the
+# explorer's browser tests (ExploreBrowser: headless Chromium, 4 launches of ~3 s), whose
+# server code the API tests run here under the sanitizers.
 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 \
 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
 GONIO_TEST_SCALE=0.1 \
-  ctest --test-dir build-sanitize --output-on-failure -j"$jobs" -E '^(CliFresnel\.|AllMaterials/CliFinite|check\.|CliBsdfErrors\.|CliInputLimits\.|CliFiniteMaterials\.|Sweep/ValidateBuiltIn\.EveryPropertyHolds/.*multiscatter)'
+  ctest --test-dir build-sanitize --output-on-failure -j"$jobs" -E '^(CliFresnel\.|AllMaterials/CliFinite|check\.|CliBsdfErrors\.|CliInputLimits\.|CliFiniteMaterials\.|ExploreBrowser\.|Sweep/ValidateBuiltIn\.EveryPropertyHolds/.*multiscatter)'
 
 echo "== libFuzzer targets ==" >&2
 fuzz_seconds="${GONIO_FUZZ_SECONDS:-10}"
@@ -65,7 +67,7 @@ fuzz_seconds="${GONIO_FUZZ_SECONDS:-10}"
 # fuzz_seconds (libFuzzer's -max_total_time is wall time).
 fuzz_one() {
   local t="$1" dict=()
-  case "$t" in material | scene | surface) dict=(-dict=fuzz/json.dict) ;; esac
+  case "$t" in material | scene | surface | explore) dict=(-dict=fuzz/json.dict) ;; esac
   # The grown corpus stays in build-sanitize; the repository's seeds are only read.
   mkdir -p "build-sanitize/corpus/$t" "build-sanitize/artifacts/$t"
   build-sanitize/bin/fuzz_"$t" "${dict[@]}" -max_total_time="$fuzz_seconds" -print_final_stats=1 \
@@ -73,6 +75,7 @@ fuzz_one() {
     >"build-sanitize/fuzz_$t.log" 2>&1
 }
 targets=(material merl scene obj png exr surface)
+[ -x build-sanitize/bin/fuzz_explore ] && targets+=(explore)  # built with cpp-httplib (gonio explore)
 for ((i = 0; i < ${#targets[@]}; i += jobs)); do
   batch=("${targets[@]:i:jobs}")
   pids=()

@@ -20,6 +20,7 @@ void register_materials(CLI::App& app);
 void register_tabulate(CLI::App& app);
 void register_subsurface(CLI::App& app);
 void register_fit(CLI::App& app);  // when built with GONIO_BUILD_FIT
+void register_explore(CLI::App& app);  // when built with cpp-httplib (GONIO_BUILD_EXPLORE)
 
 // Exit status of a run that completed without an error (1 when a check failed).
 int& exit_status();

@@ -53,6 +53,9 @@ int main(int argc, char** argv) {
 #ifdef GONIO_HAVE_FIT
   gonio::cli::register_fit(app);
 #endif
+#ifdef GONIO_HAVE_EXPLORE
+  gonio::cli::register_explore(app);
+#endif
   // CLI11 reports an unknown first word only as "a subcommand is required"; name it.
   if (argc > 1 && argv[1][0] != '-') {
     const std::string word = argv[1];
@@ -68,6 +71,10 @@ int main(int argc, char** argv) {
 #ifndef GONIO_HAVE_RENDERER
     if (word == "render" || word == "slice" || word == "measure")
       return fail(2, word + ": this gonio was built without the renderer (GONIO_BUILD_RENDERER=OFF)");
+#endif
+#ifndef GONIO_HAVE_EXPLORE
+    if (word == "explore")
+      return fail(2, "explore: this gonio was built without cpp-httplib (libcpp-httplib-dev) or the renderer");
 #endif
     if (!known) return fail(2, "unknown subcommand '" + word + "' (known: " + names + ")");
   }

@@ -9,6 +9,8 @@
 #include <cstdio>
 #include <limits>
 #include <string>
+#include <tuple>
+#include <utility>
 
 #include "gonio/error.h"
 #include "gonio/merl.h"
@@ -19,30 +21,9 @@ namespace gonio::render {
 namespace {
 
 constexpr double kDeg = kPiD / 180;
-constexpr double kBelowHorizon = -1;  // marks a pixel of the value grid
+constexpr double kBelowHorizon = kSliceBelowHorizon;
 
 Color code(const double (&c)[3]) { return from_srgb(c[0], c[1], c[2]); }
-
-// Luminance of f at every pixel of a panel, row 0 at the top (θd = 90°); kBelowHorizon
-// where wo or wi is not above the surface.
-std::vector<double> evaluate(const BxDF& bxdf, const SliceOptions& o) {
-  const int n = o.size;
-  std::vector<double> y(size_t(n) * size_t(n));
-  for (int py = 0; py < n; ++py) {
-    const double theta_d = (1 - (py + 0.5) / n) * (kPiD / 2);
-    for (int px = 0; px < n; ++px) {
-      const double theta_h = slice_theta_h((px + 0.5) / n, o.theta_h_axis);
-      const auto [wo, wi] = merl_directions(theta_h, theta_d, o.phi_d);
-      double v = kBelowHorizon;
-      if (wo.z > 0 && wi.z > 0) {
-        v = luminance(bxdf.f(wo, wi));
-        if (!(v >= 0) || !std::isfinite(v)) v = 0;  // a model's NaN is not shown as a value
-      }
-      y[size_t(py) * size_t(n) + size_t(px)] = v;
-    }
-  }
-  return y;
-}
 
 // Position of value y on the log scale [lo, hi], clamped to [0, 1]; 0 for y = 0.
 double log_position(double y, double lo, double hi) {
@@ -167,6 +148,45 @@ double slice_theta_h(double u, ThetaHAxis axis) {
   return (axis == ThetaHAxis::Sqrt ? u * u : u) * (kPiD / 2);
 }
 
+std::vector<double> slice_values(const BxDF& bxdf, const SliceOptions& o) {
+  const int n = o.size;
+  std::vector<double> y(size_t(n) * size_t(n));
+  for (int py = 0; py < n; ++py) {
+    const double theta_d = (1 - (py + 0.5) / n) * (kPiD / 2);
+    for (int px = 0; px < n; ++px) {
+      const double theta_h = slice_theta_h((px + 0.5) / n, o.theta_h_axis);
+      const auto [wo, wi] = merl_directions(theta_h, theta_d, o.phi_d);
+      double v = kSliceBelowHorizon;
+      if (wo.z > 0 && wi.z > 0) {
+        v = luminance(bxdf.f(wo, wi));
+        if (!(v >= 0) || !std::isfinite(v)) v = 0;  // a model's NaN is not shown as a value
+      }
+      y[size_t(py) * size_t(n) + size_t(px)] = v;
+    }
+  }
+  return y;
+}
+
+std::pair<double, double> slice_auto_scale(const std::vector<std::vector<double>>& values) {
+  // Percentiles, not the extremes: a microfacet model's f grows like 1 / cos θ in the
+  // top row (θd → 90°) and would otherwise push the whole slice into the bottom colours.
+  std::vector<double> positive;
+  for (const auto& v : values)
+    for (const double y : v)
+      if (y > 0) positive.push_back(y);
+  if (positive.empty())
+    throw InputError("slice: f is 0 at every pixel (a specular material has no finite f to show)");
+  const auto at = [&](double q) {
+    auto it = positive.begin() + std::ptrdiff_t(q * double(positive.size() - 1));
+    std::nth_element(positive.begin(), it, positive.end());
+    return *it;
+  };
+  const double high = at(kHighPercentile), low = at(kLowPercentile);
+  const int top = int(std::ceil(std::log10(high) - 1e-9));
+  const int bottom = std::clamp(int(std::floor(std::log10(low) + 1e-9)), top - kMaxDecades, top - 1);
+  return {std::pow(10.0, bottom), std::pow(10.0, top)};
+}
+
 SliceFigure make_slice(const BxDF& a, const BxDF* b, const SliceOptions& o) {
   if (o.size < kMinSliceSize || o.size > kMaxSliceSize)
     throw InputError("slice: panel size " + std::to_string(o.size) + " is outside " + std::to_string(kMinSliceSize) +
@@ -180,29 +200,13 @@ SliceFigure make_slice(const BxDF& a, const BxDF* b, const SliceOptions& o) {
   if (!(o.diff_range >= 0 && std::isfinite(o.diff_range)))
     throw InputError("slice: difference range " + format_number(o.diff_range) + " must be > 0");
 
-  std::vector<std::vector<double>> values = {evaluate(a, o)};
-  if (b) values.push_back(evaluate(*b, o));
+  std::vector<std::vector<double>> values = {slice_values(a, o)};
+  if (b) values.push_back(slice_values(*b, o));
 
   // The shared log scale.
   double lo = o.lo, hi = o.hi;
   if (auto_range) {
-    // Percentiles, not the extremes: a microfacet model's f grows like 1 / cos θ in the
-    // top row (θd → 90°) and would otherwise push the whole slice into the bottom colours.
-    std::vector<double> positive;
-    for (const auto& v : values)
-      for (const double y : v)
-        if (y > 0) positive.push_back(y);
-    if (positive.empty())
-      throw InputError("slice: f is 0 at every pixel (a specular material has no finite f to show)");
-    const auto at = [&](double q) {
-      auto it = positive.begin() + std::ptrdiff_t(q * double(positive.size() - 1));
-      std::nth_element(positive.begin(), it, positive.end());
-      return *it;
-    };
-    const double high = at(kHighPercentile), low = at(kLowPercentile);
-    const int top = int(std::ceil(std::log10(high) - 1e-9));
-    const int bottom = std::clamp(int(std::floor(std::log10(low) + 1e-9)), top - kMaxDecades, top - 1);
-    lo = std::pow(10.0, bottom), hi = std::pow(10.0, top);
+    std::tie(lo, hi) = slice_auto_scale(values);
   }
 
   // The relative difference (f_b − f_a) / f_a per pixel; +∞ where only f_b is non-zero.

@@ -13,6 +13,7 @@
 // bottom to 90° at the top.
 
 #include <optional>
+#include <utility>
 #include <vector>
 
 #include "gonio/bxdf.h"
@@ -65,6 +66,16 @@ inline constexpr double kSliceInk[3] = {0, 0, 0};  // text, ticks, frames
 
 // θh in radians at horizontal position u in [0, 1] of a panel (0 left, 1 right).
 double slice_theta_h(double u, ThetaHAxis axis);
+
+// The values a panel shows, before any colour: the luminance of f (1/sr) at each pixel
+// centre, size × size, row 0 at the top (θd = 90°), kSliceBelowHorizon where wo or wi is
+// not above the surface. make_slice draws these; `gonio explore` serves them. The options'
+// size and phi_d must be in range (make_slice checks them).
+inline constexpr double kSliceBelowHorizon = -1;
+std::vector<double> slice_values(const BxDF& bxdf, const SliceOptions& options);
+// make_slice's automatic log scale [lo, hi] for these panels' values: whole decades around
+// their 1st to 99th percentile. Throws InputError when no value is > 0.
+std::pair<double, double> slice_auto_scale(const std::vector<std::vector<double>>& values);
 
 // The figure of `a` (and, when `b` is not null, of `b` and their difference). Throws
 // InputError when the options are out of range, or when f is 0 at every pixel and the

@@ -1,0 +1,48 @@
+#pragma once
+// The explorer's HTTP server (`gonio explore`, SPEC §3): the page's embedded files and the
+// JSON API of api.h over cpp-httplib, refusing requests whose Host or Origin names another
+// machine (DNS rebinding, cross-origin pages). httplib stays out of this header, so that the
+// CLI compiles without it.
+
+#include <memory>
+#include <string>
+
+namespace gonio::explore {
+
+struct ServerOptions {
+  std::string host = "127.0.0.1";
+  int port = 8080;        // 0: any free port (the URL names the one chosen)
+  std::string data_dir;   // --data, as given; empty: none
+  int threads = 64;       // connections served at once (a browser keeps up to 6 open)
+};
+
+class Server {
+ public:
+  explicit Server(ServerOptions options);
+  ~Server();
+  Server(const Server&) = delete;
+  Server& operator=(const Server&) = delete;
+
+  // Checks the options and binds the socket: throws InputError naming the option (no such
+  // directory for --data, a host that is no address of this machine, a port in use).
+  void bind();
+  // http://HOST:PORT/ once bound (an IPv6 host in brackets).
+  std::string url() const;
+  int port() const;
+  // Serves until stop(); returns false when listening failed.
+  bool run();
+  // From any thread, at any time (before run() too): run() returns soon after.
+  void stop();
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+// Whether `name` (a Host header, or the authority of an Origin, without its port) is one of
+// the server's own names: 127.0.0.1, [::1], localhost, or the --host value `host`.
+bool is_own_name(const std::string& name, const std::string& host);
+// The name part of a Host header value ("localhost:8080" -> "localhost", "[::1]:80" -> "[::1]").
+std::string host_name_of(const std::string& host_header);
+
+}  // namespace gonio::explore

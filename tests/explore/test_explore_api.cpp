@@ -1,0 +1,634 @@
+// gonio explore's JSON API over HTTP (issue 36, SPEC §3): a server on a free port in this
+// process, asked as the page asks it, its answers checked against closed forms written
+// here (Lambert's ρ/π, Fresnel at normal incidence, Brewster's and the critical angle),
+// against the CLI run on the same input (the error messages, /api/eval's numbers), and for
+// the safety rules (Host, Origin, files outside --data, the page fetching nothing).
+
+#include <arpa/inet.h>
+#include <netinet/in.h>
+#include <poll.h>
+#include <sys/socket.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <chrono>
+#include <tuple>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <regex>
+#include <string>
+#include <thread>
+
+#include <gtest/gtest.h>
+#include <httplib.h>
+#include <nlohmann/json.hpp>
+
+#include "../cli/run_gonio.h"
+#include "explore/api.h"
+#include "explore/server.h"
+#include "explore/web_files.h"
+
+namespace {
+
+using nlohmann::json;
+using gonio_cli_test::run_gonio;
+namespace fs = std::filesystem;
+
+constexpr double kPi = 3.14159265358979323846;
+
+// One server for the suite, with a --data directory the file tests fill.
+class ExploreApi : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    data_dir() = fs::temp_directory_path() / ("gonio_explore_test_" + std::to_string(::getpid()));
+    fs::create_directories(data_dir());
+    gonio::explore::ServerOptions o;
+    o.port = 0;
+    o.data_dir = data_dir().string();
+    server() = std::make_unique<gonio::explore::Server>(o);
+    server()->bind();
+    thread() = std::thread([] { server()->run(); });
+  }
+  static void TearDownTestSuite() {
+    server()->stop();
+    thread().join();
+    server().reset();
+    fs::remove_all(data_dir());
+  }
+  static std::unique_ptr<gonio::explore::Server>& server() {
+    static std::unique_ptr<gonio::explore::Server> s;
+    return s;
+  }
+  static std::thread& thread() {
+    static std::thread t;
+    return t;
+  }
+  static fs::path& data_dir() {
+    static fs::path p;
+    return p;
+  }
+
+  static httplib::Client client() {
+    httplib::Client c("127.0.0.1", server()->port());
+    c.set_read_timeout(60);
+    return c;
+  }
+  // POST path with `body`; the status and the parsed answer.
+  static std::pair<int, json> post(const std::string& path, const json& body) {
+    auto c = client();
+    const auto res = c.Post(path.c_str(), body.dump(), "application/json");
+    if (!res) return {-1, json()};
+    return {res->status, json::parse(res->body, nullptr, false)};
+  }
+};
+
+const json kLambert = {{"type", "diffuse"}, {"reflectance", {0.2, 0.5, 0.8}}};
+
+TEST_F(ExploreApi, LobeOfLambertIsRhoOverPiAtEveryAngle) {
+  const auto [status, d] = post("/api/lobe", {{"bsdf", kLambert}, {"theta_i", 40}, {"count", 37}});
+  ASSERT_EQ(status, 200) << d;
+  ASSERT_EQ(d["theta_o"].size(), 37u);
+  EXPECT_DOUBLE_EQ(d["mirror"].get<double>(), -40);
+  const double rho[3] = {0.2, 0.5, 0.8};
+  for (size_t i = 0; i < 37; ++i) {
+    const double theta_o = -90 + 5.0 * double(i);
+    EXPECT_NEAR(d["theta_o"][i].get<double>(), theta_o, 1e-12);
+    for (int c = 0; c < 3; ++c) {
+      EXPECT_NEAR(d["f"][i][c].get<double>(), rho[c] / kPi, 1e-6) << i;
+      EXPECT_NEAR(d["f_cos"][i][c].get<double>(), rho[c] / kPi * std::cos(theta_o * kPi / 180), 1e-6) << i;
+    }
+  }
+}
+
+TEST_F(ExploreApi, Lobe3dCoversTheHemisphere) {
+  const auto [status, d] = post("/api/lobe3d", {{"bsdf", kLambert}, {"theta_i", 30}, {"count_theta", 6},
+                                                {"count_phi", 8}});
+  ASSERT_EQ(status, 200) << d;
+  ASSERT_EQ(d["f"].size(), 7u * 8u);
+  // Luminance of ρ/π (Rec. 709 weights), times cos θo for f_cos.
+  const double y = (0.2126 * 0.2 + 0.7152 * 0.5 + 0.0722 * 0.8) / kPi;
+  for (int r = 0; r <= 6; ++r)
+    for (int p = 0; p < 8; ++p) {
+      const size_t i = size_t(r * 8 + p);
+      EXPECT_NEAR(d["f"][i].get<double>(), y, 1e-6);
+      EXPECT_NEAR(d["f_cos"][i].get<double>(), y * std::cos(15.0 * r * kPi / 180), 1e-6);
+    }
+  // A glossy lobe peaks towards the mirror direction: φo = 180°, θo near θi.
+  const auto [s2, g] = post("/api/lobe3d", {{"bsdf", {{"type", "roughconductor"}, {"alpha", 0.1}, {"material", "Au"}}},
+                                            {"theta_i", 30}, {"count_theta", 24}, {"count_phi", 48}});
+  ASSERT_EQ(s2, 200);
+  size_t best = 0;
+  for (size_t i = 0; i < g["f"].size(); ++i)
+    if (g["f"][i].get<double>() > g["f"][best].get<double>()) best = i;
+  EXPECT_EQ(best % 48, 24u);                // φo = 180°
+  EXPECT_NEAR(double(best / 48), 8, 1);     // θo = 8 × 3.75° = 30°
+}
+
+TEST_F(ExploreApi, SpectralLobeOfAFlatSpectrumIsItsValueOverPi) {
+  const json flat = {{"type", "diffuse"}, {"reflectance", {{"spectrum", {{360, 0.3}, {830, 0.3}}}}}};
+  const auto [status, d] = post("/api/lobe", {{"bsdf", flat}, {"theta_i", 10}, {"count", 5}, {"wavelength", 600}});
+  ASSERT_EQ(status, 200) << d;
+  EXPECT_EQ(d["channels"], 1);
+  for (const auto& f : d["f"]) {
+    ASSERT_EQ(f.size(), 1u);
+    EXPECT_NEAR(f[0].get<double>(), 0.3 / kPi, 1e-6);
+  }
+  const auto [bad, e] = post("/api/lobe", {{"bsdf", flat}, {"wavelength", 200}});
+  EXPECT_EQ(bad, 400);
+  EXPECT_NE(e["error"].get<std::string>().find("wavelength must be a number of nanometres in [360, 830]"),
+            std::string::npos)
+      << e;
+}
+
+TEST_F(ExploreApi, FresnelOfADielectricAtNormalIncidenceBrewsterAndCritical) {
+  for (const double eta : {1.33, 1.5, 2.4}) {
+    const auto [status, d] = post("/api/fresnel", {{"bsdf", {{"type", "dielectric"}, {"eta", eta}}}, {"count", 91}});
+    ASSERT_EQ(status, 200) << d;
+    const json& out = d["channels"][0]["outside"];
+    const json& in = d["channels"][0]["inside"];
+    const double r0 = std::pow((eta - 1) / (eta + 1), 2);  // Hecht, Optics, eq. 4.47
+    EXPECT_NEAR(out["R"][0].get<double>(), r0, 1e-12);
+    EXPECT_NEAR(out["Rs"][0].get<double>(), r0, 1e-12);
+    EXPECT_NEAR(in["R"][0].get<double>(), r0, 1e-12);  // the same from inside
+    EXPECT_NEAR(out["brewster"].get<double>(), std::atan(eta) * 180 / kPi, 1e-9);
+    EXPECT_NEAR(in["brewster"].get<double>(), std::atan(1 / eta) * 180 / kPi, 1e-9);
+    EXPECT_TRUE(out["critical"].is_null());
+    EXPECT_NEAR(in["critical"].get<double>(), std::asin(1 / eta) * 180 / kPi, 1e-9);
+    // Total reflection from inside past the critical angle, full reflection at grazing.
+    EXPECT_NEAR(in["R"][90].get<double>(), 1, 1e-12);
+    EXPECT_NEAR(out["R"][90].get<double>(), 1, 1e-9);
+  }
+}
+
+TEST_F(ExploreApi, FresnelOfAConductorAtNormalIncidence) {
+  const double n = 0.2, k = 3.0;
+  const auto [status, d] = post("/api/fresnel", {{"eta", n}, {"k", k}, {"count", 10}});
+  ASSERT_EQ(status, 200) << d;
+  const double r0 = ((n - 1) * (n - 1) + k * k) / ((n + 1) * (n + 1) + k * k);  // Born & Wolf §14.2
+  EXPECT_NEAR(d["channels"][0]["outside"]["R"][0].get<double>(), r0, 1e-12);
+  EXPECT_TRUE(d["channels"][0]["inside"].is_null());
+  EXPECT_TRUE(d["channels"][0]["outside"]["pseudo_brewster"].get<bool>());
+  // A material with no interface says so (the page then takes an index).
+  const auto [s2, none] = post("/api/fresnel", {{"bsdf", kLambert}});
+  ASSERT_EQ(s2, 200);
+  EXPECT_TRUE(none["interface"].is_null());
+  // A layered material's interface is its top's.
+  const json layered = {{"type", "layered"},
+                        {"top", {{"type", "dielectric"}, {"eta", 1.6}}},
+                        {"bottom", {{"type", "diffuse"}}}};
+  const auto [s3, top] = post("/api/fresnel", {{"bsdf", layered}, {"count", 2}});
+  ASSERT_EQ(s3, 200) << top;
+  EXPECT_NEAR(top["channels"][0]["outside"]["R"][0].get<double>(), std::pow(0.6 / 2.6, 2), 1e-12);
+}
+
+TEST_F(ExploreApi, AlbedoOfLambertAndOfASmoothDielectric) {
+  const auto [status, d] = post("/api/albedo", {{"bsdf", kLambert}, {"count", 4}});
+  ASSERT_EQ(status, 200) << d;
+  for (size_t i = 0; i < 4; ++i) {
+    EXPECT_NEAR(d["reflectance"][i][1].get<double>(), 0.5, 1e-6);
+    EXPECT_NEAR(d["transmittance"][i][1].get<double>(), 0, 1e-12);
+  }
+  const auto [s2, g] = post("/api/albedo", {{"bsdf", {{"type", "dielectric"}, {"eta", 1.5}}}, {"count", 2}});
+  ASSERT_EQ(s2, 200) << g;
+  EXPECT_NEAR(g["reflectance"][0][0].get<double>(), 0.04, 1e-6);
+  EXPECT_NEAR(g["transmittance"][0][0].get<double>(), 0.96, 1e-6);
+}
+
+TEST_F(ExploreApi, SliceOfLambertIsFlatAndTheCursorReadsRhoOverPi) {
+  const auto [status, d] = post("/api/slice", {{"bsdf", {{"type", "diffuse"}, {"reflectance", 0.5}}}, {"size", 32},
+                                               {"phi_d", 0}});
+  ASSERT_EQ(status, 200) << d;
+  ASSERT_EQ(d["values"].size(), 32u * 32u);
+  int below = 0;
+  for (const auto& v : d["values"]) {
+    if (v.get<double>() == -1) {
+      ++below;
+      continue;
+    }
+    EXPECT_NEAR(v.get<double>(), 0.5 / kPi, 1e-6);
+  }
+  // At φd = 0, wi dips below the horizon where θh + θd > 90° (wi.z = cos(θh + θd)): the
+  // 496 pixel centres above the anti-diagonal, plus those of the 32 on it (θh + θd = 90°
+  // exactly) whose wi.z rounds to 0 or below.
+  EXPECT_GE(below, 496);
+  EXPECT_LE(below, 496 + 32);
+  // At φd = 90°, wi.z = cos θh cos θd (Rusinkiewicz 1998): never below.
+  const auto [s90, d90] = post("/api/slice", {{"bsdf", kLambert}, {"size", 32}, {"phi_d", 90}});
+  ASSERT_EQ(s90, 200);
+  for (const auto& v : d90["values"]) EXPECT_GT(v.get<double>(), 0);
+  const auto [s2, p] = post("/api/slice_point", {{"bsdf", kLambert}, {"theta_h", 10}, {"theta_d", 20}, {"phi_d", 90}});
+  ASSERT_EQ(s2, 200) << p;
+  EXPECT_TRUE(p["above"].get<bool>());
+  EXPECT_NEAR(p["f"][2].get<double>(), 0.8 / kPi, 1e-6);
+  // θh = 10° is the angle between the normal and the half vector of wo and wi.
+  double h[3];
+  for (int i = 0; i < 3; ++i) h[i] = p["wo"][i].get<double>() + p["wi"][i].get<double>();
+  EXPECT_NEAR(std::acos(h[2] / std::sqrt(h[0] * h[0] + h[1] * h[1] + h[2] * h[2])) * 180 / kPi, 10, 1e-4);
+}
+
+// The float32 RGB pixels of an /api/sphere answer.
+std::vector<float> sphere_pixels(const json& d) {
+  const std::string b64 = d["pixels"];
+  std::string bytes;
+  int bits = 0;
+  std::uint32_t acc = 0;
+  for (const char c : b64) {
+    const char* k = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    const char* at = std::strchr(k, c);
+    if (c == '=' || !at) break;
+    acc = acc << 6 | std::uint32_t(at - k);
+    bits += 6;
+    if (bits >= 8) {
+      bits -= 8;
+      bytes += char((acc >> bits) & 0xff);
+    }
+  }
+  std::vector<float> px(bytes.size() / sizeof(float));
+  std::memcpy(px.data(), bytes.data(), px.size() * sizeof(float));
+  return px;
+}
+
+TEST_F(ExploreApi, SliceComparesTwoMaterialsOnOneScale) {
+  const json a = {{"type", "diffuse"}, {"reflectance", 0.2}}, b = {{"type", "diffuse"}, {"reflectance", 0.8}};
+  const auto [status, d] = post("/api/slice", {{"bsdf", a}, {"compare", b}, {"size", 16}});
+  ASSERT_EQ(status, 200) << d;
+  ASSERT_EQ(d["values_compare"].size(), 256u);
+  for (size_t i = 0; i < 256; ++i) {
+    EXPECT_NEAR(d["values"][i].get<double>(), 0.2 / kPi, 1e-6);
+    EXPECT_NEAR(d["values_compare"][i].get<double>(), 0.8 / kPi, 1e-6);
+  }
+  // One scale for both: whole decades around 0.2/π = 0.064 and 0.8/π = 0.25.
+  EXPECT_DOUBLE_EQ(d["lo"].get<double>(), 0.01);
+  EXPECT_DOUBLE_EQ(d["hi"].get<double>(), 1);
+  // A bad second material: the message of gonio slice --compare.
+  const std::string bad = R"({"type":"roughconductor","alpha":-0.1,"material":"Au"})";
+  const std::string png = (data_dir() / "compare.png").string();
+  const auto cli = run_gonio({"slice", "--bsdf", a.dump(), "--compare", bad, "-o", png});
+  ASSERT_EQ(cli.status, 2) << cli.err;
+  const auto [s2, e] = post("/api/slice", {{"bsdf", a}, {"compare", json::parse(bad)}});
+  EXPECT_EQ(s2, 400);
+  EXPECT_EQ("gonio: " + e["error"].get<std::string>() + "\n", cli.err);
+}
+
+TEST_F(ExploreApi, SphereUnderAPointLightIsLambertsLaw) {
+  // The light straight behind the camera, 5 from the centre: 4 from the sphere's nearest
+  // point, intensity 16π, so E = 16π / 4² = π there and a Lambertian sphere of albedo ρ has
+  // radiance ρ/π · E = ρ at the image centre (inverse-square law and Lambert's cosine law).
+  const int n = 64;
+  const auto [status, d] = post("/api/sphere", {{"bsdf", {{"type", "diffuse"}, {"reflectance", {0.25, 0.5, 0.75}}}},
+                                                {"size", n}, {"spp", 16}, {"light_x", 0}, {"light_y", 0},
+                                                {"environment", 0.3}});
+  ASSERT_EQ(status, 200) << d;
+  ASSERT_EQ(d["width"], n);
+  const std::vector<float> px = sphere_pixels(d);
+  ASSERT_EQ(px.size(), size_t(n * n * 3));
+  const double rho[3] = {0.25, 0.5, 0.75};
+  for (int c = 0; c < 3; ++c) {
+    double centre = 0;
+    for (const int y : {n / 2 - 1, n / 2})
+      for (const int x : {n / 2 - 1, n / 2}) centre += px[size_t((y * n + x) * 3 + c)] / 4.0;
+    // Plus the environment's 0.3 reflected: ρ · 0.3 · (the visible sky's cosine-weighted
+    // fraction, 1 at the nearest point, as nothing else is in the scene).
+    EXPECT_NEAR(centre, rho[c] * (1 + 0.3), 0.02 * rho[c]) << c;
+    EXPECT_NEAR(px[size_t(c)], 0.3, 1e-6);  // a corner sees the environment
+  }
+  const auto [bad, e] = post("/api/sphere", {{"bsdf", kLambert}, {"size", 4096}});
+  EXPECT_EQ(bad, 400);
+  EXPECT_NE(e["error"].get<std::string>().find("size"), std::string::npos);
+}
+
+TEST_F(ExploreApi, EvalAnswersWhatGonioEvalPrints) {
+  const std::string m = R"({"type":"roughconductor","alpha":[0.1,0.3],"material":"Au"})";
+  const json pairs = {{0, 0.5, 1, 0.3, 0, 1}, {0.2, -0.1, 0.7, -0.4, 0.2, 0.9}, {1, 0, 0.2, 0, 1, 0.3}};
+  const auto c = client().Post("/api/eval", json({{"bsdf", json::parse(m)}, {"pairs", pairs}}).dump(),
+                               "application/json");
+  ASSERT_TRUE(c);
+  ASSERT_EQ(c->status, 200) << c->body;
+  std::string lines;
+  for (const auto& p : pairs) {
+    for (size_t i = 0; i < 6; ++i) lines += (i ? " " : "") + p[i].dump();
+    lines += "\n";
+  }
+  const auto cli = run_gonio({"eval", "--bsdf", m}, lines);
+  ASSERT_EQ(cli.status, 0) << cli.err;
+  // The same numbers, printed the same way (%.9g): compare the text of each value.
+  std::istringstream out(cli.out);
+  std::string line, f_text = "[", pdf_text = "[";
+  for (int i = 0; std::getline(out, line); ++i) {
+    const std::regex form(R"(\{"f":(\[[^\]]*\]),"pdf":([^}]*)\})");
+    std::smatch mm;
+    ASSERT_TRUE(std::regex_match(line, mm, form)) << line;
+    f_text += (i ? "," : "") + mm[1].str();
+    pdf_text += (i ? "," : "") + mm[2].str();
+  }
+  EXPECT_EQ(c->body, "{\"f\":" + f_text + "],\"pdf\":" + pdf_text + "]}");
+}
+
+TEST_F(ExploreApi, ABadMaterialIs400WithTheCliMessage) {
+  for (const std::string m : {R"({"type":"roughconductor","alpha":-0.1,"material":"Au"})",
+                              R"({"type":"diffuse","reflectance":0.5,"colour":1})", R"({"type":"nosuch"})",
+                              R"({"type":"diffuse",)"}) {
+    const auto cli = run_gonio({"eval", "--bsdf", m}, "0 0 1 0 0 1\n");
+    ASSERT_EQ(cli.status, 2) << m;
+    std::string expected = cli.err.substr(std::string("gonio: ").size());
+    expected.pop_back();  // the newline
+    // The material as text (the JSON editor's case) and, when it parses, as an object.
+    for (const char* path : {"/api/validate", "/api/lobe", "/api/slice", "/api/check"}) {
+      const auto [status, d] = post(path, {{"bsdf", m}});
+      EXPECT_EQ(status, 400) << path << " " << m;
+      EXPECT_EQ(d["error"], expected) << path;
+    }
+    const json parsed = json::parse(m, nullptr, false);
+    if (!parsed.is_discarded()) {
+      const auto [status, d] = post("/api/albedo", {{"bsdf", parsed}});
+      EXPECT_EQ(status, 400);
+      EXPECT_EQ(d["error"], expected);
+    }
+  }
+}
+
+TEST_F(ExploreApi, MalformedRequestsAre400WithOneLine) {
+  auto c = client();
+  for (const std::string body : {"", "not json", "[1,2]", R"({"theta_i":30})",
+                                 R"({"bsdf":{"type":"diffuse"},"theta_i":95})",
+                                 R"({"bsdf":{"type":"diffuse"},"count":100000})",
+                                 R"({"bsdf":{"type":"diffuse"},"count":2.5})"}) {
+    const auto res = c.Post("/api/lobe", body, "application/json");
+    ASSERT_TRUE(res);
+    EXPECT_EQ(res->status, 400) << body;
+    const json d = json::parse(res->body, nullptr, false);
+    ASSERT_TRUE(d.is_object()) << res->body;
+    const std::string e = d["error"];
+    EXPECT_FALSE(e.empty());
+    EXPECT_EQ(e.find('\n'), std::string::npos) << e;
+  }
+  const auto zero = post("/api/eval", {{"bsdf", kLambert}, {"pairs", {{0, 0, 0, 0, 0, 1}}}});
+  EXPECT_EQ(zero.first, 400);
+  EXPECT_EQ(zero.second["error"], "pairs[0]: wo is a zero vector");
+}
+
+TEST_F(ExploreApi, CheckIsTheValidatorsTable) {
+  const auto [status, d] = post("/api/check", {{"bsdf", kLambert}});
+  ASSERT_EQ(status, 200) << d;
+  EXPECT_TRUE(d["pass"].get<bool>());
+  std::vector<std::string> names;
+  for (const auto& p : d["properties"]) names.push_back(p["name"]);
+  // SPEC §3's properties, in its order.
+  EXPECT_EQ(names, (std::vector<std::string>{"finite", "reciprocity", "energy", "chi2", "pdf_integral", "consistency",
+                                             "isotropy", "linearity", "weights"}));
+}
+
+TEST_F(ExploreApi, RegistryListsEveryTypeWithAValidExample) {
+  auto c = client();
+  const auto res = c.Get("/api/materials");
+  ASSERT_TRUE(res);
+  ASSERT_EQ(res->status, 200);
+  const json d = json::parse(res->body);
+  // The types of `gonio materials`, in its order.
+  const auto cli = run_gonio({"materials"});
+  std::istringstream list(cli.out);
+  std::vector<std::string> expected, got;
+  for (std::string line; std::getline(list, line);) expected.push_back(line.substr(0, line.find(' ')));
+  for (const auto& t : d["types"]) got.push_back(t["name"]);
+  EXPECT_EQ(got, expected);
+  for (const auto& t : d["types"]) {
+    if (t["name"] == "measured") continue;  // its example names a file of --data
+    const auto [status, v] = post("/api/validate", {{"bsdf", t["example"]}});
+    EXPECT_EQ(status, 200) << t["name"] << ": " << v;
+  }
+}
+
+TEST_F(ExploreApi, FilesOnlyFromData) {
+  {
+    std::ofstream(data_dir() / "short.binary") << "not a MERL table";
+  }
+  fs::create_symlink("/etc/hostname", data_dir() / "out.binary");
+  const auto measured = [](const std::string& file) { return json{{"type", "measured"}, {"file", file}}; };
+  for (const std::string bad : {"/etc/passwd", "../short.binary", "sub/../../x", "out.binary", "missing.binary"}) {
+    const auto [status, d] = post("/api/validate", {{"bsdf", measured(bad)}});
+    EXPECT_EQ(status, 400) << bad;
+    EXPECT_NE(d["error"].get<std::string>().find("--data"), std::string::npos) << d;
+  }
+  // A spectrum file is a file too.
+  const json spectrum = {{"type", "diffuse"}, {"reflectance", {{"spectrum", "/etc/passwd"}}}};
+  EXPECT_EQ(post("/api/validate", {{"bsdf", spectrum}}).first, 400);
+  // A file inside --data reaches the MERL reader, whose own message comes back.
+  const auto [status, d] = post("/api/validate", {{"bsdf", measured("short.binary")}});
+  EXPECT_EQ(status, 400);
+  EXPECT_EQ(d["error"].get<std::string>().find("--data"), std::string::npos) << d;
+  auto c = client();
+  const auto list = c.Get("/api/data");
+  ASSERT_TRUE(list);
+  EXPECT_EQ(json::parse(list->body)["files"], json::array({"short.binary"}));  // not the symlink
+}
+
+// gonio fit from the page: a table tabulated from a known rough gold (gonio tabulate)
+// gives back its roughness.
+TEST_F(ExploreApi, FitRecoversTheModelOfATabulatedTable) {
+  const std::string table = (data_dir() / "gold.binary").string();
+  const auto tab = run_gonio({"tabulate", "--bsdf", R"({"type":"roughconductor","alpha":0.15,"material":"Au"})",
+                              "-o", table});
+  ASSERT_EQ(tab.status, 0) << tab.err;
+  const auto [status, d] = post("/api/fit", {{"file", "gold.binary"}, {"model", "roughconductor"}, {"stride", 6}});
+  ASSERT_EQ(status, 200) << d;
+  EXPECT_NEAR(d["material"]["alpha"].get<double>(), 0.15, 0.0015) << d;
+  EXPECT_EQ(d["measured"], json({{"type", "measured"}, {"file", "gold.binary"}}));
+  // The fitted material is valid input to every view.
+  EXPECT_EQ(post("/api/validate", {{"bsdf", d["material"]}}).first, 200);
+  // The measured one too, read once and kept: the second slice is much faster.
+  const json measured = {{"bsdf", d["measured"]}, {"size", 32}};
+  EXPECT_EQ(post("/api/slice", measured).first, 200);
+  const auto start = std::chrono::steady_clock::now();
+  EXPECT_EQ(post("/api/slice", measured).first, 200);
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 0.05);
+  // Files outside --data and unknown models are refused.
+  EXPECT_EQ(post("/api/fit", {{"file", "../gold.binary"}, {"model", "roughconductor"}}).first, 400);
+  const auto [s2, e] = post("/api/fit", {{"file", "gold.binary"}, {"model", "nosuch"}});
+  EXPECT_EQ(s2, 400);
+  EXPECT_NE(e["error"].get<std::string>().find("nosuch"), std::string::npos) << e;
+  std::filesystem::remove(table);
+}
+
+TEST_F(ExploreApi, RefusesOtherHostsAndOrigins) {
+  auto c = client();
+  const auto get = [&](const httplib::Headers& h) {
+    const auto r = c.Get("/api/materials", h);
+    return r ? r->status : -1;
+  };
+  EXPECT_EQ(get({}), 200);
+  EXPECT_EQ(get({{"Host", "localhost:9999"}}), 200);  // an SSH tunnel's port
+  EXPECT_EQ(get({{"Host", "[::1]:8080"}}), 200);
+  EXPECT_EQ(get({{"Host", "evil.example"}}), 403);
+  EXPECT_EQ(get({{"Host", "127.0.0.1.evil.example"}}), 403);
+  EXPECT_EQ(get({{"Origin", "http://127.0.0.1:1234"}}), 200);
+  EXPECT_EQ(get({{"Origin", "http://evil.example"}}), 403);
+  EXPECT_EQ(get({{"Origin", "null"}}), 403);
+  const auto r = c.Post("/api/lobe", {{"Origin", "https://attacker.example"}}, json({{"bsdf", kLambert}}).dump(),
+                        "application/json");
+  ASSERT_TRUE(r);
+  EXPECT_EQ(r->status, 403);
+}
+
+// Issue 36: stale work is cancelled when a newer request arrives. A long request (seconds
+// of work) of one page and view, then a short one of the same: the first stops with 409
+// soon after, the second is answered; another view of the same page is left alone.
+TEST_F(ExploreApi, ANewerRequestOfTheSameViewStopsTheOlder) {
+  const json layered = {{"type", "layered"}, {"top", {{"type", "roughdielectric"}, {"alpha", 0.1}}},
+                        {"bottom", {{"type", "diffuse"}}}};
+  for (const auto& [endpoint, slow, quick] : std::vector<std::tuple<const char*, json, json>>{
+           {"/api/albedo", {{"count", 91}, {"samples", 1 << 16}}, {{"count", 2}, {"samples", 16}}},
+           {"/api/sphere", {{"size", 256}, {"spp", 64}}, {{"size", 16}, {"spp", 1}}}}) {
+    const char* path = endpoint;  // a plain variable: lambdas may not capture a structured binding (C++20 in clang 14)
+    json slow_body = slow, quick_body = quick;
+    slow_body["bsdf"] = layered;
+    quick_body["bsdf"] = layered;
+    const httplib::Headers view = {{"X-Gonio-Session", "test-page"}, {"X-Gonio-View", "v"}};
+    const httplib::Headers other_view = {{"X-Gonio-Session", "test-page"}, {"X-Gonio-View", "w"}};
+    int first = 0;
+    double first_seconds = 0;
+    std::thread older([&] {
+      auto c = client();
+      const auto start = std::chrono::steady_clock::now();
+      const auto r = c.Post(path, view, slow_body.dump(), "application/json");
+      first_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      first = r ? r->status : -1;
+    });
+    std::this_thread::sleep_for(std::chrono::milliseconds(150));
+    auto c = client();
+    const auto bystander = c.Post(path, other_view, quick_body.dump(), "application/json");
+    const auto newer = c.Post(path, view, quick_body.dump(), "application/json");
+    older.join();
+    ASSERT_TRUE(newer);
+    EXPECT_EQ(newer->status, 200) << path;
+    ASSERT_TRUE(bystander);
+    EXPECT_EQ(bystander->status, 200) << path;
+    EXPECT_EQ(first, 409) << path;
+    EXPECT_LT(first_seconds, 2.0) << path;  // whole, it takes several seconds
+  }
+}
+
+// Raw bytes over a socket to the server: what comes back within `timeout_ms` (until it
+// closes the connection).
+std::string raw_exchange(int port, const std::string& bytes, int timeout_ms = 3000) {
+  const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
+  sockaddr_in a{};
+  a.sin_family = AF_INET;
+  a.sin_port = htons(std::uint16_t(port));
+  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  if (::connect(fd, reinterpret_cast<sockaddr*>(&a), sizeof a) != 0) {
+    ::close(fd);
+    return "connect failed";
+  }
+  (void)::send(fd, bytes.data(), bytes.size(), MSG_NOSIGNAL);
+  ::shutdown(fd, SHUT_WR);
+  std::string got;
+  const auto end = std::chrono::steady_clock::now() + std::chrono::milliseconds(timeout_ms);
+  for (;;) {
+    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(end - std::chrono::steady_clock::now());
+    pollfd p{fd, POLLIN, 0};
+    if (left.count() <= 0 || ::poll(&p, 1, int(left.count())) <= 0) break;
+    char buf[4096];
+    const ssize_t n = ::recv(fd, buf, sizeof buf, 0);
+    if (n <= 0) break;
+    got.append(buf, size_t(n));
+  }
+  ::close(fd);
+  return got;
+}
+
+// Malformed HTTP never crashes or hangs the server: each is answered with an error or a
+// closed connection within seconds, and the server answers normally afterwards.
+TEST_F(ExploreApi, MalformedHttpIsRefusedAndTheServerGoesOn) {
+  const std::string host = "Host: 127.0.0.1\r\n";
+  // {request, whether it must be refused}: httplib may pass over a header line without a
+  // colon, or a request with no Host, and answer; it must not answer the others.
+  const std::vector<std::pair<std::string, bool>> cases = {
+      {std::string("\x00\xff\xfe garbage\r\n\r\n", 15), true},
+      {"GET / HTTP/1.1\r\n" + host + "NoColonHere\r\n\r\n", false},
+      {"GET /" + std::string(100000, 'a') + " HTTP/1.1\r\n" + host + "\r\n", true},
+      {"GET / HTTP/1.1\r\n" + host + "X-Big: " + std::string(200000, 'b') + "\r\n\r\n", true},
+      {"POST /api/lobe HTTP/1.1\r\n" + host + "Content-Length: abc\r\n\r\n{}", true},
+      {"POST /api/lobe HTTP/1.1\r\n" + host + "Content-Length: -5\r\n\r\n{}", true},
+      {"POST /api/lobe HTTP/1.1\r\n" + host + "Content-Length: 1000\r\n\r\n{\"bsdf\":", true},  // cut short
+      {"POST /api/lobe HTTP/1.1\r\n" + host + "Content-Length: 99999999999\r\n\r\n", true},
+      {"POST /api/lobe HTTP/1.1\r\n" + host + "Transfer-Encoding: chunked\r\n\r\nzz\r\n", true},
+      {"GET / HTTP/9.9\r\n\r\n", false},
+      {"\r\n\r\n\r\n", false},
+  };
+  for (size_t i = 0; i < cases.size(); ++i) {
+    const auto start = std::chrono::steady_clock::now();
+    const std::string answer = raw_exchange(server()->port(), cases[i].first);
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    EXPECT_LT(seconds, 2.9) << "case " << i << " hung";
+    if (cases[i].second) {
+      EXPECT_EQ(answer.find("HTTP/1.1 200"), std::string::npos) << "case " << i << ": " << answer.substr(0, 80);
+    }
+    auto c = client();
+    const auto ok = c.Get("/api/materials");
+    ASSERT_TRUE(ok) << "after case " << i;
+    EXPECT_EQ(ok->status, 200);
+  }
+}
+
+// Issue 36: 20 concurrent sessions are served without an error. Each is a keep-alive
+// client (a browser tab) asking every view in turn, a few rounds, all at once.
+TEST_F(ExploreApi, TwentyConcurrentSessionsAllAnswered) {
+  constexpr int kSessions = 20, kRounds = 3;
+  std::atomic<int> ok{0}, failed{0};
+  std::vector<std::thread> sessions;
+  for (int s = 0; s < kSessions; ++s) {
+    sessions.emplace_back([&, s] {
+      auto c = client();
+      c.set_keep_alive(true);
+      c.set_read_timeout(30);
+      const json m = {{"type", "roughconductor"}, {"alpha", 0.05 + 0.01 * s}, {"material", "Au"}};
+      for (int r = 0; r < kRounds; ++r) {
+        for (const auto& [path, extra] : std::vector<std::pair<const char*, json>>{
+                 {"/api/validate", json::object()}, {"/api/lobe", {{"theta_i", 10 * r}}},
+                 {"/api/slice", {{"size", 64}}}, {"/api/albedo", {{"count", 10}, {"samples", 1024}}},
+                 {"/api/fresnel", json::object()}, {"/api/sphere", {{"size", 32}}}}) {
+          json body = extra;
+          body["bsdf"] = m;
+          const auto res = c.Post(path, body.dump(), "application/json");
+          if (res && res->status == 200) {
+            ++ok;
+          } else {
+            ++failed;
+            ADD_FAILURE() << path << ": " << (res ? std::to_string(res->status) + " " + res->body
+                                                  : httplib::to_string(res.error()));
+          }
+        }
+      }
+    });
+  }
+  for (auto& t : sessions) t.join();
+  EXPECT_EQ(failed.load(), 0);
+  EXPECT_EQ(ok.load(), kSessions * kRounds * 6);
+}
+
+TEST_F(ExploreApi, ThePageIsServedAndFetchesNothingOutside) {
+  auto c = client();
+  const auto index = c.Get("/");
+  ASSERT_TRUE(index);
+  EXPECT_EQ(index->status, 200);
+  EXPECT_NE(index->body.find("<canvas id=\"lobe\""), std::string::npos);
+  EXPECT_NE(index->get_header_value("Content-Security-Policy").find("default-src 'self'"), std::string::npos);
+  ASSERT_FALSE(gonio::explore::web_files().empty());
+  const std::regex external(R"(https?://|//[a-z0-9-]+\.[a-z]{2,}/|\bimport\s*\(|@import)", std::regex::icase);
+  for (const auto& f : gonio::explore::web_files()) {
+    const auto res = c.Get(("/" + std::string(f.name)).c_str());
+    ASSERT_TRUE(res);
+    EXPECT_EQ(res->status, 200) << f.name;
+    EXPECT_EQ(res->body, std::string(f.data));
+    EXPECT_FALSE(std::regex_search(res->body, external)) << f.name << " names an outside URL";
+  }
+  const auto missing = c.Get("/../CMakeLists.txt");
+  ASSERT_TRUE(missing);
+  EXPECT_EQ(missing->status, 404);
+}
+
+}  // namespace
