@@ -224,9 +224,11 @@ inline C fresnel_f82_a(const C& f0, const C& f82) {
 template <typename C, typename T>
 inline C fresnel_f82_from_a(const C& f0, const C& a, T cos_theta) {
   const T mu = std::clamp(cos_theta, T(0), T(1));
-  const T m = 1 - mu, m2 = m * m, m5 = m2 * m2 * m, dip = mu * m5 * m;
-  C f = f0 + (C(T(1)) - f0) * m5 - a * dip;
-  for (int i = 0; i < C::size(); ++i) f[i] = std::min(std::max(f[i], Float(0)), Float(1));
+  // F0 + (1 − F0)(1 − μ)⁵ − a μ (1 − μ)⁶ = F0 + (1 − μ)⁵ ((1 − F0) − a μ (1 − μ)).
+  const T m = 1 - mu, m2 = m * m, m5 = m2 * m2 * m, w = mu * m;
+  C f;
+  for (int i = 0; i < C::size(); ++i)
+    f[i] = std::min(std::max(f0[i] + m5 * ((1 - f0[i]) - a[i] * w), Float(0)), Float(1));
   return f;
 }
 template <typename C, typename T>
