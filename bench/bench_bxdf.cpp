@@ -357,11 +357,12 @@ int main(int argc, char** argv) {
   }
   // Issue 34: EON against Oren–Nayar (target: f ≤ 2×), F82-tint against Schlick on the
   // same rough conductor (target: ≤ +10 %).
-  register_model("eon_0.5", EonBxDF{Color(0.5f), 0.5f});
+  register_model("eon_0.5", EonBxDF::make(Color(0.5f), 0.5f));
   {
     ConductorFresnel schlick = gold(FresnelModel::Schlick), f82 = schlick;
     f82.model = FresnelModel::F82;
     f82.f82 = Color(0.9f, 0.6f, 0.3f);
+    f82.prepare();
     register_model("roughconductor_ggx_schlick_0.2",
                    RoughConductorBxDF{{MicrofacetType::GGX, 0.2f, 0.2f}, schlick, std::nullopt});
     register_model("roughconductor_ggx_f82_0.2", RoughConductorBxDF{{MicrofacetType::GGX, 0.2f, 0.2f}, f82, std::nullopt});

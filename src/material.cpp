@@ -335,6 +335,7 @@ ConductorFresnel make_conductor_fresnel(Params& p) {
     if (!has_f0) p.fail("missing parameter: fresnel \"f82\" needs f0");
     fr.f0 = p.color("f0");
     fr.f82 = p.color("f82");
+    fr.prepare();
     return fr;
   }
   if (has_material && (has_eta || has_k))
@@ -571,10 +572,7 @@ BxDF make_sheen(Params& p) {
 }
 
 BxDF make_eon(Params& p) {
-  EonBxDF m;
-  m.reflectance = p.color("reflectance");
-  m.roughness = Float(p.number("roughness"));
-  return m;
+  return EonBxDF::make(p.color("reflectance"), Float(p.number("roughness")));
 }
 
 template <typename M>
@@ -1012,6 +1010,7 @@ void set_fresnel(ConductorFresnel& fr, const ParamValue& v, Changed& c) {
     case MP::K: fr.k = v.value; c.index = true; break;
     default: return;
   }
+  fr.prepare();  // F82-tint's a depends on f0
   c.fresnel = true;
 }
 
@@ -1034,7 +1033,10 @@ void apply(OrenNayarBxDF& m, const ParamValue& v, Changed&) {
   set_color(m.reflectance, MP::Reflectance, v);
   if (v.param == MP::Sigma) m.sigma = sigma_radians(v.value[0]);
 }
-void apply(EonBxDF& m, const ParamValue& v, Changed&) { set_color(m.reflectance, MP::Reflectance, v); }
+void apply(EonBxDF& m, const ParamValue& v, Changed&) {
+  set_color(m.reflectance, MP::Reflectance, v);
+  m.prepare();  // ρ_ms depends on the reflectance (eon::Constants)
+}
 template <typename M>
   requires std::is_same_v<M, PhongBxDF> || std::is_same_v<M, BlinnPhongBxDF>
 void apply(M& m, const ParamValue& v, Changed&) {

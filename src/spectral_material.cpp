@@ -83,6 +83,7 @@ struct Converter {
     // F82-tint's tint has no recorded spectrum: its RGB (a spectrum reduced to RGB at
     // parse time) upsampled as a reflectance.
     if (f.model == FresnelModel::F82) s.f82 = upsample_colour(MP::Reflectance, f.f82, w);
+    s.prepare();
     return s;
   }
 
@@ -129,10 +130,7 @@ struct Converter {
     return s;
   }
   SpectralBxDF operator()(const EonBxDF& m) const {
-    EonBxDFT<SS> s;
-    s.reflectance = colour(MP::Reflectance, m.reflectance);
-    s.roughness = m.roughness;
-    return s;
+    return EonBxDFT<SS>::make(colour(MP::Reflectance, m.reflectance), m.roughness);
   }
   template <typename M>
     requires std::is_same_v<M, PhongBxDF> || std::is_same_v<M, BlinnPhongBxDF>

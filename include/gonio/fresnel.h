@@ -202,10 +202,15 @@ inline C fresnel_schlick(const C& f0, T cos_theta) {
 // go below 0 near grazing: for every F0 < 1 at f82 = 0, F0 < 0.057 at f82 = 0.3, F0 <
 // 0.001 at f82 = 0.5).
 namespace f82_tint {
-inline constexpr Float kBar5 = Float(7776.0 / 16807.0);            // (1 − μ̄)⁵ = (6/7)⁵
-inline constexpr Float kInvDenominator = Float(823543.0 / 46656.0);  // 1/(μ̄ (1 − μ̄)⁶) = 7⁷/6⁶
-// a of one channel.
-inline Float a(Float f0, Float f82) { return (f0 + (1 - f0) * kBar5) * (1 - f82) * kInvDenominator; }
+inline constexpr double kBar5 = 7776.0 / 16807.0;            // (1 − μ̄)⁵ = (6/7)⁵
+inline constexpr double kInvDenominator = 823543.0 / 46656.0;  // 1/(μ̄ (1 − μ̄)⁶) = 7⁷/6⁶
+// a = (1 − f82) (S̄0 + S̄1 F0): S(μ̄)/(μ̄ (1 − μ̄)⁶) expanded in F0, its two constants
+// folded in double; a few multiplies, no division. V is Float or a GCC vector of Floats.
+inline constexpr Float kS0 = Float(kBar5 * kInvDenominator), kS1 = Float((1 - kBar5) * kInvDenominator);
+template <typename V>
+inline V a(V f0, V f82) {
+  return (Float(1) - f82) * (kS0 + kS1 * f0);
+}
 }  // namespace f82_tint
 template <typename C>
 inline C fresnel_f82_a(const C& f0, const C& f82) {
@@ -213,13 +218,22 @@ inline C fresnel_f82_a(const C& f0, const C& f82) {
   for (int i = 0; i < C::size(); ++i) a[i] = f82_tint::a(f0[i], f82[i]);
   return a;
 }
+// F(μ) given a = fresnel_f82_a(f0, f82), which depends on the material alone: computed
+// once when it is made (ConductorFresnelT::prepare), F82-tint costs Schlick plus a
+// multiply-subtract and the clamp per channel.
+template <typename C, typename T>
+inline C fresnel_f82_from_a(const C& f0, const C& a, T cos_theta) {
+  const T mu = std::clamp(cos_theta, T(0), T(1));
+  // F0 + (1 − F0)(1 − μ)⁵ − a μ (1 − μ)⁶ = F0 + (1 − μ)⁵ ((1 − F0) − a μ (1 − μ)).
+  const T m = 1 - mu, m2 = m * m, m5 = m2 * m2 * m, w = mu * m;
+  C f;
+  for (int i = 0; i < C::size(); ++i)
+    f[i] = std::min(std::max(f0[i] + m5 * ((1 - f0[i]) - a[i] * w), Float(0)), Float(1));
+  return f;
+}
 template <typename C, typename T>
 inline C fresnel_f82(const C& f0, const C& f82, T cos_theta) {
-  const T mu = std::clamp(cos_theta, T(0), T(1));
-  const T m = 1 - mu, m3 = m * m * m, dip = mu * m3 * m3;
-  C f = fresnel_schlick(f0, mu);
-  for (int i = 0; i < C::size(); ++i) f[i] = std::min(std::max(f[i] - f82_tint::a(f0[i], f82[i]) * dip, Float(0)), Float(1));
-  return f;
+  return fresnel_f82_from_a(f0, fresnel_f82_a(f0, f82), cos_theta);
 }
 // Its hemispherical average 2∫F μ dμ without the clamp (SPEC §2; Beta integrals:
 // 2∫(1 − μ)⁵ μ dμ = 1/21, 2∫μ² (1 − μ)⁶ dμ = 1/126): (20 F0 + 1)/21 − a/126. Exact

@@ -30,6 +30,7 @@ ConductorFresnel f82(Color f0, Color tint) {
   fr.model = FresnelModel::F82;
   fr.f0 = f0;
   fr.f82 = tint;
+  fr.prepare();  // the material's a (ConductorFresnelT::prepare)
   return fr;
 }
 

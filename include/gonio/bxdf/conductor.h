@@ -30,8 +30,13 @@ struct ConductorFresnelT {
   C k{0.0f};    // extinction coefficient
   C f0{1.0f};   // reflectance at normal incidence, used by Schlick and F82
   C f82{1.0f};  // F82: the tint at μ = 1/7, in [0, 1] (1 = Schlick)
+  // F82: its coefficient a = fresnel_f82_a(f0, f82) per channel, a function of the
+  // material alone, computed once by prepare(): whoever sets f0 or f82 calls it.
+  C f82_a{0.0f};
   // A thin film on the metal (thin_film.h; exact model only; inactive: the bare metal).
   ThinFilmT<C> film{};
+
+  void prepare() { f82_a = fresnel_f82_a(f0, f82); }
 
   C operator()(Float cos_i) const { return (*this)(cos_i, cos_i * cos_i); }
   // The same with cos²θi given as well (callers that have it before cos θi: the exact
@@ -40,7 +45,7 @@ struct ConductorFresnelT {
     const Float c = std::abs(cos_i);
     if (film.active()) return film.reflectance(std::min(c, Float(1)), eta, k);
     if (model == FresnelModel::Schlick) return fresnel_schlick(f0, c);
-    if (model == FresnelModel::F82) return fresnel_f82(f0, f82, c);
+    if (model == FresnelModel::F82) return fresnel_f82_from_a(f0, f82_a, c);
 #if defined(__GNUC__)
     if constexpr (C::size() <= 4) return exact_simd(c, std::min(cos2_i, Float(1)));
 #endif

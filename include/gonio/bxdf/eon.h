@@ -47,6 +47,8 @@
 
 #include "gonio/bxdf/contract.h"
 #include "gonio/bxdf/diffuse_glossy.h"
+#include "gonio/fresnel.h"
+#include "gonio/math/fast_acos.h"
 #include "gonio/math/fast_atan.h"
 #include "gonio/math/warp.h"
 
@@ -60,18 +62,44 @@ inline constexpr Float kC2 = Float(2.0 / 3.0 - 28.0 / (15.0 * 3.1415926535897932
 // A_F = 1/(1 + c1 r) (§2).
 inline Float a_fon(Float r) { return 1 / (1 + kC1 * r); }
 
-// c1 − G(μ)/π ≥ 0, so that 1 − E_F(μ) = r A_F (c1 − G(μ)/π) (§3, E_F exact; see above).
-inline Float one_minus_g(Float mu) {
-  mu = std::clamp(mu, Float(0), Float(1));
-  const Float si = std::sqrt(std::max(Float(0), 1 - mu * mu));
-  // tan θ (1 − sin³θ) without dividing by μ.
-  const Float tan_term = si * mu * (1 + si + si * si) / (1 + si);
-  // θ = acos μ = atan2(sin θ, μ), by the project's polynomial atan2 (|error| ≤ 2e-8 rad,
-  // below float resolution; math/fast_atan.h): libm's acos was most of f's time.
-  const Float theta = fast_atan2(si, mu);
-  const Float g = si * (theta - si * mu) + Float(2.0 / 3.0) * (tan_term - si);
-  return std::max(Float(0), kC1 - g * kInvPi);
+// The FON terms of f for μo, μi (cosines, clamped to [0, 1]) and s = wi·wo − μo μi (§2, §3):
+// 1 − E_F = r A_F (c1 − G/π) for both directions (see above) and Fujii's s/t. The same
+// formulas as written, evaluated for both directions at once in a 4-lane vector (SSE on
+// x86-64): one sqrtps gives sin θ and √(1 − μ) of both, θ = acos μ is a polynomial times
+// √(1 − μ) (math/fast_acos.h; its polynomial runs alongside the square root), and both
+// 1/(1 + sin θ) come from one division, 1/((1 + sin θo)(1 + sin θi)) times the other factor.
+// f is a chain of dependent operations: square roots and divisions were most of its time.
+struct FonTerms {
+  Float c_o, c_i;  // c1 − G(μ)/π ≥ 0 for μo, μi
+  Float s_over_t;  // s/t, t = max(μo, μi) if s > 0, else 1
+};
+inline FonTerms fon_terms(Float mu_o, Float mu_i, Float s) {
+  using V = Float4;  // gonio/math/fast_atan.h
+  using detail::splat;
+  const V zero{}, one = splat<V>(1);
+  V mu{mu_o, mu_i, mu_o, mu_i};
+  mu = mu < zero ? zero : (mu > one ? one : mu);
+  // lanes 0, 1: 1 − μ²; lanes 2, 3: 1 − μ.
+  V rad = one - mu * V{mu[0], mu[1], 1, 1};
+  rad = rad > zero ? rad : zero;
+  const V root = lane_sqrt(rad);
+  const V si{root[0], root[1], root[0], root[1]};         // sin θ
+  const V sqrt_one_minus{root[2], root[3], root[2], root[3]};  // √(1 − μ)
+  // θ = acos μ (A&S 4.4.46, |error| ≤ 2e-8 rad: below float resolution).
+  const V theta = sqrt_one_minus * detail::acos_poly(mu);
+  const Float t = s > 0 ? std::max(mu[0], mu[1]) : Float(1);
+  const Float s_over_t = s / t;
+  const Float inv = 1 / ((1 + si[0]) * (1 + si[1]));
+  // tan θ (1 − sin³θ) = sin θ μ (1 + sin θ + sin²θ)/(1 + sin θ), without dividing by μ.
+  const V other_plus_one{1 + si[1], 1 + si[0], 1 + si[1], 1 + si[0]};
+  const V tan_term = si * mu * (one + si + si * si) * (other_plus_one * inv);
+  const V g = si * (theta - si * mu) + splat<V>(Float(2.0 / 3.0)) * (tan_term - si);
+  const V c = splat<V>(kC1) - g * splat<V>(kInvPi);
+  return {std::max(Float(0), c[0]), std::max(Float(0), c[1]), s_over_t};
 }
+
+// c1 − G(μ)/π ≥ 0, so that 1 − E_F(μ) = r A_F (c1 − G(μ)/π) (§3, E_F exact; see above).
+inline Float one_minus_g(Float mu) { return fon_terms(mu, mu, 0).c_o; }
 
 // E_F(μ), the FON lobe's exact directional albedo at ρ = 1 (§3).
 inline Float albedo_fon(Float mu, Float r) {
@@ -80,6 +108,34 @@ inline Float albedo_fon(Float mu, Float r) {
 }
 // Ē_F = A_F (1 + c2 r) (§3).
 inline Float average_albedo_fon(Float r) { return a_fon(r) * (1 + kC2 * r); }
+
+// What f needs of the material alone (ρ, r), computed once when the material is made
+// (EonBxDFT::prepare) instead of at each evaluation: A_F, the factor r A_F/(π (c1 − c2))
+// of f_ms, ρ_ms = ρ² Ē_F / (1 − ρ (1 − Ē_F)) (§3; a division per channel) and r^0.1 of
+// the uniform share (§4). `rho` and `r` record the parameters they belong to, so that a
+// model whose fields were set without prepare() still evaluates correctly (slower).
+template <typename C>
+struct Constants {
+  C rho{Float(-1)};
+  Float r = -1;
+  Float a = 1, ms = 0, r_pow = 0;
+  C rho_ms{};
+
+  Constants() = default;
+  Constants(const C& reflectance, Float roughness) : rho(reflectance), r(roughness) {
+    a = a_fon(r);
+    ms = kInvPi * r * a / (kC1 - kC2);
+    r_pow = r > 0 ? std::pow(r, Float(0.1)) : Float(0);
+    const Float avg = average_albedo_fon(r);
+    rho_ms = rho * rho * avg / (C(1) - rho * (1 - avg));
+  }
+  bool matches(const C& reflectance, Float roughness) const {
+    if (roughness != r) return false;
+    for (int i = 0; i < C::size(); ++i)
+      if (reflectance[i] != rho[i]) return false;
+    return true;
+  }
+};
 
 // The paper's fitted LTC matrix M for wo at cos θo = mu (§4, "ltc_terms").
 struct Ltc {
@@ -98,10 +154,12 @@ inline Ltc ltc_terms(Float mu, Float r) {
 }
 
 // Share of uniform hemisphere samples (§4).
+inline Float uniform_share_from_power(Float mu, Float r_pow) {
+  return r_pow * (Float(0.162925) + mu * (Float(-0.372058) + (Float(0.538233) - Float(0.290822) * mu) * mu));
+}
 inline Float uniform_share(Float mu, Float r) {
   if (r <= 0) return 0;
-  return std::pow(r, Float(0.1)) *
-         (Float(0.162925) + mu * (Float(-0.372058) + (Float(0.538233) - Float(0.290822) * mu) * mu));
+  return uniform_share_from_power(mu, std::pow(r, Float(0.1)));
 }
 
 // The LTC frame of wo (upper side): x along wo's tangential part, z the normal.
@@ -155,14 +213,27 @@ struct EonBxDFT {
   static constexpr std::string_view kName = "eon";
   C reflectance{0.8f};
   Float roughness = 0;
+  // The material's constants (eon::Constants): prepare() fills them, and whoever sets
+  // reflectance or roughness calls it again (the parser, textured parameters, the spectral
+  // conversion); if it was not called, they are computed at each evaluation instead.
+  eon::Constants<C> constants_{};
+
+  static EonBxDFT make(const C& rho, Float r) {
+    EonBxDFT m;
+    m.reflectance = rho;
+    m.roughness = r;
+    m.prepare();
+    return m;
+  }
+  void prepare() { constants_ = eon::Constants<C>(reflectance, roughness); }
+  eon::Constants<C> constants() const {
+    return constants_.matches(reflectance, roughness) ? constants_ : eon::Constants<C>(reflectance, roughness);
+  }
 
   static constexpr BxDFFlags flags() { return BxDFFlags::DiffuseReflection; }
 
   // ρ_ms = ρ² Ē_F / (1 − ρ (1 − Ē_F)) (§3).
-  C rho_ms() const {
-    const Float avg = eon::average_albedo_fon(roughness);
-    return reflectance * reflectance * avg / (C(1) - reflectance * (1 - avg));
-  }
+  C rho_ms() const { return constants().rho_ms; }
 
   C f(Vec3 wo, Vec3 wi, TransportMode = TransportMode::Radiance) const {
     if (!diffuse_glossy::usable(wo, wi)) return {};
@@ -170,15 +241,10 @@ struct EonBxDFT {
       wo.z = -wo.z;
       wi.z = -wi.z;
     }
-    const Float r = roughness, a = eon::a_fon(r);
-    // s = sin θi sin θo cos Δφ ≥ −1; rounding took it below −1 (f < 0) for opposite
-    // grazing directions.
-    const Float s = std::max(Float(-1), dot(wi, wo) - wi.z * wo.z);
-    const Float s_over_t = s > 0 ? s / std::max(wi.z, wo.z) : s;
-    const C f_ss = reflectance * (kInvPi * a * (1 + r * s_over_t));
-    if (r <= 0) return f_ss;
-    const Float ms = kInvPi * r * a * eon::one_minus_g(wo.z) * eon::one_minus_g(wi.z) / (eon::kC1 - eon::kC2);
-    return f_ss + rho_ms() * ms;
+    // At r = 0, A_F = 1 and f_ms = 0: Lambert.
+    if (roughness <= 0) return reflectance * kInvPi;
+    if (!constants_.matches(reflectance, roughness)) return f_upper(wo, wi, eon::Constants<C>(reflectance, roughness));
+    return f_upper(wo, wi, constants_);
   }
 
   Float pdf(Vec3 wo, Vec3 wi, TransportMode = TransportMode::Radiance) const {
@@ -187,7 +253,7 @@ struct EonBxDFT {
       wo.z = -wo.z;
       wi.z = -wi.z;
     }
-    return mixture_pdf(wo, wi);
+    return mixture_pdf(wo, wi, uniform_share(wo.z));
   }
 
   std::optional<BSDFSampleT<C>> sample(Vec3 wo, Float u_lobe, Float u1, Float u2,
@@ -195,15 +261,16 @@ struct EonBxDFT {
     if (std::abs(wo.z) < diffuse_glossy::kGrazing) return std::nullopt;
     const bool flip = wo.z < 0;
     if (flip) wo.z = -wo.z;
+    const Float pu = uniform_share(wo.z);
     Vec3 wi;
-    if (u_lobe < eon::uniform_share(wo.z, roughness)) {
+    if (u_lobe < pu) {
       wi = square_to_uniform_hemisphere(u1, u2);
     } else {
       const eon::Frame frame(wo);
       wi = normalize(frame.to_world(eon::cltc_sample(eon::ltc_terms(wo.z, roughness), u1, u2)));
     }
     if (!(wi.z >= diffuse_glossy::kGrazing)) return std::nullopt;
-    const Float p = mixture_pdf(wo, wi);
+    const Float p = mixture_pdf(wo, wi, pu);
     if (!(p > 0)) return std::nullopt;
     const C weight = f(wo, wi, mode) * (wi.z / p);
     if (flip) wi.z = -wi.z;
@@ -213,15 +280,28 @@ struct EonBxDFT {
   // The closed form of the whole model's directional albedo ("E_EON", §3).
   DirectionalAlbedoT<C> albedo(const Vec3& wo, TransportMode = TransportMode::Radiance) const {
     if (std::abs(wo.z) < diffuse_glossy::kGrazing) return {C{}, C{}};
-    const Float e = eon::albedo_fon(std::abs(wo.z), roughness);
-    const Float one_minus_e = roughness * eon::a_fon(roughness) * eon::one_minus_g(std::abs(wo.z));
-    return {reflectance * e + rho_ms() * one_minus_e, C{}};
+    const eon::Constants<C> k = constants();
+    const Float one_minus_e = roughness * k.a * eon::one_minus_g(std::abs(wo.z));
+    return {reflectance * (1 - one_minus_e) + k.rho_ms * one_minus_e, C{}};
   }
 
  private:
-  // wo and wi on the upper side.
-  Float mixture_pdf(const Vec3& wo, const Vec3& wi) const {
-    const Float pu = eon::uniform_share(wo.z, roughness);
+  // f for wo, wi on the upper side, r > 0.
+  C f_upper(const Vec3& wo, const Vec3& wi, const eon::Constants<C>& k) const {
+    // s = sin θi sin θo cos Δφ ≥ −1; rounding took it below −1 (f < 0) for opposite
+    // grazing directions.
+    const Float s = std::max(Float(-1), dot(wi, wo) - wi.z * wo.z);
+    const eon::FonTerms t = eon::fon_terms(wo.z, wi.z, s);
+    // f_ss + f_ms, f_ms = ρ_ms/π r A_F (c1 − G_o/π)(c1 − G_i/π)/(c1 − c2) (see above).
+    return reflectance * (kInvPi * k.a * (1 + roughness * t.s_over_t)) + k.rho_ms * (k.ms * t.c_o * t.c_i);
+  }
+  // P_u of §4 for wo at cos θo = mu (0 at r = 0).
+  Float uniform_share(Float mu) const {
+    if (roughness <= 0) return 0;
+    return eon::uniform_share_from_power(mu, constants_.r == roughness ? constants_.r_pow : std::pow(roughness, Float(0.1)));
+  }
+  // wo and wi on the upper side; pu = uniform_share(wo.z).
+  Float mixture_pdf(const Vec3& wo, const Vec3& wi, Float pu) const {
     const eon::Frame frame(wo);
     const Float pc = eon::cltc_pdf(eon::ltc_terms(wo.z, roughness), frame.to_local(wi));
     return pu * kInv2Pi + (1 - pu) * pc;

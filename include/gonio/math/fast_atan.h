@@ -17,11 +17,24 @@ namespace detail {
 // Estrin's scheme (pairs c_k + c_{k+1} z, then z², then z⁴) rather than Horner's: a chain
 // of 3 multiply-adds instead of 7, for the same operations per call; the rounding differs
 // from Horner's by at most 1 ulp (1.2e-7 relative) in 1.7% of arguments. V is Float or Float4.
+// c in every lane of V (c itself for a scalar). A braced vector constant, which g++ keeps
+// in the constant pool: `Float * vector` made it broadcast each scalar at run time
+// (movss + shufps per coefficient). The same values, so the same results.
+template <typename V>
+constexpr V splat(Float c) {
+  if constexpr (sizeof(V) == sizeof(Float)) {
+    return c;
+  } else {
+    return V{c, c, c, c};
+  }
+}
 template <typename V>
 inline V atan_poly(V t) {
   const V z = t * t, z2 = z * z, z4 = z2 * z2;
-  const V p01 = Float(-0.3333314528) + Float(0.1999355085) * z, p23 = Float(-0.1420889944) + Float(0.1065626393) * z;
-  const V p45 = Float(-0.0752896400) + Float(0.0429096138) * z, p67 = Float(-0.0161657367) + Float(0.0028662257) * z;
+  const V p01 = splat<V>(Float(-0.3333314528)) + splat<V>(Float(0.1999355085)) * z;
+  const V p23 = splat<V>(Float(-0.1420889944)) + splat<V>(Float(0.1065626393)) * z;
+  const V p45 = splat<V>(Float(-0.0752896400)) + splat<V>(Float(0.0429096138)) * z;
+  const V p67 = splat<V>(Float(-0.0161657367)) + splat<V>(Float(0.0028662257)) * z;
   const V p = (p01 + z2 * p23) + z4 * (p45 + z2 * p67);
   return t + t * z * p;
 }
