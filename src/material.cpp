@@ -845,9 +845,6 @@ BxDF make_layered(Params& p, const std::string& where, int depth) {
   const BxDF top = parse_description(top_json, where + ".top", depth + 1, p.spectra().parts[0], p.base_dir());
   auto bottom = std::make_shared<const BxDF>(
       parse_description(bottom_json, where + ".bottom", depth + 1, p.spectra().parts[1], p.base_dir()));
-  if (is_transmissive(bottom->flags()))
-    p.fail("bottom must not transmit light (a " + bottom->name() +
-           " does): a transmitting bottom is not supported; the stack reflects only");
   // The top as the stack holds it (layered.h): smooth ones with alpha 0 (specular()), a
   // sheet with its eta and film.
   RoughDielectricBxDF interface;

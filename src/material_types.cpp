@@ -129,7 +129,7 @@ constexpr ParamSpec kLayered[] = {
     {"top", K::Material, "", {}, "", "", true,
      "The interface on top: a dielectric or roughdielectric material (its eta is relative to the medium below it), or a thindielectric sheet."},
     {"bottom", K::Material, "", {}, "", "", true,
-     "The material under the medium: any material that does not transmit; layered materials and blends nest at most 8 deep."},
+     "The material under the medium: any material. One that transmits (a dielectric, a thindielectric sheet) makes the stack transmit, its eta relative to the medium above it (the top's); layered materials and blends nest at most 8 deep."},
     {"thickness", K::Number, "0.01", closed(0, 1e4), "", "", false,
      "Optical depth of the medium between them (sigma_t = 1, as in pbrt-v4); 0: no medium."},
     {"albedo", K::Colour, "0", kUnit, "", "", false,
@@ -247,12 +247,12 @@ constexpr MaterialTypeSpec kTypes[] = {
      "ThinDielectricBxDF; with thin_film, Belcour & Barla 2017 eq. 1",
      kThinDielectric, "The same medium on both sides: the sheet does not refract (relative_eta 1). With thin_film the "
      "sheet is that one coherent film (the soap bubble): R = Airy(outside | film | outside), T = 1 - R."},
-    {"layered", "A dielectric interface over any reflecting material, with an optional medium between them.",
+    {"layered", "A dielectric interface over any material, with an optional medium between them.",
      "Guo, Hasan & Zhao 2018 (position-free random walk); Pharr, Jakob & Humphreys, PBR 4th ed., 14.3 (LayeredBxDF)",
      kLayered,
      "f is a Monte Carlo estimate, seeded by the unordered pair of directions and run from both ends, so that it is "
-     "reciprocal exactly; sample() draws from a closed-form mixture. The bottom must not transmit. Polarized mode: "
-     "depolarizing."},
+     "reciprocal exactly; sample() draws from a closed-form mixture. A bottom that transmits makes the stack transmit (and "
+     "seen from below, the bottom comes first); one that does not makes it two-sided. Polarized mode: depolarizing."},
 };
 
 std::string number_text(double v) {

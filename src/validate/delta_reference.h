@@ -156,15 +156,45 @@ inline std::optional<DeltaReference> delta_reference(const BxDF& bxdf, const Vec
           // direction) and bounced between bottom and top (F from inside equals F from
           // outside at Snell's pair of angles, for a lossless film too; the radiance
           // scalings in and out cancel):
-          //   R = F + (1 − F)² T R_b / (1 − F T R_b),  T = e^{−2τ/μ'}.
-          // A rough top has no delta lobe.
-          if (!m.top.specular() || wo.z == 0) return r;
-          const double mu = std::abs(double(wo.z));
+          //   R = F + (1 − F)² T R_b / (1 − F T R_b),  T = e^{−2τ/μ'};
+          // through a bottom that transmits T_b (its own reference, with the mode's
+          // scaling), t_in e^{−τ/μ'} T_b / (1 − F T R_b), t_in the top's transmission.
+          // A rough top has no delta lobe. A stack that reflects only is two-sided.
+          if (wo.z == 0) return r;
+          const bool through = is_transmissive(m.bottom->flags());
+          const auto top_reference = [&](const Vec3& w) {
+            return m.thin_top ? thin_sheet_reference(w, m.top.eta, &m.top.film)
+                              : dielectric_reference(w, m.top.eta, mode, &m.top.film);
+          };
           const double eta = m.thin_top ? 1.0 : double(m.top.eta);
+          if (through && wo.z < 0) {
+            // Seen from below: the bottom's own R0 and T0 (into the medium, at cos θ_v by
+            // the bottom's index), then the chain between the top (F from inside, t_out
+            // out) and the bottom (R_b, and T_b back out below):
+            //   T = T0 e^{−τ/μ_v} t_out / (1 − F T R_b),  R = R0 + T0 T F T_b / (1 − F T R_b).
+            const auto b0 = delta_reference(*m.bottom, wo, mode);
+            if (!b0) return std::nullopt;
+            r.reflection = b0->reflection;
+            const double eb = double(m.bottom->relative_eta()), mu = std::abs(double(wo.z));
+            const double sv2 = eb * eb * (1 - mu * mu);
+            if (!m.top.specular() || !(sv2 < 1)) return r;
+            const double mu_v = std::sqrt(1 - sv2), sin_v = std::sqrt(sv2);
+            const auto t = top_reference(Vec3{Float(sin_v), 0, Float(-mu_v)});
+            const auto b1 = delta_reference(*m.bottom, Vec3{Float(sin_v), 0, Float(mu_v)}, mode);
+            if (!b1) return std::nullopt;
+            const double T1 = m.thickness > 0 ? std::exp(-double(m.thickness) / mu_v) : 1.0;
+            for (size_t c = 0; c < size_t(kColorChannels); ++c) {
+              const double loop = 1 - t.reflection[c] * T1 * T1 * b1->reflection[c];
+              r.transmission[c] = b0->transmission[c] * T1 * t.transmission[c] / loop;
+              r.reflection[c] += b0->transmission[c] * T1 * T1 * t.reflection[c] * b1->transmission[c] / loop;
+            }
+            return r;
+          }
+          if (!m.top.specular()) return r;
+          const double mu = std::abs(double(wo.z));
           const Vec3 up{wo.x, wo.y, Float(mu)};
-          const std::array<double, kColorChannels> F =
-              m.thin_top ? thin_sheet_reference(up, m.top.eta, &m.top.film).reflection
-                         : dielectric_reference(up, m.top.eta, mode, &m.top.film).reflection;
+          const DeltaReference top = top_reference(up);
+          const std::array<double, kColorChannels>& F = top.reflection;
           const double s2 = (1 - mu * mu) / (eta * eta);
           if (!(s2 < 1)) {  // total internal reflection from outside (η < 1)
             r.reflection = F;
@@ -174,10 +204,11 @@ inline std::optional<DeltaReference> delta_reference(const BxDF& bxdf, const Vec
           const Vec3 inner{Float(wo.x / eta), Float(wo.y / eta), Float(mu_in)};
           const auto b = delta_reference(*m.bottom, inner, mode);
           if (!b) return std::nullopt;
-          const double T = m.thickness > 0 ? std::exp(-2 * double(m.thickness) / mu_in) : 1.0;
+          const double T1 = m.thickness > 0 ? std::exp(-double(m.thickness) / mu_in) : 1.0, T = T1 * T1;
           for (size_t c = 0; c < size_t(kColorChannels); ++c) {
             const double rb = b->reflection[c], f = F[c];
             r.reflection[c] = f + (1 - f) * (1 - f) * T * rb / (1 - f * T * rb);
+            if (through) r.transmission[c] = top.transmission[c] * T1 * b->transmission[c] / (1 - f * T * rb);
           }
           return r;
         } else if constexpr (std::is_same_v<M, UserBxDF>) {

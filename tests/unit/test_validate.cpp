@@ -152,6 +152,11 @@ INSTANTIATE_TEST_SUITE_P(
       R"({"type":"layered","top":{"type":"dielectric","eta":0.7},"bottom":{"type":"orennayar","reflectance":0.8,"sigma":20},"thickness":2,"albedo":1,"g":-0.7})",
       R"({"type":"layered","top":{"type":"thindielectric","eta":1.5},"bottom":{"type":"diffuse","reflectance":0.5},"thickness":0.5,"albedo":[0.9,0.5,0.1],"g":0.5})",
       R"({"type":"layered","top":{"type":"dielectric","eta":1.5,"thin_film":{"thickness":400,"eta":1.38}},"bottom":{"type":"diffuse","reflectance":0.8},"thickness":0})",
+      // Transmitting bottoms: a glass slab with a scattering interior (its delta chains
+      // against the validator's own closed forms, from above and below), and two sheets
+      // around a medium (both interfaces delta: the walk's legs to the exit).
+      R"({"type":"layered","top":{"type":"dielectric","eta":1.5},"bottom":{"type":"dielectric","eta":1.2},"thickness":0.2,"albedo":0.7,"g":0.5})",
+      R"({"type":"layered","top":{"type":"thindielectric","eta":1.5},"bottom":{"type":"thindielectric","eta":1.33},"thickness":0.3,"albedo":0.5})",
       // issue 34: the thin sheet over the index range, index-matched, below 1.
       R"({"type":"thindielectric"})",
       R"({"type":"thindielectric","eta":1})",

@@ -18,9 +18,14 @@
 //    An isotropic stack hashes the pair's rotation invariants instead (quantised to 2⁻¹²)
 //    and walks in a frame turned to the first direction's azimuth, so that turning both
 //    directions about N leaves f unchanged (layered_impl.h, canonical_turn).
-//  - The stack reflects only (the bottom must not transmit; the parser refuses one that
-//    does), so f in importance mode equals f in radiance mode (reciprocity), and mode is
-//    not needed by the walk. Two-sided: wo below the surface sees the same stack mirrored.
+//  - A stack whose bottom reflects only is two-sided: wo below the surface sees the same
+//    stack mirrored, and f in importance mode equals f in radiance mode. A bottom that
+//    transmits (a dielectric, a sheet, a blend with one) makes the stack transmit: light
+//    enters and leaves through either interface (the walk's entry and exit interfaces, as
+//    pbrt-v4's), wo below sees the bottom first, and the two ends of the symmetric
+//    estimator are related by Veach's reciprocity for transmission, f(wo, wi)/n_wo² =
+//    f(wi, wo)/n_wi² (Veach 1997, eq. 5.14), the index below being the top's times the
+//    bottom's relative index.
 //  - sample() draws wi from a closed-form mixture whose density is exactly pdf(): the
 //    top's own microfacet reflection lobe and a wider copy (rough top), the bottom's own
 //    sampling seen through the top's macroscopic refraction (a non-delta bottom), the
@@ -97,14 +102,45 @@ struct LayeredBxDFT {
   std::optional<BSDFSampleT<C>> sample(const Vec3& wo, Float u_lobe, Float u1, Float u2,
                                        TransportMode mode = TransportMode::Radiance) const;
 
+  // The bottom transmits, and so does the stack.
+  bool transmits() const;
+  // n(below the stack) / n(above): 1 unless the stack transmits.
+  Float relative_eta() const;
+
   // --- the parts of the walk (layered_impl.h) ---
   bool scatters() const { return thickness > 0 && !albedo.is_black(); }
-  // One estimate of the stack's BSDF for wo, wi on the upper side, from the generator
-  // state `seed` (both ends of the symmetric estimator use the same seed).
+  // One estimate of the stack's BSDF (radiance mode) for wo, wi on either side (the upper
+  // side only for a bottom that reflects only), from the generator state `seed` (both ends
+  // of the symmetric estimator use the same seed).
   C walk(const Vec3& wo, const Vec3& wi, std::uint64_t seed) const;
+  // The two interfaces as the walk sees them, in the stack's frame (the top at depth
+  // `thickness`, the bottom at 0): whether every lobe is a delta, f and pdf of the
+  // non-delta part, and a reflection (`reflect`) or a transmission drawn from w: none
+  // when the other kind was drawn, whose probability the drawn kind's weight carries.
+  bool interface_delta(bool at_top) const;
+  BSDFEvalT<C> interface_eval(bool at_top, const Vec3& wo, const Vec3& wi, TransportMode mode) const;
+  Float interface_pdf(bool at_top, const Vec3& wo, const Vec3& wi, TransportMode mode) const;
+  template <typename Rand>
+  std::optional<BSDFSampleT<C>> interface_sample(bool at_top, const Vec3& w, bool reflect, TransportMode mode,
+                                                 Rand& r) const;
+  // Where both interfaces are deltas: from a scattering vertex at depth zp (travelling
+  // along w) to the exit along w_exit, unscattered, directly and by the other interface,
+  // with every round trip between them: the phase function times transmittances and
+  // reflectances, an unbiased estimate.
+  template <typename Rand>
+  C delta_legs_to_exit(const Vec3& w, Float zp, const Vec3& w_exit, bool exit_top, Rand& r) const;
   // An unbiased estimate of the smooth top's specular chain for wo (upper side): the
-  // stack's delta reflectance in the mirror direction.
+  // stack's delta reflectance in the mirror direction (a bottom that reflects only).
   C specular_chain(const Vec3& wo, std::uint64_t seed) const;
+  // The delta chains of a transmitting stack for wo on either side, one random path: the
+  // delta reflectance (mirror direction) and transmittance (direction `wt`, set when
+  // `transmitted`), each an unbiased estimate.
+  struct Chain {
+    C reflection{}, transmission{};
+    Vec3 wt{};
+    bool transmitted = false;
+  };
+  Chain transmitting_chain(const Vec3& wo, TransportMode mode, std::uint64_t seed) const;
   // The smooth top (or sheet) seen by light along w (w.z < 0: from inside): its
   // reflectance per channel, and its crossing, the direction beyond it (refracted, or
   // straight through a sheet) with the share carried, (1 − R) times the mode's radiance
@@ -118,8 +154,12 @@ struct LayeredBxDFT {
   // The index that bends directions at the top: 1 for a sheet.
   Float geometric_eta() const { return thin_top ? Float(1) : top.eta; }
   // Mixture probabilities of sample() for wo (upper side).
+  // (A transmitting stack adds `delta_t`, its delta transmission chain, `cosine_far`, a
+  // cosine lobe on the far side, and `lobe_t`, a rough top's own transmission crossing a
+  // delta bottom by Snell's law; seen from below, `delta` is the chain's reflection,
+  // `base` the bottom's own sampling, refracted out through the top when it transmits.)
   struct Mixture {
-    Float delta = 0, lobe = 0, wide = 0, base = 0, medium = 0, cosine = 0;
+    Float delta = 0, lobe = 0, wide = 0, base = 0, medium = 0, cosine = 0, delta_t = 0, cosine_far = 0, lobe_t = 0;
   };
   Mixture mixture(const Vec3& wo) const;
   Float mixture_pdf(const Mixture& p, const Vec3& wo, const Vec3& wi) const;
