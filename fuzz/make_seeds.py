@@ -31,6 +31,7 @@ materials = [
     '{"type":"roughconductor","alpha":0.2,"fresnel":"f82","f0":[0.95,0.64,0.54],"f82":[0.9,0.6,0.3],"multiscatter":true}',
     '{"type":"layered","top":{"type":"roughdielectric","alpha":0.2,"eta":1.5},"bottom":{"type":"diffuse","reflectance":0.8},"thickness":0.3,"albedo":0.9,"g":0.5,"max_depth":20,"samples":2}',
     '{"type":"layered","top":{"type":"dielectric","eta":1.5},"bottom":{"type":"mirror"},"thickness":0.5}',
+    '{"type":"layered","top":{"type":"roughdielectric","alpha":0.3,"eta":1.5},"bottom":{"type":"dielectric","eta":1.2},"thickness":0.2,"albedo":0.5}',
     '{"type":"layered","top":{"type":"thindielectric","eta":1.5,"thin_film":{"thickness":300,"eta":1.33}},"bottom":{"type":"diffuse"},"thickness":0.5,"albedo":0.8,"g":-0.7}',
     '{"type":"thindielectric","eta":1.5}',
     '{"type":"roughdielectric","alpha":0.3,"eta":1.5,"thin_film":{"thickness":400,"eta":1.38}}',

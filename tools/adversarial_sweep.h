@@ -75,6 +75,10 @@ inline std::vector<std::string> extreme_materials() {
       R"({"type":"layered","top":{"type":"thindielectric","eta":0.0001},"bottom":{"type":"diffuse","reflectance":1},"thickness":10000,"albedo":1,"g":-0.9})",
       R"({"type":"layered","top":{"type":"thindielectric","eta":10000,"thin_film":{"thickness":10000,"eta":10000}},"bottom":{"type":"mirror"},"thickness":0.001,"albedo":0.5})",
       R"({"type":"layered","top":{"type":"dielectric","eta":1.5,"thin_film":{"thickness":300,"eta":1.38}},"bottom":{"type":"eon","reflectance":0.5},"thickness":0})",
+      // Transmitting bottoms: a slab with a medium, extreme indices and roughness, two sheets.
+      R"({"type":"layered","top":{"type":"dielectric","eta":1.5},"bottom":{"type":"dielectric","eta":1.2},"thickness":0.2,"albedo":0.5})",
+      R"({"type":"layered","top":{"type":"dielectric","eta":10000},"bottom":{"type":"roughdielectric","alpha":1,"eta":0.0001},"thickness":0})",
+      R"({"type":"layered","top":{"type":"thindielectric","eta":1.5},"bottom":{"type":"thindielectric","eta":10000},"thickness":10000,"albedo":0.5,"g":0.9})",
   };
   for (const char* eta : {"1", "1.000001", "0.0001", "10000", "1.5", "0.6667"}) {
     v.push_back(std::string(R"({"type":"dielectric","eta":)") + eta + "}");
