@@ -2,8 +2,9 @@
 // walk: the white furnace of a non-absorbing stack (albedo 1), a black base that leaves
 // the top's own reflection (Fresnel written below; a rough top's f), the mirror base's
 // geometric series R = F0 + (1 − F0)² e^{−2τ} / (1 − F0 e^{−2τ}), agreement with the
-// closed-form `plastic` within the Monte Carlo error, exact reciprocity, the parser's
-// refusals. Monte Carlo tolerances are 4.5 standard errors estimated from the same samples.
+// closed-form `plastic` within the Monte Carlo error, exact reciprocity; through a
+// transmitting bottom, a stack with an invisible interface equal to the other alone, the
+// white furnace from both sides, a glass slab's incoherent sums; the parser's refusals. Monte Carlo tolerances are 4.5 standard errors estimated from the same samples.
 
 #include <gtest/gtest.h>
 
@@ -54,6 +55,28 @@ LayeredMean layered_albedo(const BxDF& m, const Vec3& wo, int n, std::uint64_t s
   }
   const double mean = s / n;
   return {mean, std::sqrt(std::max(0.0, s2 / n - mean * mean) / n)};
+}
+
+// Over the pairs jittered within ±1° of a region (θo, φo, θi, φi in degrees) — n distinct
+// pairs, each an independent estimate of f (its own seed) — the mean of f − want and its
+// standard error, and the mean of want.
+struct LayeredRegionError {
+  double mean = 0, se = 0, want = 0;
+};
+template <typename Want>
+LayeredRegionError layered_region_error(const BxDF& m, const double (&region)[4], int n, Pcg32& rng, Want want_of) {
+  double s = 0, s2 = 0, ref = 0;
+  for (int i = 0; i < n; ++i) {
+    const auto j = [&] { return 2 * rng.next_double() - 1; };
+    const Vec3 wo = layered_test_dir(std::abs(region[0] + j()), region[1] + j());
+    const Vec3 wi = layered_test_dir(region[2] + j(), region[3] + j());
+    const double want = want_of(wo, wi), d = m.f(wo, wi)[0] - want;
+    s += d;
+    s2 += d * d;
+    ref += want;
+  }
+  const double mean = s / n;
+  return {mean, std::sqrt(std::max(0.0, s2 / n - mean * mean) / n), ref / n};
 }
 
 // A non-absorbing stack over a white Lambertian base returns every joule: albedo 1 at every
@@ -150,18 +173,8 @@ TEST(Layered, AgreesWithPlastic) {
   const double pairs[][4] = {{0, 0, 30, 180}, {45, 0, 45, 180}, {70, 30, 20, 100}, {85, 0, 60, 90}};
   Pcg32 rng(19);
   for (const auto& p : pairs) {
-    double s = 0, s2 = 0, ref = 0;
-    for (int i = 0; i < n; ++i) {
-      const auto j = [&] { return 2 * rng.next_double() - 1; };
-      const Vec3 wo = layered_test_dir(std::abs(p[0] + j()), p[1] + j()), wi = layered_test_dir(p[2] + j(), p[3] + j());
-      const double want = plastic.f(wo, wi)[0];
-      const double d = layered.f(wo, wi)[0] - want;
-      s += d;
-      s2 += d * d;
-      ref += want;
-    }
-    const double mean = s / n, se = std::sqrt(std::max(0.0, s2 / n - mean * mean) / n);
-    EXPECT_NEAR(mean, 0.0, 4.5 * se + 1e-4 * ref / n) << p[0] << " " << p[2] << " (plastic " << ref / n << ")";
+    const auto e = layered_region_error(layered, p, n, rng, [&](const Vec3& wo, const Vec3& wi) { return plastic.f(wo, wi)[0]; });
+    EXPECT_NEAR(e.mean, 0.0, 4.5 * e.se + 1e-4 * e.want) << p[0] << " " << p[2] << " (plastic " << e.want << ")";
   }
   for (double th : {0.0, 60.0, 85.0}) {
     const Vec3 wo = layered_test_dir(th, 0);
@@ -232,21 +245,14 @@ TEST(Layered, SingleScatteringIsTheSlabsClosedForm) {
   const int n = int(test::scaled(4000));
   const double pairs[][4] = {{0, 0, 30, 180}, {40, 0, 40, 180}, {60, 0, 60, 0}, {75, 30, 20, 100}};
   Pcg32 rng(43);
+  const auto single_scattering = [&](const Vec3& wo, const Vec3& wi) {
+    const double mo = wo.z, mi = wi.z;
+    const double cos_travel = -(double(wi.x) * wo.x + double(wi.y) * wo.y + double(wi.z) * wo.z);
+    return omega * hg(cos_travel) * -std::expm1(-tau * (1 / mo + 1 / mi)) / (mo + mi);
+  };
   for (const auto& p : pairs) {
-    double s = 0, s2 = 0, ref = 0;
-    for (int i = 0; i < n; ++i) {
-      const auto j = [&] { return 2 * rng.next_double() - 1; };
-      const Vec3 wo = layered_test_dir(std::abs(p[0] + j()), p[1] + j()), wi = layered_test_dir(p[2] + j(), p[3] + j());
-      const double mo = wo.z, mi = wi.z;
-      const double cos_travel = -(double(wi.x) * wo.x + double(wi.y) * wo.y + double(wi.z) * wo.z);
-      const double want = omega * hg(cos_travel) * -std::expm1(-tau * (1 / mo + 1 / mi)) / (mo + mi);
-      const double d = m.f(wo, wi)[0] - want;
-      s += d;
-      s2 += d * d;
-      ref += want;
-    }
-    const double mean = s / n, se = std::sqrt(std::max(0.0, s2 / n - mean * mean) / n);
-    EXPECT_NEAR(mean, 0.0, 4.5 * se + 1e-6) << p[0] << " " << p[2] << " (f_ss " << ref / n << ")";
+    const auto e = layered_region_error(m, p, n, rng, single_scattering);
+    EXPECT_NEAR(e.mean, 0.0, 4.5 * e.se + 1e-6) << p[0] << " " << p[2] << " (f_ss " << e.want << ")";
   }
 }
 
