@@ -110,10 +110,10 @@ def _load(key):
     return scene
 
 
-def _render_pass(key, seed, a, b):
+def _render_pass(key, seed, a, b, threads=1):
     """The float32 per-pixel sums of the sample indices [a, b) (exact: the renderer adds in
-    float). One thread: a worker process is one core."""
-    sums = gonio.render(_load(key), seed=seed, threads=1, sample_range=(a, b))
+    float). One thread by default: a worker process is one core."""
+    sums = gonio.render(_load(key), seed=seed, threads=threads, sample_range=(a, b))
     return sums.astype(np.float32)
 
 
@@ -211,7 +211,7 @@ def _save_checkpoint(path, meta, blocks):
 
 
 def render(scene=None, spp=None, passes=16, client=None, scheduler=None, seed=None, on_pass=None,
-           workers=None, checkpoint=None, every=BLOCK, progress=None):
+           workers=None, checkpoint=None, every=BLOCK, progress=None, threads=1):
     """The image (float32 (H, W, 3), linear) of `scene` at `spp` samples per pixel, rendered as
     `passes` tasks on a Dask cluster (see the module's docstring for the merge order).
 
@@ -222,6 +222,8 @@ def render(scene=None, spp=None, passes=16, client=None, scheduler=None, seed=No
     image of those passes so far. checkpoint: a .npz path where finished blocks' sums are
     kept; a job started again with it resumes, and it is removed when the image is done.
     progress(done): called on the client after every pass with the number of passes done.
+    threads: render threads per pass (1 for single-threaded workers; a node's cores for one
+    worker per node); the image does not depend on it.
     """
     key, spp, seed, loaded = check_render_inputs(scene, spp, passes, seed)
     if not (isinstance(every, int) and every >= 1 and every & (every - 1) == 0):
@@ -244,7 +246,7 @@ def render(scene=None, spp=None, passes=16, client=None, scheduler=None, seed=No
         with cluster(client, scheduler, workers) as c:
             roots, leaves = {}, set()
             for i in todo:
-                block = [c.submit(_render_pass, key, seed, *pass_range(p, spp, passes), pure=False)
+                block = [c.submit(_render_pass, key, seed, *pass_range(p, spp, passes), threads, pure=False)
                          for p in range(i * every, min((i + 1) * every, passes))]
                 leaves.update(block)
                 # The block's subtree, added on the workers; only its root comes back.
@@ -283,6 +285,12 @@ def _map(fn, items, client=None, scheduler=None, workers=None):
         return c.gather(futures)
 
 
+def _check_tables(tables):
+    for t in tables:
+        if not os.path.isfile(t):
+            raise DistributedError("%s: no such file" % os.fspath(t))
+
+
 def _fit_one(table, model, kwargs):
     return gonio.fit(table, model, **kwargs)
 
@@ -293,10 +301,8 @@ def fit(tables, models, client=None, scheduler=None, workers=None, **kwargs):
     init, stride). Every worker must see the tables at the same paths."""
     if not hasattr(gonio, "fit"):
         raise DistributedError("this gonio module was built without the fitter")
+    _check_tables(tables)
     pairs = [(os.path.abspath(os.fspath(t)), m, kwargs) for t, m in itertools.product(tables, models)]
-    for t, _, _ in pairs:
-        if not os.path.isfile(t):
-            raise DistributedError("%s: no such file" % t)
     return _map(_fit_one, pairs, client, scheduler, workers)
 
 
@@ -370,6 +376,10 @@ def main(argv=None):
     r.add_argument("--passes", type=int, default=16, help="tasks; pass p renders samples [p*N/P, (p+1)*N/P)")
     r.add_argument("-o", "--output", required=True, help="OUT.exr (linear) or OUT.png")
     r.add_argument("--seed", type=int, help="random seed (default: the scene's)")
+    r.add_argument("--every", type=int, default=BLOCK,
+                   help="passes per block added on the workers and checkpointed, a power of two (default %d; "
+                        "large images: 256 or more, docs/distributed.md)" % BLOCK)
+    r.add_argument("--threads", type=int, default=1, help="render threads per pass (default 1: one per worker)")
     f = sub.add_parser("fit", help="fit models to MERL tables, every pair a task; JSON lines on stdout")
     f.add_argument("tables", nargs="+", help="MERL .binary files")
     f.add_argument("--model", action="append", required=True, help="model to fit (repeat for several)")
@@ -381,6 +391,8 @@ def main(argv=None):
         g = q.add_mutually_exclusive_group()
         g.add_argument("--scheduler", help="address of a running Dask scheduler, e.g. tcp://host:8786")
         g.add_argument("--workers", type=int, help="local worker processes (default: one per core)")
+        q.add_argument("--timeout", type=float, default=10.0,
+                       help="seconds to wait for the scheduler of --scheduler (default 10)")
     a = p.parse_args(argv)
     import json
     try:
@@ -388,21 +400,32 @@ def main(argv=None):
             # Every input checked here, before any cluster starts.
             _check_output(a.output)
             check_render_inputs(a.scene, a.spp, a.passes, a.seed)
+            if not (a.every >= 1 and a.every & (a.every - 1) == 0):
+                raise DistributedError("--every must be a power of two, got %d" % a.every)
+            if not 0 <= a.threads <= 1024:
+                raise DistributedError("--threads must be from 0 to 1024, got %d" % a.threads)
             if a.workers is not None and not 1 <= a.workers <= 1024:
                 raise DistributedError("--workers must be from 1 to 1024, got %d" % a.workers)
             t0 = time.time()
-            image = render(a.scene, a.spp, a.passes, scheduler=a.scheduler, seed=a.seed, workers=a.workers,
-                           checkpoint=a.output + ".checkpoint.npz", progress=_Progress(a.passes))
+            with cluster(scheduler=a.scheduler, workers=a.workers, connect_timeout=a.timeout) as c:
+                image = render(a.scene, a.spp, a.passes, client=c, seed=a.seed,
+                               checkpoint=a.output + ".checkpoint.npz", progress=_Progress(a.passes), every=a.every,
+                               threads=a.threads)
             gonio.write_image(a.output, image)
             sys.stderr.write("rendered %dx%d in %d passes in %.2f s\n" % (image.shape[1], image.shape[0], a.passes,
                                                                          time.time() - t0))
             print(a.output)
         elif a.command == "fit":
-            for r_ in fit(a.tables, a.model, scheduler=a.scheduler, workers=a.workers, metric=a.metric):
-                print(json.dumps(r_, default=lambda o: o.tolist() if hasattr(o, "tolist") else str(o)))
+            _check_tables(a.tables)
+            with cluster(scheduler=a.scheduler, workers=a.workers, connect_timeout=a.timeout) as c:
+                for r_ in fit(a.tables, a.model, client=c, metric=a.metric):
+                    print(json.dumps(r_, default=lambda o: o.tolist() if hasattr(o, "tolist") else str(o)))
         elif a.command == "check":
-            for r_ in check(a.materials, scheduler=a.scheduler, workers=a.workers, seed=a.seed):
-                print(json.dumps(r_, default=lambda o: o.tolist() if hasattr(o, "tolist") else str(o)))
+            for m in a.materials:
+                gonio.Material(m)
+            with cluster(scheduler=a.scheduler, workers=a.workers, connect_timeout=a.timeout) as c:
+                for r_ in check(a.materials, client=c, seed=a.seed):
+                    print(json.dumps(r_, default=lambda o: o.tolist() if hasattr(o, "tolist") else str(o)))
     except (DistributedError, ValueError, OSError) as e:
         sys.stderr.write("gonio.distributed: %s\n" % (str(e).splitlines()[0] if str(e) else type(e).__name__))
         return 1

@@ -171,7 +171,8 @@ def cli(*args):
     (["render", "/nonexistent/scene.json", "--spp", "4", "--passes", "2", "-o", "{tmp}/o.exr"], "/nonexistent/scene.json"),
     (["render", "{scene}", "--spp", "4", "--passes", "8", "-o", "{tmp}/o.exr"], "passes"),
     (["render", "{scene}", "--spp", "4", "--passes", "2", "-o", "{tmp}/o.txt"], "o.txt"),
-    (["render", "{scene}", "--spp", "4", "--passes", "2", "-o", "{tmp}/o.exr", "--scheduler", "tcp://127.0.0.1:9"],
+    (["render", "{scene}", "--spp", "4", "--passes", "2", "-o", "{tmp}/o.exr", "--scheduler", "tcp://127.0.0.1:9",
+      "--timeout", "1"],
      "cannot reach the Dask scheduler at tcp://127.0.0.1:9"),
 ])
 def test_bad_inputs_give_one_line(scene_path, tmp_path, args, needle):
