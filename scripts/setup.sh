@@ -17,6 +17,7 @@ packages=(
   dpkg-dev file             # cpack -G DEB: dpkg-shlibdeps computes Depends, file finds the ELF files
   pybind11-dev python3-dev python3-numpy  # the Python module (python/, docs/python.md)
   python3-matplotlib python3-pytest       # gonio.plot and the module's tests
+  python3-dask python3-distributed        # gonio.distributed: renders and fits on a Dask cluster (docs/distributed.md)
 )
 
 missing=()

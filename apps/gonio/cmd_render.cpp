@@ -22,6 +22,7 @@
 #include <optional>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include "cli_io.h"
 #include "cli_number.h"
@@ -46,6 +47,9 @@ struct RenderArgs {
   std::string dop;         // --dop: the false-colour DoLP/AoLP image (PNG)
   std::optional<double> polarizer;  // --polarizer DEG: overrides the scene's /camera/polarizer
   std::int64_t seed = -1;  // -1: the scene's
+  // --sample-range A B: only the per-pixel sample indices [A, B), written as their sums
+  // (docs/distributed.md); empty: the whole render.
+  std::vector<std::int64_t> sample_range;
 };
 
 // "1.23 M" style figures for the closing line.
@@ -64,6 +68,18 @@ void run_render(const RenderArgs& a) {
   if (ext != ".exr" && ext != ".png")
     throw InputError("-o " + a.output + ": the output must end in .exr (linear) or .png (sRGB)");
 
+  const bool ranged = !a.sample_range.empty();
+  if (ranged) {
+    if (a.sample_range.size() != 2 || a.sample_range[0] >= a.sample_range[1])
+      throw InputError("--sample-range A B: needs A < B (the sample indices [A, B)), got " +
+                       std::to_string(a.sample_range.at(0)) + " " + std::to_string(a.sample_range.at(1)));
+    if (a.spp > 0 && a.sample_range[1] > a.spp)
+      throw InputError("--sample-range " + std::to_string(a.sample_range[0]) + " " + std::to_string(a.sample_range[1]) +
+                       ": beyond --spp " + std::to_string(a.spp) + " (the indices run from 0 to spp - 1)");
+    if (ext != ".exr")
+      throw InputError("-o " + a.output + ": --sample-range writes the samples' sums, which need a linear .exr output");
+    if (!a.dop.empty()) throw InputError("--dop " + a.dop + ": not with --sample-range (it writes sums, not an image)");
+  }
   if (!a.dop.empty() && lower_extension(a.dop) != ".png")
     throw InputError("--dop " + a.dop + ": the polarization image must end in .png");
   // Until the render starts, a signal ends gonio at once (reading a scene from a FIFO
@@ -97,6 +113,11 @@ void run_render(const RenderArgs& a) {
   render::RenderOptions options;
   options.threads = a.threads;
   options.stop = &stop_requested();
+  if (ranged) {
+    options.sample_begin = static_cast<int>(a.sample_range[0]);
+    options.sample_end = static_cast<int>(a.sample_range[1]);
+    options.sums = true;
+  }
   int last_step = -1;
   options.progress = [&](double done) {
     if (tty) {
@@ -123,6 +144,11 @@ void run_render(const RenderArgs& a) {
   const int sig = stop_signal() == SIGTERM ? SIGTERM : SIGINT;
   const char* sig_name = sig == SIGTERM ? "SIGTERM" : "SIGINT";
   if (stats.stopped) exit_status() = 128 + sig;
+  if (ranged && stats.stopped) {
+    // A part of a range has fewer samples in its sums than its indices say: write nothing.
+    std::fprintf(stderr, "gonio: interrupted by %s before the sample range was complete: no sums written\n", sig_name);
+    return;
+  }
   if (stats.spp == 0) {
     // Not one pass completed: there is no image to write (the temporary goes away).
     std::fprintf(stderr, "gonio: interrupted by %s before any pass was complete: no image written\n", sig_name);
@@ -139,11 +165,15 @@ void run_render(const RenderArgs& a) {
   const unsigned threads = a.threads > 0 ? static_cast<unsigned>(a.threads) : std::max(1u, std::thread::hardware_concurrency());
   if (stats.stopped)
     std::fprintf(stderr, "interrupted by %s: ", sig_name);
-  std::fprintf(stderr, "rendered %dx%d at %d spp%s", scene.camera.width, scene.camera.height, stats.spp,
-               scene.settings.spectral && scene.settings.polarized ? " (spectral, polarized)"
-               : scene.settings.spectral                           ? " (spectral)"
-               : scene.settings.polarized                          ? " (polarized)"
-                                                                   : "");
+  const char* mode = scene.settings.spectral && scene.settings.polarized ? " (spectral, polarized)"
+                     : scene.settings.spectral                           ? " (spectral)"
+                     : scene.settings.polarized                          ? " (polarized)"
+                                                                         : "";
+  if (ranged)
+    std::fprintf(stderr, "rendered the sums of samples [%d, %d) of %dx%d%s", options.sample_begin, options.sample_end,
+                 scene.camera.width, scene.camera.height, mode);
+  else
+    std::fprintf(stderr, "rendered %dx%d at %d spp%s", scene.camera.width, scene.camera.height, stats.spp, mode);
   if (stats.stopped) std::fprintf(stderr, " (of %d)", scene.settings.spp);
   std::fprintf(stderr, " on %u threads in %.2f s (+%.2f s setup): %ssamples/s, %srays/s\n", threads, stats.seconds,
                stats.setup_seconds, si(double(stats.samples) / stats.seconds).c_str(),
@@ -166,6 +196,12 @@ void register_render(CLI::App& app) {
       ->transform(decimal_in_range(0, kMaxThreads));
   cmd->add_option("--seed", args->seed, "random seed, 0 to 2147483647 (overrides the scene's; default 0)")
       ->transform(decimal_in_range(0, kMaxSeed));
+  cmd->add_option("--sample-range", args->sample_range,
+                  "A B: render only the per-pixel sample indices [A, B) of the render's sequences, 0 <= A < B <= "
+                  "1048576, and write their per-pixel SUMS (not the mean) as linear .exr: passes of a distributed "
+                  "render (docs/distributed.md)")
+      ->expected(2)
+      ->transform(decimal_in_range(0, kMaxSpp));
   cmd->add_flag("--spectral", args->spectral,
                 "spectral transport: 4 sampled wavelengths per path (also \"render\": {\"spectral\": true})");
   cmd->add_flag("--polarized", args->polarized,

@@ -38,7 +38,7 @@ from ._gonio import (  # noqa: F401  (the public surface)
 from . import _gonio
 
 if hasattr(_gonio, "render"):
-    from ._gonio import measure, render  # noqa: F401
+    from ._gonio import Scene, measure, render, write_image  # noqa: F401
 if hasattr(_gonio, "fit"):
     from ._gonio import fit  # noqa: F401
 

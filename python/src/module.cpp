@@ -21,6 +21,7 @@
 #include <string>
 #include <thread>
 #include <tuple>
+#include <utility>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -44,6 +45,7 @@
 #include "parallel.h"
 
 #ifdef GONIO_PYTHON_RENDER
+#include "gonio/render/image_output.h"
 #include "gonio/render/renderer.h"
 #include "gonio/render/scene_loader.h"
 #include "measure_binding.h"
@@ -635,25 +637,36 @@ py::dict subsurface(const py::object& description, std::int64_t samples, std::in
 #ifdef GONIO_PYTHON_RENDER
 // --- the renderer ---------------------------------------------------------------------------
 
-py::array_t<float> render_scene(const py::object& scene_arg, std::optional<int> spp, int threads,
-                                std::optional<std::int64_t> seed, bool spectral) {
-  render::Scene scene;
-  if (scene_arg.is_none()) {
-    scene = render::parse_scene(render::default_scene_json(), "default scene", "");
-  } else if (py::isinstance<py::dict>(scene_arg)) {
-    scene = render::parse_scene(json_text_of(scene_arg), "scene", "");
-  } else {
-    const std::string s = py::str(scene_arg).cast<std::string>();  // str or os.PathLike
-    const auto first = s.find_first_not_of(" \t\r\n");
-    if (first != std::string::npos && s[first] == '{') scene = render::parse_scene(s, "scene", "");
-    else scene = render::load_scene_file(s);
-  }
+// A scene from a gonio.Scene, a path, JSON text, a dict, or None (the default scene).
+render::Scene scene_of(const py::object& scene_arg) {
+  if (scene_arg.is_none()) return render::parse_scene(render::default_scene_json(), "default scene", "");
+  if (py::isinstance<render::Scene>(scene_arg)) return scene_arg.cast<const render::Scene&>();
+  if (py::isinstance<py::dict>(scene_arg)) return render::parse_scene(json_text_of(scene_arg), "scene", "");
+  const std::string s = py::str(scene_arg).cast<std::string>();  // str or os.PathLike
+  const auto first = s.find_first_not_of(" \t\r\n");
+  if (first != std::string::npos && s[first] == '{') return render::parse_scene(s, "scene", "");
+  return render::load_scene_file(s);
+}
+
+py::array render_scene(const py::object& scene_arg, std::optional<int> spp, int threads,
+                       std::optional<std::int64_t> seed, bool spectral, const py::object& sample_range) {
+  render::Scene scene = scene_of(scene_arg);
   if (spp) scene.settings.spp = int(checked_count(*spp, 1, 1'048'576, "spp"));
   if (seed) scene.settings.seed = checked_count(*seed, 0, 2'147'483'647, "seed");
   if (spectral) scene.settings.spectral = true;
   checked_threads(threads);
   render::RenderOptions options;
   options.threads = threads;
+  const bool ranged = !sample_range.is_none();
+  if (ranged) {
+    // The per-pixel sample indices [a, b) alone, as their sums (gonio render --sample-range).
+    const auto r = sample_range.cast<std::pair<std::int64_t, std::int64_t>>();
+    const auto a = checked_count(r.first, 0, 1'048'575, "sample_range[0]");
+    const auto b = checked_count(r.second, std::int64_t(a) + 1, 1'048'576, "sample_range[1]");
+    options.sample_begin = int(a);
+    options.sample_end = int(b);
+    options.sums = true;
+  }
   // Ctrl-C: the render runs on a worker thread while this one, the interpreter's, checks
   // for signals every 100 ms; on one it asks the render to stop (at the next tile), waits
   // for it and raises the KeyboardInterrupt (or the handler's exception).
@@ -696,12 +709,41 @@ py::array_t<float> render_scene(const py::object& scene_arg, std::optional<int> 
   }
   if (interrupted) throw py::error_already_set();
   if (error) std::rethrow_exception(error);
+  if (ranged) {
+    // The float sums, exactly, as doubles: passes add up in double (docs/distributed.md).
+    auto a = empty_array<double>({image.height(), image.width(), 3});
+    double* p = a.mutable_data();
+    for (int y = 0; y < image.height(); ++y)
+      for (int x = 0; x < image.width(); ++x)
+        for (int c = 0; c < 3; ++c) *p++ = double(image.at(x, y)[c]);
+    return a;
+  }
   auto a = empty_array<float>({image.height(), image.width(), 3});
   float* p = a.mutable_data();
   for (int y = 0; y < image.height(); ++y)
     for (int x = 0; x < image.width(); ++x)
       for (int c = 0; c < 3; ++c) *p++ = image.at(x, y)[c];
   return a;
+}
+#endif
+
+#ifdef GONIO_PYTHON_RENDER
+// A linear float32 (H, W, 3) image to .exr (linear) or .png (tone-mapped sRGB), through the
+// CLI's own writer (a temporary renamed over the path when complete).
+void write_image(const std::string& path, const py::array_t<float, py::array::c_style | py::array::forcecast>& img,
+                 double exposure, bool filmic) {
+  if (img.ndim() != 3 || img.shape(2) != 3 || img.shape(0) < 1 || img.shape(1) < 1)
+    throw InputError("image must have shape (H, W, 3), H and W at least 1");
+  const int h = int(img.shape(0)), w = int(img.shape(1));
+  render::Image image(w, h);
+  const float* p = img.data();
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x, p += 3) image.at(x, y) = Color(p[0], p[1], p[2]);
+  render::ImageOutput out(path);
+  render::PngOptions png;
+  png.exposure_stops = Float(exposure);
+  png.tonemap = filmic ? render::ToneMap::Filmic : render::ToneMap::Clamp;
+  out.write(image, png);
 }
 #endif
 
@@ -908,12 +950,32 @@ collimated beam at normal incidence. A dict: Rd (3,), stderr (3,), radius (M,) a
 profile (M, 3), by the material's method (random walk: `samples` paths).
 )doc");
 #ifdef GONIO_PYTHON_RENDER
+  py::class_<render::Scene>(mod, "Scene", R"doc(
+A scene loaded once (meshes, textures and tables read): Scene(path | JSON text | dict |
+None for the default scene), to render many times (gonio.render(scene, ...)).
+)doc")
+      .def(py::init([](const py::object& arg) { return scene_of(arg); }), py::arg("scene") = py::none())
+      .def_property_readonly("width", [](const render::Scene& s) { return s.camera.width; })
+      .def_property_readonly("height", [](const render::Scene& s) { return s.camera.height; })
+      .def_property_readonly("spp", [](const render::Scene& s) { return s.settings.spp; })
+      .def_property_readonly("seed", [](const render::Scene& s) { return s.settings.seed; })
+      .def_property_readonly("spectral", [](const render::Scene& s) { return s.settings.spectral; })
+      .def_property_readonly("polarized", [](const render::Scene& s) { return s.settings.polarized; });
   mod.def("render", &render_scene, py::arg("scene") = py::none(), py::kw_only(), py::arg("spp") = py::none(),
-          py::arg("threads") = 0, py::arg("seed") = py::none(), py::arg("spectral") = false, R"doc(
+          py::arg("threads") = 0, py::arg("seed") = py::none(), py::arg("spectral") = false,
+          py::arg("sample_range") = py::none(), R"doc(
 Render a scene (docs/scene-format.md) as `gonio render` does, returning the linear image
-as a float32 array of shape (H, W, 3), row 0 at the top. scene: a path, JSON text, a dict,
-or None for the built-in default scene. spp, seed override the scene's; threads 0 = all.
+as a float32 array of shape (H, W, 3), row 0 at the top. scene: a gonio.Scene, a path,
+JSON text, a dict, or None for the built-in default scene. spp, seed override the scene's;
+threads 0 = all. sample_range=(a, b): only the per-pixel sample indices [a, b), returned as
+their per-pixel SUMS, float64 (H, W, 3) (`gonio render --sample-range`; the sums of
+disjoint ranges add up to the whole render's, docs/distributed.md).
 Ctrl-C stops the render at its next tile and raises KeyboardInterrupt.
+)doc");
+  mod.def("write_image", &write_image, py::arg("path"), py::arg("image"), py::kw_only(), py::arg("exposure") = 0.0,
+          py::arg("filmic") = true, R"doc(
+Write a linear (H, W, 3) image as `gonio render` does: .exr linear float32, .png
+tone-mapped sRGB (exposure in stops; filmic or clamped), by the path's extension.
 )doc");
   register_measure(mod);
 #endif

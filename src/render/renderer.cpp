@@ -42,7 +42,11 @@ Image render(const Scene& scene_in, const RenderOptions& options, RenderStats* s
   const auto t0 = clock::now();
   Scene scene = scene_in;  // the camera basis is prepared on a copy
   scene.camera.prepare();
-  const int w = scene.camera.width, h = scene.camera.height, spp = scene.settings.spp;
+  const int w = scene.camera.width, h = scene.camera.height;
+  // The sample indices [begin, end) of every pixel; `spp` of them.
+  const int begin = std::max(options.sample_begin, 0);
+  const int end = options.sample_end < 0 ? scene.settings.spp : std::max(options.sample_end, begin);
+  const int spp = end - begin;
   const size_t pixels = size_t(w) * size_t(h);
   const bool spectral = scene.settings.spectral, polarized = scene.settings.polarized;
   // Colours summed per pixel: the radiance, or the four Stokes components.
@@ -51,11 +55,9 @@ Image render(const Scene& scene_in, const RenderOptions& options, RenderStats* s
   // visible to the caller once render() returns.
   const auto stop_requested = [&] { return options.stop && options.stop->load(std::memory_order_acquire); };
 
-  // Per pixel: its random stream, carried from pass to pass, and its sum of samples after
-  // the last completed pass (`sums`) and during the current one (`next`). The samples are
-  // added one by one in the same order as in a single pass, so the image does not depend
-  // on how the samples are split into passes.
-  std::vector<Pcg32> rngs(pixels);
+  // Per pixel: its sum of samples after the last completed pass (`sums`) and during the
+  // current one (`next`). The samples are added one by one in the same order as in a
+  // single pass, so the image does not depend on how the samples are split into passes.
   std::vector<Color> sums(pixels * K, Color(0)), next(pixels * K);
   const int per_pass = static_cast<int>(std::clamp<std::int64_t>(
       (kSamplesPerPass + std::int64_t(pixels) - 1) / std::int64_t(std::max<size_t>(pixels, 1)), 1, std::max(spp, 1)));
@@ -74,7 +76,7 @@ Image render(const Scene& scene_in, const RenderOptions& options, RenderStats* s
     setup = std::chrono::duration<double>(clock::now() - t0).count();
     const PathTracer tracer(scene, accel);
     for (int first = 0; first < spp && !stop_requested(); first += per_pass) {
-      const int last = std::min(spp, first + per_pass);
+      const int last = std::min(spp, first + per_pass);  // offsets in the range [begin, end)
       std::atomic<bool> dropped{false};
       tbb::parallel_for(tbb::blocked_range<int>(0, tiles, 1), [&](const tbb::blocked_range<int>& range) {
         PathStats local;
@@ -89,11 +91,14 @@ Image render(const Scene& scene_in, const RenderOptions& options, RenderStats* s
           for (int y = y0; y < y1; ++y) {
             for (int x = x0; x < x1; ++x) {
               const std::uint64_t pixel = static_cast<std::uint64_t>(y) * static_cast<std::uint64_t>(w) + static_cast<std::uint64_t>(x);
-              Pcg32& rng = rngs[pixel];
-              if (first == 0) rng = Pcg32(mix(scene.settings.seed ^ mix(pixel)), pixel);
+              const std::uint64_t pixel_seed = mix(scene.settings.seed ^ mix(pixel));
               std::array<Color, 4> sum;
               for (size_t k = 0; k < K; ++k) sum[k] = sums[pixel * K + k];
               for (int i = first; i < last; ++i) {
+                // Sample index begin + i has a stream of its own (the pixel's PCG stream
+                // from a state hashed from the index), so that it is the same sample
+                // whichever range it is rendered in.
+                Pcg32 rng(mix(pixel_seed + static_cast<std::uint64_t>(begin + i)), pixel);
                 const Float jx = rng.next_float(), jy = rng.next_float();
                 const Ray ray = scene.camera.generate(Float(x) + jx, Float(y) + jy);
                 if (polarized && spectral) {
@@ -141,7 +146,8 @@ Image render(const Scene& scene_in, const RenderOptions& options, RenderStats* s
     for (size_t k = 0; k < K; ++k)
       for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x)
-          images[k].at(x, y) = sums[(size_t(y) * size_t(w) + size_t(x)) * K + k] / Float(completed);
+          images[k].at(x, y) = options.sums ? sums[(size_t(y) * size_t(w) + size_t(x)) * K + k]
+                                            : sums[(size_t(y) * size_t(w) + size_t(x)) * K + k] / Float(completed);
   if (stats) {
     stats->setup_seconds = setup;
     stats->seconds = std::chrono::duration<double>(clock::now() - t0).count() - setup;

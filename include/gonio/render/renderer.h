@@ -1,7 +1,10 @@
 #pragma once
 // Renders a whole image: tiles in parallel on oneTBB, one independent random stream per
-// pixel, so that the image depends on the seed only, not on the thread count or on which
-// thread rendered which tile.
+// pixel and sample index (seeded from the seed, the pixel and the index alone), so that
+// the image depends on the seed only, not on the thread count or on which thread rendered
+// which tile, and so that any range of sample indices can be rendered on its own (a pass
+// of a distributed render, docs/distributed.md) with exactly the samples a whole render
+// takes for those indices.
 //
 // The samples are taken in passes over the whole image, each adding the same number of
 // samples to every pixel. A render asked to stop (options.stop) drops the pass in progress
@@ -25,6 +28,13 @@ struct RenderOptions {
   std::function<void(double)> progress;
   // When it becomes true (a signal handler may set it), the render stops at the next tile.
   const std::atomic<bool>* stop = nullptr;
+  // The per-pixel sample indices [sample_begin, sample_end) to take; sample_end < 0: the
+  // scene's spp. A range [0, n) is the whole render at spp n.
+  int sample_begin = 0;
+  int sample_end = -1;
+  // Return the per-pixel sums of the samples (in float, added in index order) instead of
+  // their mean: passes' sums add up exactly in double (docs/distributed.md).
+  bool sums = false;
 };
 
 struct RenderStats {
@@ -35,6 +45,7 @@ struct RenderStats {
   // Subsurface scattering (PathStats): random walks and their steps, diffusion exits.
   std::uint64_t walks = 0, walk_steps = 0, probe_exits = 0;
   int spp = 0;               // samples per pixel of the image returned (0: stopped before any)
+                             // (with a sample range: how many of the range's indices)
   bool stopped = false;      // true when `stop` cut the render short of the scene's spp
 };
 

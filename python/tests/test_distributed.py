@@ -1,0 +1,229 @@
+"""gonio.distributed on a local Dask cluster (issue 37; docs/distributed.md).
+
+One LocalCluster of two single-threaded worker processes for the whole file (starting one
+costs seconds); tiny scenes (32x24) so that the file stays within its time budget.
+The references are computed here without Dask: the renderer's own sample ranges added by
+the test's own pairwise sum, or one gonio call per input.
+"""
+
+import json
+import os
+import signal
+import subprocess
+import sys
+import threading
+import time
+
+import numpy as np
+import pytest
+
+import gonio
+from conftest import run_gonio
+
+dd = pytest.importorskip("distributed")
+import gonio.distributed as gd  # noqa: E402
+
+if not hasattr(gonio, "render"):
+    pytest.skip("the module was built without the renderer", allow_module_level=True)
+
+SCENE = {
+    "camera": {"position": [0, 1.4, 5], "look_at": [0, 0.5, 0], "fov": 40, "width": 32, "height": 24},
+    "render": {"spp": 16, "max_depth": 8},
+    "shapes": [
+        {"type": "quad", "corner": [-10, 0, -10], "edge1": [0, 0, 20], "edge2": [20, 0, 0],
+         "material": {"type": "diffuse", "reflectance": 0.6}},
+        {"type": "sphere", "center": [-0.6, 0.5, 0], "radius": 0.5,
+         "material": {"type": "roughconductor", "material": "Au", "alpha": 0.2}},
+        {"type": "sphere", "center": [0.6, 0.5, 0], "radius": 0.5,
+         "material": {"type": "roughdielectric", "eta": 1.5, "alpha": 0.2}},
+    ],
+    "lights": [{"type": "quad", "corner": [-1, 3, -1], "edge1": [2, 0, 0], "edge2": [0, 0, 2], "radiance": 8}],
+    "environment": {"radiance": 0.3},
+}
+
+
+@pytest.fixture(scope="module")
+def scene_path(tmp_path_factory):
+    p = tmp_path_factory.mktemp("scene") / "tiny.json"
+    p.write_text(json.dumps(SCENE))
+    return str(p)
+
+
+@pytest.fixture(scope="module")
+def client():
+    gd._quiet_dask()
+    cluster = dd.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None,
+                              silence_logs=50)
+    c = dd.Client(cluster)
+    yield c
+    c.close()
+    cluster.close()
+
+
+def reference(scene, spp, passes, seed):
+    """The passes rendered one after the other in this process, added by a pairwise tree
+    written here: (0+1), (2+3), ..., an odd last one carried up."""
+    sums = []
+    for p in range(passes):
+        a, b = p * spp // passes, (p + 1) * spp // passes
+        sums.append(gonio.render(scene, seed=seed, sample_range=(a, b)))
+    while len(sums) > 1:
+        nxt = [sums[i] + sums[i + 1] for i in range(0, len(sums) - 1, 2)]
+        if len(sums) % 2:
+            nxt.append(sums[-1])
+        sums = nxt
+    return (sums[0] * np.float64(np.float32(1) / np.float32(spp))).astype(np.float32)
+
+
+def test_sample_range_is_the_whole_render(scene_path):
+    # The range [0, N) is `gonio render --spp N`: the same float sums, divided by N.
+    whole = gonio.render(scene_path, spp=12, seed=3)
+    sums = gonio.render(scene_path, seed=3, sample_range=(0, 12))
+    assert sums.dtype == np.float64
+    # The renderer divides a float sum by multiplying with the float reciprocal.
+    assert np.array_equal(sums.astype(np.float32) * (np.float32(1) / np.float32(12)), whole)
+    assert np.array_equal(sums.astype(np.float32), sums)  # float sums, exact in float32
+    # Ranges are the same samples wherever they are cut: [0,5) + [5,12) is [0,12) up to
+    # the float rounding of the sums, and not a re-render with other random numbers.
+    parts = gonio.render(scene_path, seed=3, sample_range=(0, 5)) + gonio.render(scene_path, seed=3, sample_range=(5, 12))
+    assert np.allclose(parts, sums, rtol=1e-5, atol=1e-6)
+    other = gonio.render(scene_path, seed=4, sample_range=(0, 12))
+    assert not np.allclose(other, sums, rtol=1e-3, atol=1e-4)
+
+
+def test_bit_identical_across_worker_counts(client, scene_path):
+    ref = reference(scene_path, 16, 6, 7)
+    two = gd.render(scene_path, spp=16, passes=6, seed=7, client=client, every=2)
+    assert np.array_equal(two, ref)
+    one = gd.render(scene_path, spp=16, passes=6, seed=7, workers=1, every=4)
+    assert np.array_equal(one, ref)
+    # One pass is `gonio render --spp N` itself, bit for bit.
+    assert np.array_equal(gd.render(scene_path, spp=16, passes=1, seed=7, client=client),
+                          gonio.render(scene_path, spp=16, seed=7))
+
+
+def test_killed_worker_gives_the_same_image(client, scene_path):
+    ref = gd.render(scene_path, spp=48, passes=16, seed=1, client=client)
+    pids = client.run(os.getpid)
+    victim = sorted(pids.values())[0]
+    killed = []
+
+    def kill_once(done):
+        if not killed and done >= 2:
+            os.kill(victim, signal.SIGKILL)
+            killed.append(done)
+
+    image = gd.render(scene_path, spp=48, passes=16, seed=1, client=client, progress=kill_once)
+    assert killed, "the worker was never killed"
+    assert np.array_equal(image, ref)
+    client.wait_for_workers(2, timeout=30)  # the nanny restarts it for the next tests
+
+
+def test_resume_from_checkpoint(client, scene_path, tmp_path):
+    ckpt = str(tmp_path / "job.checkpoint.npz")
+    ref = reference(scene_path, 16, 8, 2)
+
+    class Stop(Exception):
+        pass
+
+    def stop_after_first(done, _preview):
+        raise Stop()
+
+    with pytest.raises(Stop):
+        gd.render(scene_path, spp=16, passes=8, seed=2, client=client, checkpoint=ckpt, every=2,
+                  on_pass=stop_after_first)
+    with np.load(ckpt) as z:
+        assert len(z["done"]) >= 1
+    seen = []
+    image = gd.render(scene_path, spp=16, passes=8, seed=2, client=client, checkpoint=ckpt, every=2,
+                      progress=seen.append)
+    assert len(seen) < 8  # the checkpointed passes were not rendered again
+    assert np.array_equal(image, ref)
+    assert not os.path.exists(ckpt)
+    # A checkpoint of another job is refused, naming the file.
+    gd._save_checkpoint(ckpt, {"spp": 1}, {})
+    with pytest.raises(gd.DistributedError, match="job.checkpoint.npz"):
+        gd.render(scene_path, spp=16, passes=8, seed=2, client=client, checkpoint=ckpt)
+
+
+def test_check_and_measure_equal_single_calls(client):
+    mats = [{"type": "diffuse", "reflectance": 0.5}, {"type": "roughconductor", "material": "Cu", "alpha": 0.3}]
+    got = gd.check(mats, client=client, seed=5)
+    assert got == [gonio.Material(m).check(seed=5) for m in mats]
+    surfaces = [{"type": "flat", "material": {"type": "conductor", "material": "Au"}},
+                {"type": "flat", "material": {"type": "diffuse", "reflectance": 0.4}}]
+    gantry = {"theta_i": 30, "phi_i": 0, "theta_o": [0, 30], "phi_o": 180, "aperture": 5}
+    got = gd.measure(surfaces, client=client, gantry=gantry, samples=2000, seed=3)
+    for g, s in zip(got, surfaces):
+        one = gonio.measure(s, gantry, samples=2000, seed=3, threads=1)
+        assert g.keys() == one.keys()
+        for k in ("f", "albedo", "hits"):
+            assert np.array_equal(g[k], one[k])
+
+
+def cli(*args):
+    env = dict(os.environ)
+    return subprocess.run([sys.executable, "-m", "gonio.distributed"] + list(args), capture_output=True, text=True,
+                          env=env, timeout=120)
+
+
+@pytest.mark.parametrize("args, needle", [
+    (["render", "/nonexistent/scene.json", "--spp", "4", "--passes", "2", "-o", "{tmp}/o.exr"], "/nonexistent/scene.json"),
+    (["render", "{scene}", "--spp", "4", "--passes", "8", "-o", "{tmp}/o.exr"], "passes"),
+    (["render", "{scene}", "--spp", "4", "--passes", "2", "-o", "{tmp}/o.txt"], "o.txt"),
+    (["render", "{scene}", "--spp", "4", "--passes", "2", "-o", "{tmp}/o.exr", "--scheduler", "tcp://127.0.0.1:9",
+      "--timeout", "1"],
+     "cannot reach the Dask scheduler at tcp://127.0.0.1:9"),
+])
+def test_bad_inputs_give_one_line(scene_path, tmp_path, args, needle):
+    (tmp_path / "corrupt.json").write_text("{")
+    args = [a.format(tmp=tmp_path, scene=scene_path) for a in args]
+    r = cli(*args)
+    assert r.returncode != 0
+    lines = r.stderr.strip().splitlines()
+    assert len(lines) == 1, r.stderr
+    assert needle in lines[0] and lines[0].startswith("gonio.distributed: ")
+    assert not os.path.exists(tmp_path / "o.exr")
+
+
+def test_corrupt_scene_is_named(tmp_path):
+    bad = tmp_path / "corrupt.json"
+    bad.write_text("{\"camera\": ")
+    r = cli("render", str(bad), "--spp", "4", "--passes", "2", "-o", str(tmp_path / "o.exr"))
+    assert r.returncode != 0 and len(r.stderr.strip().splitlines()) == 1 and "corrupt.json" in r.stderr
+
+
+def test_cli_renders_on_a_scheduler_address(client, scene_path, tmp_path):
+    out = tmp_path / "img.exr"
+    r = cli("render", scene_path, "--spp", "8", "--passes", "4", "--seed", "2", "-o", str(out),
+            "--scheduler", client.scheduler.address)
+    assert r.returncode == 0, r.stderr
+    assert r.stdout.strip() == str(out) and out.stat().st_size > 0
+    assert not os.path.exists(str(out) + ".checkpoint.npz")
+    # The progress lines (stderr is not a terminal here) and the closing line.
+    assert "rendering: 4/4 passes" in r.stderr and "rendered 32x24 in 4 passes" in r.stderr
+
+
+def test_fit_equals_single_calls(client, merl_file):
+    if not hasattr(gonio, "fit"):
+        pytest.skip("the module was built without the fitter")
+    models = ["roughconductor", "plastic"]
+    got = gd.fit([merl_file], models, client=client, stride=15)
+    assert len(got) == 2
+    for g, model in zip(got, models):
+        one = gonio.fit(merl_file, model, stride=15)
+        g.pop("seconds"), one.pop("seconds")
+        assert g == one
+
+
+def test_cli_sample_range(scene_path, tmp_path):
+    out = str(tmp_path / "part.exr")
+    status, stdout, err = run_gonio(["render", scene_path, "--sample-range", "0", "3", "-o", out])
+    assert status == 0, err
+    assert stdout.strip() == out and os.path.getsize(out) > 0 and "sums of samples [0, 3)" in err
+    for args, needle in ((["--sample-range", "4", "2", "-o", out], "A < B"),
+                         (["--sample-range", "0", "2", "-o", str(tmp_path / "p.png")], ".exr"),
+                         (["--sample-range", "0", "9", "--spp", "8", "-o", out], "--spp 8"),
+                         (["--sample-range", "0", "1048577", "-o", out], "--sample-range")):
+        status, _, err = run_gonio(["render", scene_path] + args)
+        assert status == 2 and len(err.strip().splitlines()) == 1 and needle in err, (args, err)
