@@ -48,6 +48,8 @@ const std::vector<View>& views() {
       {"lobe3d", "/api/lobe3d", {{"theta_i", 30}, {"count_theta", 24}, {"count_phi", 48}},
        &gonio::explore::api_lobe3d},
       {"slice", "/api/slice", {{"phi_d", 90}, {"size", 90}}, &gonio::explore::api_slice},
+      // The page's first estimate (256 samples per angle), then its refinement (4,096).
+      {"albedo256", "/api/albedo", {{"count", 19}, {"samples", 256}}, &gonio::explore::api_albedo},
       {"albedo", "/api/albedo", {{"count", 19}, {"samples", 4096}}, &gonio::explore::api_albedo},
       {"fresnel", "/api/fresnel", {{"count", 181}}, &gonio::explore::api_fresnel},
       {"slice_point", "/api/slice_point", {{"theta_h", 20}, {"theta_d", 30}, {"phi_d", 90}},
@@ -88,7 +90,16 @@ int main(int argc, char** argv) {
   server.bind();
   g_port = server.port();
   std::thread serving([&] { server.run(); });
-  for (const auto& [mname, material] : materials()) {
+  // The five materials above, then every registry type's example (`example/TYPE`: the
+  // material the page starts from when that type is chosen), without a --data directory
+  // (an example naming a file is left out).
+  std::vector<std::pair<std::string, json>> all(materials().begin(), materials().end());
+  for (const json& t : json::parse(gonio::explore::api_materials())["types"]) {
+    const std::string ex = t["example"].dump();
+    if (ex.find("\"file\"") != std::string::npos || ex.find(".csv") != std::string::npos) continue;
+    all.emplace_back("example_" + t["name"].get<std::string>(), t["example"]);
+  }
+  for (const auto& [mname, material] : all) {
     for (const View& v : views()) {
       json body = v.extra;
       body["bsdf"] = material;

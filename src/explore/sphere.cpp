@@ -45,6 +45,35 @@ double number_in(const nlohmann::json& b, const char* name, double fallback, dou
   return v;
 }
 
+// The "studio" environment: a lat-long map (lights.h: row 0 straight up, +y) made here, no
+// file: a sky from a bluish zenith to a pale horizon, a dark warm ground, and two bright
+// rectangular soft boxes above the horizon, so that a glossy sphere shows sharp-edged
+// highlights and a rough one their blur. `scale` multiplies it (the page's environment
+// slider). Its mean radiance over the sphere of directions is about 1 at scale 1.
+render::Image studio_map() {
+  constexpr int kW = 128, kH = 64;
+  render::Image map(kW, kH);
+  for (int y = 0; y < kH; ++y) {
+    const double v = (y + 0.5) / kH;  // 0 up, 0.5 horizon, 1 down
+    const double up = std::cos(v * 3.14159265358979);
+    for (int x = 0; x < kW; ++x) {
+      const double u = (x + 0.5) / kW;
+      Color c;
+      if (up > 0) {
+        const double t = std::sqrt(up);  // 0 at the horizon, 1 at the zenith
+        c = Color(Float(1.0 - 0.5 * t), Float(1.0 - 0.3 * t), Float(1.0));
+      } else {
+        c = Color(0.25f, 0.2f, 0.15f);
+      }
+      const bool box1 = u > 0.20 && u < 0.30 && v > 0.18 && v < 0.36;
+      const bool box2 = u > 0.62 && u < 0.67 && v > 0.25 && v < 0.45;
+      if (box1 || box2) c = Color(6.0f);
+      map.at(x, y) = c;
+    }
+  }
+  return map;
+}
+
 }  // namespace
 
 std::string api_sphere(const std::string& body, const ApiContext& ctx) {
@@ -59,15 +88,30 @@ std::string api_sphere(const std::string& body, const ApiContext& ctx) {
   const double lx = number_in(b, "light_x", 0.5, -1, 1), ly = number_in(b, "light_y", 0.5, -1, 1);
   const double lz = std::sqrt(std::max(0.0, 1 - lx * lx - ly * ly));
   const double env = number_in(b, "environment", 0.1, 0, 10);
+  // "uniform" (radiance `environment` from everywhere) or "studio" (studio_map × environment).
+  std::string env_map = "uniform";
+  if (const auto it = b.find("environment_map"); it != b.end() && !it->is_null()) {
+    if (!it->is_string() || (*it != "uniform" && *it != "studio"))
+      throw InputError("environment_map must be \"uniform\" or \"studio\", got " + json_excerpt(*it));
+    env_map = it->get<std::string>();
+  }
+  // Spectral mode: gonio render's spectral path tracer (wavelengths sampled per path, the
+  // image still RGB), as `gonio render` with "spectral": true.
+  bool spectral = false;
+  if (const auto it = b.find("spectral"); it != b.end() && !it->is_null()) {
+    if (!it->is_boolean()) throw InputError("spectral must be true or false, got " + json_excerpt(*it));
+    spectral = it->get<bool>();
+  }
   const json material = sanitized_material(b, ctx);
   const json scene = {
       {"camera", {{"position", {0, 0, 4}}, {"look_at", {0, 0, 0}}, {"fov", 30}, {"width", size}, {"height", size}}},
-      {"render", {{"spp", spp}, {"seed", seed}, {"max_depth", 8}}},
+      {"render", {{"spp", spp}, {"seed", seed}, {"max_depth", 8}, {"spectral", spectral}}},
       {"shapes", {{{"type", "sphere"}, {"center", {0, 0, 0}}, {"radius", 1}, {"material", material}}}},
       {"lights", {{{"type", "point"}, {"position", {5 * lx, 5 * ly, 5 * lz}}, {"intensity", 16 * 3.14159265358979}}}},
       {"environment", {{"radiance", env}}},
   };
-  const render::Scene s = render::parse_scene(scene.dump(), "--bsdf", "");
+  render::Scene s = render::parse_scene(scene.dump(), "--bsdf", "");
+  if (env_map == "studio") s.environment = render::Environment(studio_map(), Float(env), 0);
   render::RenderOptions o;
   o.threads = 1;  // one core per request: the other views stay live
   o.stop = ctx.stale.get();  // a newer pass of the same page stops this one between tiles

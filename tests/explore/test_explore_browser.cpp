@@ -148,16 +148,38 @@ TEST_F(ExploreBrowser, EveryViewIsDrawnWithoutAnError) {
   }
 }
 
+// Also, in the same page (one Chromium run): the studio environment map, and the latency
+// recorder measuring a θi slider's input (state "probe_input") to the redraw of the two
+// views it changes. Under --virtual-time-budget the times are virtual: the figures come
+// from scripts/explore_latency.mjs; this checks what the recorder records.
 TEST_F(ExploreBrowser, ComparisonDrawsBothMaterials) {
   json state = json::parse(R"({"compare": true,
-    "material_b": {"type": "roughconductor", "alpha": 0.3, "material": "Cu", "distribution": "beckmann"}})");
+    "material_b": {"type": "roughconductor", "alpha": 0.3, "material": "Au", "distribution": "beckmann"},
+    "environment_map": "studio", "probe_input": {"id": "theta-i", "value": 55}})");
   const std::string d = dom(state_hash({{"type", "roughconductor"}, {"alpha", 0.2}, {"material", "Cu"}}, state));
   EXPECT_NE(d.find("<pre id=\"errors\" hidden=\"\"></pre>"), std::string::npos)
       << d.substr(d.find("<pre id=\"errors\""), 400);
   EXPECT_NE(d.find("B valid: roughconductor"), std::string::npos);
-  for (const char* view : {"lobe", "slice", "albedo"}) EXPECT_GE(drawn(d, view), 1) << view;
+  for (const char* view : {"lobe", "slice", "albedo", "fresnel", "sphere", "sphere-b"}) EXPECT_GE(drawn(d, view), 1) << view;
   // The slice figure holds the three panels: wider than alone.
   EXPECT_NE(d.find("<canvas id=\"slice\" width=\"720\""), std::string::npos);
+  // The Fresnel view names B's interface (gold) beside A's (copper).
+  EXPECT_NE(d.find("B: material Au, R(0°) = "), std::string::npos) << d.substr(d.find("id=\"fresnel-readout\""), 300);
+  EXPECT_NE(d.find("B on the right"), std::string::npos);
+  // The recorder: one record for the θi input, with the lobe and the 3D lobe redrawn.
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(d, m, std::regex("<pre id=\"latency\" hidden=\"\">([^<]*)</pre>"))) << "no latency record";
+  const json rec = json::parse(m[1].str(), nullptr, false);
+  ASSERT_TRUE(rec.is_object()) << m[1].str();
+  bool found = false;
+  for (const json& r : rec["records"]) {
+    if (r["source"] != "theta-i") continue;
+    found = true;
+    EXPECT_EQ(r["views"].size(), 2u) << r;
+    EXPECT_TRUE(r["views"].contains("lobe") && r["views"].contains("lobe3d")) << r;
+    EXPECT_GE(r["total"].get<double>(), r["views"]["lobe"].get<double>()) << r;
+  }
+  EXPECT_TRUE(found) << rec;
 }
 
 // Issue 36: the value under the cursor equals `gonio eval` at that direction. The page

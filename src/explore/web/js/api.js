@@ -7,12 +7,14 @@ const api = (() => {
   // This page's id: the server stops a view's older request when a newer one comes.
   const session = Math.random().toString(36).slice(2, 14);
 
-  async function request(method, path, body, key) {
+  // `background`: a refinement, computed by the server at a lower priority.
+  async function request(method, path, body, key, background = false) {
     if (key && inflight.has(key)) inflight.get(key).abort();
     const controller = new AbortController();
     if (key) inflight.set(key, controller);
     try {
       const init = { method, signal: controller.signal, headers: key ? { "X-Gonio-Session": session, "X-Gonio-View": key } : {} };
+      if (background) init.headers["X-Gonio-Priority"] = "background";
       if (body !== undefined) {
         init.headers["Content-Type"] = "application/json";
         init.body = JSON.stringify(body);
@@ -35,7 +37,7 @@ const api = (() => {
 
   return {
     get: (path, key) => request("GET", path, undefined, key),
-    post: (path, body, key) => request("POST", path, body, key),
+    post: (path, body, key, background) => request("POST", path, body, key, background),
     isAbort,
   };
 })();

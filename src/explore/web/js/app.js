@@ -10,12 +10,63 @@ function reportError(text) {
   if (list) list.textContent += text + "\n";
 }
 
+// The time from an input (a slider moved, a field typed in) to the end of the redraw of
+// every 2D view that input changes (issue 36: within 100 ms), measured here, in the page:
+// the input event's time stamp, then each view's draw after it. A view announces the
+// request it starts (expect) and its draw or its message (done); when none is pending the
+// input's record is complete. An input that a newer one overtakes before its views are
+// drawn is counted as superseded (its requests were aborted). window.gonioLatency holds the
+// records; #latency (hidden) their JSON, for tests and scripts/explore_latency.mjs.
+const latency = (() => {
+  const records = [];
+  let current = null, superseded = 0;
+  function publish() {
+    const out = document.getElementById("latency");
+    if (out) out.textContent = JSON.stringify({ records, superseded });
+  }
+  document.addEventListener("input", (e) => {
+    if (current && !current.complete && current.expected > 0) ++superseded;
+    const t0 = e.timeStamp > 0 ? e.timeStamp : performance.now();
+    current = { t0, source: e.target.id || e.target.type, pending: new Set(), expected: 0,
+                views: {}, complete: false };
+  }, true);
+  return {
+    records,
+    // The token ties a view's draw to the input it answers (null: no input is measured).
+    expect(view) {
+      if (!current || current.complete) return null;
+      current.pending.add(view);
+      ++current.expected;
+      return current;
+    },
+    done(token, view) {
+      if (!token || token !== current || token.complete || !token.pending.has(view)) return;
+      token.pending.delete(view);
+      token.views[view] = +(performance.now() - token.t0).toFixed(1);
+      if (token.pending.size) return;
+      token.complete = true;
+      records.push({ source: token.source, total: Math.max(...Object.values(token.views)), views: token.views });
+      publish();
+    },
+    // The sphere's first image after the input (issue 36: within 300 ms), not a 2D view.
+    sphere(token) {
+      if (!token || token.sphere !== undefined) return;
+      token.sphere = +(performance.now() - token.t0).toFixed(1);
+      const r = records.find((x) => x.views === token.views);
+      if (r) { r.sphere = token.sphere; publish(); }
+    },
+    current: () => current,
+    summary: () => ({ records, superseded }),
+  };
+})();
+window.gonioLatency = latency;
+
 (() => {
   const $ = (id) => document.getElementById(id);
   // Each view marks itself drawn (data-drawn on its canvas), for the browser test.
   const drawn = (id) => { $(id).dataset.drawn = String(+($(id).dataset.drawn || 0) + 1); };
   const state = { material: null, theta_i: 30, phi_d: 90, spectral: false, wavelength: 550, lobe: "f_cos", eta: 1.5,
-                  light_x: 0.5, light_y: 0.5, environment: 0.1, exposure: 0, sphere_passes: 64,
+                  light_x: 0.5, light_y: 0.5, environment: 0.1, environment_map: "uniform", exposure: 0, sphere_passes: 64,
                   compare: false, material_b: null, yaw: -0.6, pitch: 0.35 };
   let lobe3dData = null;
   let bValid = false;
@@ -58,6 +109,7 @@ function reportError(text) {
     $("fresnel-eta").value = state.eta;
     $("exposure").value = state.exposure;
     $("environment").value = state.environment;
+    $("environment-map").value = state.environment_map;
     for (const r of document.querySelectorAll("input[name=lobe-mode]")) r.checked = r.value === state.lobe;
   }
 
@@ -77,7 +129,9 @@ function reportError(text) {
   function schedule() {
     saveHash();
     clearTimeout(timer);
-    timer = setTimeout(update, 40);
+    // The next task: input events of one task make one update, and a newer input aborts
+    // the older requests anyway (api.js); a longer pause would count in the latency.
+    timer = setTimeout(update, 0);
   }
 
   const shown = (e, canvas) => {
@@ -103,23 +157,40 @@ function reportError(text) {
   }
   const comparing = () => state.compare && bValid;
 
+  // A's validation runs beside the views (each view of a bad material shows the same
+  // message): a round trip less between a slider and the plots. B's comes first, as the
+  // views ask whether to compare.
   async function update() {
-    try {
-      const [v] = await Promise.all([api.post("/api/validate", body({}, false), "validate"), validateB()]);
-      status("valid: " + v.name, "ok");
-    } catch (e) {
-      if (!api.isAbort(e)) status(e.message, "error");
-      return;
-    }
-    updateLobe(); updateLobe3d(); updateSlice(); updateAlbedo(); updateFresnel(); updateSphere();
+    api.post("/api/validate", body({}, false), "validate").then((v) => status("valid: " + v.name, "ok"),
+      (e) => { if (!api.isAbort(e)) status(e.message, "error"); });
+    await validateB();
+    // The sphere starts once the 2D views are drawn: on two cores its passes would
+    // otherwise take the CPU the views need to follow a slider within 100 ms.
+    const sphereToken = latency.current();
+    await Promise.all([updateLobe(), updateLobe3d(), updateSlice(), updateAlbedo(), updateFresnel()]);
+    updateSphere(sphereToken);
+    probeInput();
+  }
+  // state.probe_input = {id, value}: once the views are drawn, that control takes the
+  // value and fires its input event, as a slider's move does (the browser test's input,
+  // without a driver: the latency recorder then measures it).
+  let probedInput = false;
+  function probeInput() {
+    if (!state.probe_input || probedInput) return;
+    probedInput = true;
+    const el = $(state.probe_input.id);
+    if (!el) return;
+    el.value = state.probe_input.value;
+    el.dispatchEvent(new Event("input", { bubbles: true }));
   }
 
   async function updateLobe3d() {
+    const token = latency.expect("lobe3d");
     try {
       lobe3dData = await api.post("/api/lobe3d", body({ theta_i: state.theta_i, count_theta: 24, count_phi: 48 }), "lobe3d");
       drawLobe3d();
       drawn("lobe3d");
-    } catch (e) { shown(e, "lobe3d"); }
+    } catch (e) { shown(e, "lobe3d"); } finally { latency.done(token, "lobe3d"); }
   }
   function drawLobe3d() {
     if (lobe3dData) plot.lobe3d($("lobe3d"), lobe3dData, lobe3dData[state.lobe], state.yaw, state.pitch);
@@ -139,26 +210,41 @@ function reportError(text) {
   // The sphere: passes of gonio's renderer with successive seeds, averaged here (1 sample
   // per pixel first, then 4 per pass, up to 256), restarted when anything changes.
   const SPHERE_SIZE = 128;
-  let sphereRun = 0, sphereAcc = null, sphereSamples = 0;
-  async function updateSphere() {
-    const run = ++sphereRun;
-    sphereAcc = new Float32Array(SPHERE_SIZE * SPHERE_SIZE * 3);
-    sphereSamples = 0;
-    for (let pass = 0; pass < state.sphere_passes && run === sphereRun; ++pass) {
+  // A and, when comparing, B side by side, each its own run of passes.
+  const spheres = { a: { run: 0, acc: null, samples: 0, canvas: "sphere", key: "sphere" },
+                    b: { run: 0, acc: null, samples: 0, canvas: "sphere-b", key: "sphere_b" } };
+  function updateSphere(token = null) {
+    const both = comparing();
+    $("sphere-b").hidden = !both;
+    runSphere(spheres.a, state.material, token);
+    if (both) runSphere(spheres.b, state.material_b, null);
+    else ++spheres.b.run;  // stops B's passes
+  }
+  async function runSphere(sp, material, token) {
+    const run = ++sp.run;
+    sp.acc = new Float32Array(SPHERE_SIZE * SPHERE_SIZE * 3);
+    sp.samples = 0;
+    for (let pass = 0; pass < state.sphere_passes && run === sp.run; ++pass) {
       const spp = pass === 0 ? 1 : 4;
       let d;
       try {
         d = await api.post("/api/sphere", body({ size: SPHERE_SIZE, spp, seed: pass, light_x: state.light_x,
-          light_y: state.light_y, environment: state.environment }, false), "sphere");
-      } catch (e) { if (run === sphereRun) shown(e, "sphere"); return; }
-      if (run !== sphereRun) return;
-      const bytes = Uint8Array.from(atob(d.pixels), (c) => c.charCodeAt(0));
+          light_y: state.light_y, environment: state.environment, environment_map: state.environment_map,
+          spectral: state.spectral }, false, material), sp.key, pass > 0);
+      } catch (e) { if (run === sp.run) shown(e, sp.canvas); return; }
+      if (run !== sp.run) return;
+      // A plain loop: Uint8Array.from(string, map) took 20–50 ms of the page's main thread
+      // per pass, which delayed the 2D views' draws behind it.
+      const text = atob(d.pixels), bytes = new Uint8Array(text.length);
+      for (let i = 0; i < text.length; ++i) bytes[i] = text.charCodeAt(i);
       const px = new Float32Array(bytes.buffer);
-      for (let i = 0; i < px.length; ++i) sphereAcc[i] += px[i] * spp;
-      sphereSamples += spp;
-      plot.image($("sphere"), sphereAcc, sphereSamples, SPHERE_SIZE, state.exposure);
-      if (pass === 0) drawn("sphere");
-      $("sphere-readout").textContent = `${sphereSamples} samples per pixel; drag on the image to move the light`;
+      for (let i = 0; i < px.length; ++i) sp.acc[i] += px[i] * spp;
+      sp.samples += spp;
+      plot.image($(sp.canvas), sp.acc, sp.samples, SPHERE_SIZE, state.exposure);
+      if (pass === 0) { drawn(sp.canvas); latency.sphere(token); }
+      if (sp === spheres.a)
+        $("sphere-readout").textContent = `${sp.samples} samples per pixel; drag on the image to move the light` +
+          (comparing() ? "; B on the right" : "");
     }
   }
   function moveLight(ev) {
@@ -173,6 +259,7 @@ function reportError(text) {
   }
 
   async function updateLobe() {
+    const token = latency.expect("lobe");
     try {
       const request = { theta_i: state.theta_i, count: 181 };
       const [d, db] = await Promise.all([api.post("/api/lobe", body(request), "lobe"),
@@ -182,10 +269,11 @@ function reportError(text) {
       const i = d.theta_o.findIndex((t) => t >= d.mirror);
       $("lobe-readout").textContent = `${state.lobe === "f" ? "f" : "f·cos θo"} at the mirror direction θo = ${d.mirror}°: ` +
         JSON.stringify(d[state.lobe][i]);
-    } catch (e) { shown(e, "lobe"); }
+    } catch (e) { shown(e, "lobe"); } finally { latency.done(token, "lobe"); }
   }
 
   async function updateSlice() {
+    const token = latency.expect("slice");
     try {
       const request = { phi_d: state.phi_d, size: 90 };
       if (comparing()) request.compare = state.material_b;
@@ -206,7 +294,7 @@ function reportError(text) {
       probeSlice();
       $("slice-readout").textContent = state.spectral ? "the slice is in RGB (luminance), as gonio slice" :
         "move the cursor over the slice to read f";
-    } catch (e) { sliceData = null; shown(e, "slice"); }
+    } catch (e) { sliceData = null; shown(e, "slice"); } finally { latency.done(token, "slice"); }
   }
 
   // The cursor: the pixel's value at once, then f in RGB at its centre from the server.
@@ -247,11 +335,26 @@ function reportError(text) {
     c.dispatchEvent(new MouseEvent("mousemove", { clientX: r.left + (x * r.width) / c.width, clientY: r.top + (y * r.height) / c.height }));
   }
 
+  // Albedo: a first estimate with 256 samples per angle follows the slider (a layered
+  // material's random walks take ~6 ms of server time at that count, 91 ms at 4,096), then
+  // the same request with 4,096 samples, at the server's background priority, refines it —
+  // aborted, like the first, by a newer input. Either is an unbiased estimate; the readout
+  // names the count and the standard error.
+  const ALBEDO_SAMPLES = [256, 4096];
   async function updateAlbedo() {
+    const token = latency.expect("albedo");
+    for (const samples of ALBEDO_SAMPLES) {
+      if (!await drawAlbedo(samples)) break;
+      latency.done(token, "albedo");
+    }
+    latency.done(token, "albedo");
+  }
+  async function drawAlbedo(samples) {
     try {
-      const request = { count: 19, samples: 4096 };
-      const [d, db] = await Promise.all([api.post("/api/albedo", body(request), "albedo"),
-        comparing() ? api.post("/api/albedo", body(request, true, state.material_b), "albedo_b") : null]);
+      const request = { count: 19, samples };
+      const refining = samples > ALBEDO_SAMPLES[0];
+      const [d, db] = await Promise.all([api.post("/api/albedo", body(request), "albedo", refining),
+        comparing() ? api.post("/api/albedo", body(request, true, state.material_b), "albedo_b", refining) : null]);
       const series = [];
       let max = 1;
       // A: reflectance solid, transmittance dashed, albedo dotted; B: reflectance and
@@ -275,13 +378,18 @@ function reportError(text) {
       plot.lines($("albedo"), { xRange: [0, 90], yRange: [0, Math.ceil(max * 10) / 10], xLabel: "θi (incidence)", yLabel: "fraction", series });
       drawn("albedo");
       $("albedo-readout").textContent = `normal incidence: reflectance ${JSON.stringify(d.reflectance[0].map((v) => +v.toPrecision(4)))}, ` +
-        `transmittance ${JSON.stringify(d.transmittance[0].map((v) => +v.toPrecision(4)))}` + (d.exact[0] ? " (exact)" : ` (${d.samples} samples per angle)`);
-    } catch (e) { shown(e, "albedo"); }
+        `transmittance ${JSON.stringify(d.transmittance[0].map((v) => +v.toPrecision(4)))}` + (d.exact[0] ? " (exact)" : ` (${d.samples} samples per angle, standard error ≤ ${plot.fmt(Math.max(...d.stderr.flat()))}` +
+        (samples < ALBEDO_SAMPLES[ALBEDO_SAMPLES.length - 1] ? "; refining…)" : ")"));
+      return !d.exact.every((x) => x) || (db && !db.exact.every((x) => x));
+    } catch (e) { shown(e, "albedo"); return false; }
   }
 
   async function updateFresnel() {
+    const token = latency.expect("fresnel");
     try {
-      let d = await api.post("/api/fresnel", body({ count: 181 }), "fresnel");
+      const request = { count: 181 };
+      let [d, db] = await Promise.all([api.post("/api/fresnel", body(request), "fresnel"),
+        comparing() ? api.post("/api/fresnel", body(request, true, state.material_b), "fresnel_b") : null]);
       let note = "";
       if (d.interface === null) {
         note = "no interface in this material: η from the field below. ";
@@ -304,12 +412,25 @@ function reportError(text) {
           }
         }
       });
+      // B's interface, from outside, in thin long dashes (R) and dash-dots (Rs, Rp).
+      if (db && db.interface !== null) {
+        const bColours = db.channels.length === 1 ? ["#222"] : plot.CHANNEL_COLOURS;
+        db.channels.forEach((ch, c) => {
+          const s = ch.outside;
+          series.push({ x: db.theta, y: s.R, color: bColours[c], dash: [12, 4], width: 1, label: "B R", legendColor: "#222" });
+          series.push({ x: db.theta, y: s.Rs, color: bColours[c], dash: [12, 4, 2, 4], width: 1, label: "B Rs", legendColor: "#222" });
+          series.push({ x: db.theta, y: s.Rp, color: bColours[c], dash: [2, 6], width: 1, label: "B Rp", legendColor: "#222" });
+        });
+        note += `B: ${db.interface}, R(0°) = ${+db.channels[0].outside.R[0].toPrecision(6)}. `;
+      } else if (db) {
+        note += "B has no single interface. ";
+      }
       plot.lines($("fresnel"), { xRange: [0, 90], yRange: [0, 1], xLabel: "θ (incidence)", yLabel: "reflectance", series, markers });
       drawn("fresnel");
       const ch = d.channels[0].outside;
       $("fresnel-readout").textContent = note + `${d.interface}: η = ${+ch.eta.toPrecision(6)}` + (ch.k ? `, k = ${+ch.k.toPrecision(6)}` : "") +
         `, R(0°) = ${+ch.R[0].toPrecision(6)}`;
-    } catch (e) { shown(e, "fresnel"); }
+    } catch (e) { shown(e, "fresnel"); } finally { latency.done(token, "fresnel"); }
   }
 
   async function runCheck() {
@@ -391,9 +512,11 @@ function reportError(text) {
     $("sphere").addEventListener("mousemove", moveLight);
     $("exposure").addEventListener("input", (e) => {
       state.exposure = +e.target.value; saveHash();
-      if (sphereSamples) plot.image($("sphere"), sphereAcc, sphereSamples, SPHERE_SIZE, state.exposure);
+      for (const sp of Object.values(spheres))
+        if (sp.samples && !$(sp.canvas).hidden) plot.image($(sp.canvas), sp.acc, sp.samples, SPHERE_SIZE, state.exposure);
     });
     $("environment").addEventListener("input", (e) => { state.environment = +e.target.value; saveHash(); updateSphere(); });
+    $("environment-map").addEventListener("change", (e) => { state.environment_map = e.target.value; saveHash(); updateSphere(); });
     $("check").addEventListener("click", runCheck);
     $("fit").addEventListener("click", runFit);
     $("compare").addEventListener("change", (e) => {

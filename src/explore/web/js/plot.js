@@ -21,6 +21,7 @@ const plot = (() => {
     ctx.fillStyle = "#777";
     ctx.textAlign = "center";
     ctx.fillText(text, canvas.width / 2, canvas.height / 2);
+    canvas.dataset.message = text;  // what the view says instead of a plot (tests, scripts)
   }
 
   const fmt = (v) => (v === 0 ? "0" : Math.abs(v) >= 1e4 || Math.abs(v) < 1e-3 ? v.toExponential(2) : +v.toPrecision(3) + "");
