@@ -321,11 +321,40 @@ def _measure_one(surface, kwargs):
     return gonio.measure(surface, **kwargs)
 
 
-def measure(surfaces, client=None, scheduler=None, workers=None, **kwargs):
+def measure(surfaces, client=None, scheduler=None, workers=None, outputs=None, **kwargs):
     """gonio.measure(surface, **kwargs) for every surface, in order; kwargs as gonio.measure's
-    (gantry, samples, seed, ...; threads defaults to 1, one core per worker)."""
+    (gantry, samples, seed, ...; threads defaults to 1, one core per worker). outputs: one MERL
+    table path per surface (gonio.measure's output=), on a file system the workers share."""
     kwargs.setdefault("threads", 1)
-    return _map(_measure_one, [(s, kwargs) for s in surfaces], client, scheduler, workers)
+    surfaces = list(surfaces)
+    if outputs is None:
+        return _map(_measure_one, [(s, kwargs) for s in surfaces], client, scheduler, workers)
+    outputs = [os.path.abspath(os.fspath(o)) for o in outputs]
+    if len(outputs) != len(surfaces):
+        raise DistributedError("measure: %d surfaces but %d outputs" % (len(surfaces), len(outputs)))
+    return _map(_measure_one, [(s, dict(kwargs, output=o)) for s, o in zip(surfaces, outputs)], client, scheduler,
+                workers)
+
+
+def _tabulate_one(material, path):
+    return gonio.Material(material).tabulate(path)
+
+
+def tabulate(materials, outputs, client=None, scheduler=None, workers=None):
+    """Material(m).tabulate(out) (`gonio tabulate`) for every (material, output path) pair,
+    in order: the dicts one call each returns. Every worker writes its table at its path,
+    so the paths must be on a file system the workers share with the client."""
+    materials, outputs = list(materials), [os.path.abspath(os.fspath(o)) for o in outputs]
+    if len(materials) != len(outputs):
+        raise DistributedError("tabulate: %d materials but %d outputs" % (len(materials), len(outputs)))
+    if len(set(outputs)) != len(outputs):
+        raise DistributedError("tabulate: two materials would be written to the same file")
+    for m, o in zip(materials, outputs):
+        gonio.Material(m)  # a bad material fails here, on the client
+        d = os.path.dirname(o)
+        if not os.path.isdir(d) or not os.access(d, os.W_OK):
+            raise DistributedError("%s: cannot write in %s" % (o, d))
+    return _map(_tabulate_one, list(zip(materials, outputs)), client, scheduler, workers)
 
 
 # --- the command line -----------------------------------------------------------------------------
@@ -355,6 +384,14 @@ class _Progress:
             self.last = tenth
             sys.stderr.write("rendering: %d/%d passes\n" % (done, self.total))
         sys.stderr.flush()
+
+
+def _text_or_file(arg):
+    """A JSON text, or @path to one (as the CLI's --bsdf and --surface)."""
+    if arg.startswith("@"):
+        with open(arg[1:]) as f:
+            return f.read()
+    return arg
 
 
 def _check_output(path):
@@ -387,7 +424,16 @@ def main(argv=None):
     c = sub.add_parser("check", help="`gonio check` of many materials; JSON lines on stdout")
     c.add_argument("materials", nargs="+", help="material JSON texts")
     c.add_argument("--seed", type=int, default=1)
-    for q in (r, f, c):
+    m = sub.add_parser("measure", help="`gonio measure` of many surfaces, every surface a task; one MERL table "
+                       "each, written as OUTDIR/<index>.binary; JSON lines on stdout")
+    m.add_argument("surfaces", nargs="+", help="surface JSON texts, or @path (as --surface)")
+    m.add_argument("-o", "--output-dir", required=True, help="directory of the tables (must exist)")
+    m.add_argument("--samples", type=int, default=10_000_000, help="rays per surface (as gonio measure)")
+    m.add_argument("--seed", type=int, default=0)
+    t = sub.add_parser("tabulate", help="`gonio tabulate` of many materials; OUTDIR/<index>.binary each")
+    t.add_argument("materials", nargs="+", help="material JSON texts, or @path (as --bsdf)")
+    t.add_argument("-o", "--output-dir", required=True, help="directory of the tables (must exist)")
+    for q in (r, f, c, m, t):
         g = q.add_mutually_exclusive_group()
         g.add_argument("--scheduler", help="address of a running Dask scheduler, e.g. tcp://host:8786")
         g.add_argument("--workers", type=int, help="local worker processes (default: one per core)")
@@ -426,6 +472,25 @@ def main(argv=None):
             with cluster(scheduler=a.scheduler, workers=a.workers, connect_timeout=a.timeout) as c:
                 for r_ in check(a.materials, client=c, seed=a.seed):
                     print(json.dumps(r_, default=lambda o: o.tolist() if hasattr(o, "tolist") else str(o)))
+        elif a.command in ("measure", "tabulate"):
+            inputs = [_text_or_file(x) for x in (a.surfaces if a.command == "measure" else a.materials)]
+            if not os.path.isdir(a.output_dir):
+                raise DistributedError("-o %s: no such directory" % a.output_dir)
+            outs = [os.path.join(a.output_dir, "%d.binary" % i) for i in range(len(inputs))]
+            if a.command == "tabulate":
+                for x in inputs:
+                    gonio.Material(x)  # before any cluster starts
+            with cluster(scheduler=a.scheduler, workers=a.workers, connect_timeout=a.timeout) as c:
+                if a.command == "measure":
+                    if a.samples < 1:
+                        raise DistributedError("--samples must be at least 1, got %d" % a.samples)
+                    results = measure(inputs, client=c, samples=a.samples, seed=a.seed, outputs=outs)
+                else:
+                    results = tabulate(inputs, outs, client=c)
+            for o, r_ in zip(outs, results):
+                line = {"file": o}
+                line.update({k: v for k, v in r_.items() if isinstance(v, (int, float, str, bool))})
+                print(json.dumps(line, default=lambda v: v.tolist() if hasattr(v, "tolist") else str(v)))
     except (DistributedError, ValueError, OSError) as e:
         sys.stderr.write("gonio.distributed: %s\n" % (str(e).splitlines()[0] if str(e) else type(e).__name__))
         return 1

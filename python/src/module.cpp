@@ -36,6 +36,7 @@
 #include "gonio/named_index.h"
 #include "gonio/reflectance.h"
 #include "gonio/spectral_material.h"
+#include "gonio/tabulate.h"
 #include "gonio/subsurface/diffusion.h"
 #include "gonio/subsurface/slab_walk.h"
 #include "gonio/subsurface/subsurface.h"
@@ -463,6 +464,24 @@ py::dict check(const Material& m, std::int64_t seed, double scale) {
   return out;
 }
 
+// `gonio tabulate`: the material written as a MERL table at `path` (tabulate.h; the same
+// file the CLI writes). Returns what the CLI prints.
+py::dict tabulate_material(const Material& m, const std::string& path) {
+  MerlTable table;
+  {
+    py::gil_scoped_release release;
+    table = tabulate(m.rgb());
+    write_merl(path, table);
+  }
+  std::size_t missing = 0;
+  for (std::size_t e = 0; e < MerlTable::kEntries; ++e) missing += table.rgb[3 * e] < 0;
+  py::dict out;
+  out["file"] = path;
+  out["entries"] = MerlTable::kEntries;
+  out["below_horizon"] = missing;
+  return out;
+}
+
 // --- Fresnel ----------------------------------------------------------------------------
 
 // A 1-D view of a number or an array (0-D: one element for every index).
@@ -850,6 +869,10 @@ Each angle uses the same seed, so entry i equals `gonio albedo --theta theta[i]`
 Run the validator (`gonio check`): a dict {"pass": bool, "name": str, "properties": [
 {"name", "figure" (float or None), "threshold", "pass", "detail"}, ...]}.
 scale multiplies every sample count (< 1 for a quick look; thresholds follow).
+)doc")
+      .def("tabulate", &tabulate_material, py::arg("path"), R"doc(
+`gonio tabulate`: write the material as a MERL table at path (an isotropic material
+without delta lobes; SPEC §2 `measured`). A dict: file, entries, below_horizon.
 )doc")
       .def("__repr__", [](const Material& m) { return "gonio.Material(" + m.json() + ")"; });
 
