@@ -47,6 +47,7 @@ struct RenderArgs {
   std::string dop;         // --dop: the false-colour DoLP/AoLP image (PNG)
   std::optional<double> polarizer;  // --polarizer DEG: overrides the scene's /camera/polarizer
   std::int64_t seed = -1;  // -1: the scene's
+  std::string sampler;     // empty: the scene's
   // --sample-range A B: only the per-pixel sample indices [A, B), written as their sums
   // (docs/distributed.md); empty: the whole render.
   std::vector<std::int64_t> sample_range;
@@ -93,6 +94,11 @@ void run_render(const RenderArgs& a) {
                                         : render::load_scene_file(a.scene);
   if (a.spp > 0) scene.settings.spp = a.spp;
   if (a.seed >= 0) scene.settings.seed = static_cast<std::uint64_t>(a.seed);
+  if (!a.sampler.empty()) {
+    const auto type = render::sampler_type_from_name(a.sampler);
+    if (!type) throw InputError("--sampler must be zsobol, sobol or independent, got \"" + a.sampler + "\"");
+    scene.settings.sampler = *type;
+  }
   if (a.spectral) scene.settings.spectral = true;
   if (a.polarized) scene.settings.polarized = true;
   if (a.polarizer) {
@@ -196,6 +202,9 @@ void register_render(CLI::App& app) {
       ->transform(decimal_in_range(0, kMaxThreads));
   cmd->add_option("--seed", args->seed, "random seed, 0 to 2147483647 (overrides the scene's; default 0)")
       ->transform(decimal_in_range(0, kMaxSeed));
+  cmd->add_option("--sampler", args->sampler,
+                  "zsobol (default), sobol or independent: where the samples' random numbers come from (overrides "
+                  "the scene's \"render\": {\"sampler\"}; docs/scene-format.md)");
   cmd->add_option("--sample-range", args->sample_range,
                   "A B: render only the per-pixel sample indices [A, B) of the render's sequences, 0 <= A < B <= "
                   "1048576, and write their per-pixel SUMS (not the mean) as linear .exr: passes of a distributed "

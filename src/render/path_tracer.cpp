@@ -194,7 +194,8 @@ bool PathTracer::occluded(const Vec3& p, const Vec3& ng, const Vec3& dir, Float 
 
 template <typename Shading, typename Model>
 typename Shading::C PathTracer::direct_light(const SurfaceHit& hit, const Frame& frame, const Model& bxdf, const Vec3& wo,
-                                             const Vec3& wo_world, Pcg32& rng, PathStats& stats, Shading& shading) const {
+                                             const Vec3& wo_world, int depth, Float u_pick, PixelSampler& sampler,
+                                             PathStats& stats, Shading& shading) const {
   using C = typename Shading::C;
   C sum(0);
   // Eq. 2: every point light contributes f · I / r² · |cos θi|.
@@ -212,7 +213,7 @@ typename Shading::C PathTracer::direct_light(const SurfaceHit& hit, const Frame&
   }
   // Eq. 1 by sampling one of the other lights, chosen uniformly.
   if (sampled_lights_ == 0) return sum;
-  const Float u_pick = rng.next_float(), u1 = rng.next_float(), u2 = rng.next_float();
+  const auto [u1, u2] = sampler.get2d(dims::bounce(depth) + dims::kLightPosition);
   const int pick = std::min(static_cast<int>(u_pick * Float(sampled_lights_)), sampled_lights_ - 1);
   const bool env = pick == static_cast<int>(scene_.area_lights.size());
   const LightSample ls = env ? scene_.environment.sample(u1, u2)
@@ -230,24 +231,24 @@ typename Shading::C PathTracer::direct_light(const SurfaceHit& hit, const Frame&
   return sum;
 }
 
-Color PathTracer::radiance(Ray ray, Pcg32& rng, PathStats& stats) const {
+Color PathTracer::radiance(Ray ray, PixelSampler& sampler, PathStats& stats) const {
   RgbShading shading;
-  return trace(ray, rng, stats, shading);
+  return trace(ray, sampler, stats, shading);
 }
 
-SampledSpectrum PathTracer::radiance(Ray ray, SampledWavelengths& w, Pcg32& rng, PathStats& stats,
+SampledSpectrum PathTracer::radiance(Ray ray, SampledWavelengths& w, PixelSampler& sampler, PathStats& stats,
                                      SpectralScratch& scratch) const {
   SpectralShading shading{{}, w, scratch, {}, {}};
-  return trace(ray, rng, stats, shading);
+  return trace(ray, sampler, stats, shading);
 }
 
-std::array<Color, 4> PathTracer::stokes(Ray ray, Pcg32& rng, PathStats& stats) const {
+std::array<Color, 4> PathTracer::stokes(Ray ray, PixelSampler& sampler, PathStats& stats) const {
   PolarizedShading<RgbShading> shading{{}, scene_.camera.image_x(), scene_.camera.polarizer_deg ? &polarizer_rgb_ : nullptr,
                                        &polarized_models_, {}, {}, scene_.materials.data()};
-  return trace(ray, rng, stats, shading);
+  return trace(ray, sampler, stats, shading);
 }
 
-std::array<SampledSpectrum, 4> PathTracer::stokes(Ray ray, SampledWavelengths& w, Pcg32& rng, PathStats& stats,
+std::array<SampledSpectrum, 4> PathTracer::stokes(Ray ray, SampledWavelengths& w, PixelSampler& sampler, PathStats& stats,
                                                   SpectralScratch& scratch) const {
   PolarizedShading<SpectralShading> shading{{{}, w, scratch, {}, {}},
                                             scene_.camera.image_x(),
@@ -256,11 +257,11 @@ std::array<SampledSpectrum, 4> PathTracer::stokes(Ray ray, SampledWavelengths& w
                                             {},
                                             {},
                                             scene_.materials.data()};
-  return trace(ray, rng, stats, shading);
+  return trace(ray, sampler, stats, shading);
 }
 
 template <typename Shading>
-typename Shading::Radiance PathTracer::trace(Ray ray, Pcg32& rng, PathStats& stats, Shading& shading) const {
+typename Shading::Radiance PathTracer::trace(Ray ray, PixelSampler& sampler, PathStats& stats, Shading& shading) const {
   using C = typename Shading::C;
   using Radiance = typename Shading::Radiance;
   Radiance L{};
@@ -317,9 +318,10 @@ typename Shading::Radiance PathTracer::trace(Ray ray, Pcg32& rng, PathStats& sta
     const Vec3 wo = normalize(frame.to_local(wo_world));
     shading.at_vertex(beta, frame, wo, wo_world);
 
-    if (!is_delta_only(bxdf.flags())) shading.add(L, beta, direct_light(hit, frame, bxdf, wo, wo_world, rng, stats, shading));
+    const auto [u_pick, u_lobe] = sampler.get2d(dims::bounce(depth) + dims::kChoiceAndLobe);
+    if (!is_delta_only(bxdf.flags())) shading.add(L, beta, direct_light(hit, frame, bxdf, wo, wo_world, depth, u_pick, sampler, stats, shading));
 
-    const Float u_lobe = rng.next_float(), u1 = rng.next_float(), u2 = rng.next_float();
+    const auto [u1, u2] = sampler.get2d(dims::bounce(depth) + dims::kDirection);
     const auto s = bxdf.sample(wo, u_lobe, u1, u2);
     if (!s) break;
     Vec3 wi_world = normalize(frame.to_world(s->wi));
@@ -335,7 +337,7 @@ typename Shading::Radiance PathTracer::trace(Ray ray, Pcg32& rng, PathStats& sta
     // Russian roulette (Arvo & Kirk 1990): continue with probability ~ the throughput.
     if (depth + 1 >= scene_.settings.rr_depth) {
       const Float q = std::min(Float(0.95), shading.magnitude(beta) * eta_scale);
-      if (rng.next_float() >= q) break;
+      if (sampler.get1d(dims::bounce(depth) + dims::kRoulette) >= q) break;
       beta /= q;
     }
 
@@ -352,7 +354,7 @@ typename Shading::Radiance PathTracer::trace(Ray ray, Pcg32& rng, PathStats& sta
           WalkStats ws;
           ++stats.walks;
           const bool reached =
-              walk_to_boundary(material.subsurface->medium, boundary, start, wi_world, beta, rng, walked, &ws);
+              walk_to_boundary(material.subsurface->medium, boundary, start, wi_world, beta, sampler.rng(), walked, &ws);
           stats.walk_steps += ws.steps;
           if (!reached || !(beta.max_component() > 0)) break;
           have_walked = true;
@@ -364,7 +366,7 @@ typename Shading::Radiance PathTracer::trace(Ray ray, Pcg32& rng, PathStats& sta
         // own, shaded with the exit lobe Sw.
         if (depth + 1 >= max_depth) break;
         ++depth;
-        const auto exit = sample_probe_exit(accel_, hit, frame, *material.profile, rng);
+        const auto exit = sample_probe_exit(accel_, hit, frame, *material.profile, sampler.rng());
         if (!exit) break;
         ++stats.probe_exits;
         // The radiance of the entry's refraction was scaled by 1/η²; the light leaves
@@ -378,8 +380,9 @@ typename Shading::Radiance PathTracer::trace(Ray ray, Pcg32& rng, PathStats& sta
         const Frame exit_frame = Frame::from_normal_tangent(xo.ng, xo.tangent);
         const SwBxDF& sw = material.exit_lobe;
         const Vec3 sw_wo{0, 0, 1};  // Sw does not depend on wo
-        shading.add(L, beta, direct_light(xo, exit_frame, sw, sw_wo, xo.ng, rng, stats, shading));
-        const Float v_lobe = rng.next_float(), v1 = rng.next_float(), v2 = rng.next_float();
+        const auto [v_pick, v_lobe] = sampler.get2d(dims::bounce(depth) + dims::kChoiceAndLobe);
+        shading.add(L, beta, direct_light(xo, exit_frame, sw, sw_wo, xo.ng, depth, v_pick, sampler, stats, shading));
+        const auto [v1, v2] = sampler.get2d(dims::bounce(depth) + dims::kDirection);
         const auto so = sw.sample(sw_wo, v_lobe, v1, v2);
         if (!so) break;
         wi_world = normalize(exit_frame.to_world(so->wi));

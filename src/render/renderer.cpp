@@ -27,14 +27,6 @@ constexpr int kTile = 16;
 // so that the cost of starting a parallel loop stays small against the work in it.
 constexpr std::int64_t kSamplesPerPass = 1 << 16;
 
-// SplitMix64 finaliser (Steele, Lea & Flood 2014): decorrelates the per-pixel seeds.
-std::uint64_t mix(std::uint64_t z) {
-  z += 0x9e3779b97f4a7c15ULL;
-  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-  return z ^ (z >> 31);
-}
-
 }  // namespace
 
 Image render(const Scene& scene_in, const RenderOptions& options, RenderStats* stats, StokesImages* stokes) {
@@ -75,11 +67,15 @@ Image render(const Scene& scene_in, const RenderOptions& options, RenderStats* s
     const Accel accel(scene);
     setup = std::chrono::duration<double>(clock::now() - t0).count();
     const PathTracer tracer(scene, accel);
+    // The Z-order layout is fixed by the whole render's count (and any larger index asked
+    // for), so that a range of indices is the same samples as in the whole render.
+    const PixelSampler sampler_prototype(scene.settings.sampler, std::max(scene.settings.spp, end), scene.settings.seed);
     for (int first = 0; first < spp && !stop_requested(); first += per_pass) {
       const int last = std::min(spp, first + per_pass);  // offsets in the range [begin, end)
       std::atomic<bool> dropped{false};
       tbb::parallel_for(tbb::blocked_range<int>(0, tiles, 1), [&](const tbb::blocked_range<int>& range) {
         PathStats local;
+        PixelSampler sampler = sampler_prototype;
         thread_local SpectralScratch scratch;  // blends' parts, per thread (spectral_material.h)
         for (int tile = range.begin(); tile != range.end(); ++tile) {
           if (stop_requested()) {
@@ -91,32 +87,30 @@ Image render(const Scene& scene_in, const RenderOptions& options, RenderStats* s
           for (int y = y0; y < y1; ++y) {
             for (int x = x0; x < x1; ++x) {
               const std::uint64_t pixel = static_cast<std::uint64_t>(y) * static_cast<std::uint64_t>(w) + static_cast<std::uint64_t>(x);
-              const std::uint64_t pixel_seed = mix(scene.settings.seed ^ mix(pixel));
               std::array<Color, 4> sum;
               for (size_t k = 0; k < K; ++k) sum[k] = sums[pixel * K + k];
               for (int i = first; i < last; ++i) {
-                // Sample index begin + i has a stream of its own (the pixel's PCG stream
-                // from a state hashed from the index), so that it is the same sample
-                // whichever range it is rendered in.
-                Pcg32 rng(mix(pixel_seed + static_cast<std::uint64_t>(begin + i)), pixel);
-                const Float jx = rng.next_float(), jy = rng.next_float();
+                // Sample index begin + i is a function of (seed, pixel, index) alone, so
+                // that it is the same sample whichever range it is rendered in.
+                sampler.start(x, y, static_cast<std::uint64_t>(begin + i));
+                const auto [jx, jy] = sampler.get2d(dims::kPixel);
                 const Ray ray = scene.camera.generate(Float(x) + jx, Float(y) + jy);
                 if (polarized && spectral) {
-                  SampledWavelengths wl = SampledWavelengths::sample_visible(rng.next_float());
-                  const auto S = tracer.stokes(ray, wl, rng, local, scratch);
+                  SampledWavelengths wl = SampledWavelengths::sample_visible(sampler.get1d(dims::kWavelength));
+                  const auto S = tracer.stokes(ray, wl, sampler, local, scratch);
                   for (size_t k = 0; k < 4; ++k) sum[k] += xyz_to_linear_srgb(to_xyz(S[k], wl));
                 } else if (polarized) {
-                  const auto S = tracer.stokes(ray, rng, local);
+                  const auto S = tracer.stokes(ray, sampler, local);
                   for (size_t k = 0; k < 4; ++k) sum[k] += S[k];
                 } else if (spectral) {
                   // Hero-wavelength sampling (Wilkie et al. 2014): 4 wavelengths per path,
                   // to CIE XYZ at the film (each divided by its own density), then to
                   // linear sRGB, so that the image is what RGB mode writes.
-                  SampledWavelengths wl = SampledWavelengths::sample_visible(rng.next_float());
-                  const SampledSpectrum L = tracer.radiance(ray, wl, rng, local, scratch);
+                  SampledWavelengths wl = SampledWavelengths::sample_visible(sampler.get1d(dims::kWavelength));
+                  const SampledSpectrum L = tracer.radiance(ray, wl, sampler, local, scratch);
                   sum[0] += xyz_to_linear_srgb(to_xyz(L, wl));
                 } else {
-                  sum[0] += tracer.radiance(ray, rng, local);
+                  sum[0] += tracer.radiance(ray, sampler, local);
                 }
               }
               for (size_t k = 0; k < K; ++k) next[pixel * K + k] = sum[k];

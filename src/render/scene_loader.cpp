@@ -467,7 +467,7 @@ struct Loader {
   }
 
   void render_settings(const Node& n) {
-    n.object({"spp", "max_depth", "rr_depth", "seed", "exposure", "tonemap", "spectral", "polarized"});
+    n.object({"spp", "max_depth", "rr_depth", "seed", "exposure", "tonemap", "spectral", "polarized", "sampler"});
     RenderSettings& s = scene.settings;
     if (n.has("spp")) s.spp = n.at("spp").integer(1, 1 << 20);
     if (n.has("max_depth")) s.max_depth = n.at("max_depth").integer(0, 1024);
@@ -480,6 +480,12 @@ struct Loader {
       const std::string t = n.at("tonemap").string();
       if (t != "filmic" && t != "clamp") n.at("tonemap").fail("must be \"filmic\" or \"clamp\", got \"" + t + "\"");
       s.filmic = t == "filmic";
+    }
+    if (n.has("sampler")) {
+      const std::string t = n.at("sampler").string();
+      const auto type = sampler_type_from_name(t);
+      if (!type) n.at("sampler").fail("must be \"zsobol\", \"sobol\" or \"independent\", got \"" + t + "\"");
+      s.sampler = *type;
     }
   }
 

@@ -115,12 +115,14 @@ TEST(SubsurfaceRender, AbsorbingSlabIsBeerLambertBetweenTwoFresnelInterfaces) {
   const Scene scene = load_scene_file(scene_path);
   const Accel accel(scene);
   const PathTracer tracer(scene, accel);
-  Pcg32 rng(7, 3);
+  // Independent samples: the standard error below assumes them.
+  PixelSampler sampler(SamplerType::Independent, 1, 7);
   PathStats stats;
   const std::uint64_t n = scaled(100000, 20000);
   double sum[3] = {0, 0, 0}, sum2[3] = {0, 0, 0};
   for (std::uint64_t i = 0; i < n; ++i) {
-    const Color L = tracer.radiance(Ray{{0.3f, 5, -0.2f}, {0, -1, 0}}, rng, stats);
+    sampler.start(0, 0, i);
+    const Color L = tracer.radiance(Ray{{0.3f, 5, -0.2f}, {0, -1, 0}}, sampler, stats);
     for (int c = 0; c < 3; ++c) sum[c] += L[c], sum2[c] += double(L[c]) * L[c];
   }
   EXPECT_GT(stats.walks, 0u);
@@ -153,12 +155,13 @@ TEST(SubsurfaceRender, DiffusionOnAFlatSlabUnderAWhiteSky) {
   ASSERT_TRUE(m.profile);
   const Accel accel(scene);
   const PathTracer tracer(scene, accel);
-  Pcg32 rng(11, 5);
+  PixelSampler sampler(SamplerType::Independent, 1, 11);
   PathStats stats;
   const std::uint64_t n = scaled(40000, 8000);
   double sum[3] = {0, 0, 0}, sum2[3] = {0, 0, 0};
   for (std::uint64_t i = 0; i < n; ++i) {
-    const Color L = tracer.radiance(Ray{{0.3f, 5, -0.2f}, {0, -1, 0}}, rng, stats);
+    sampler.start(0, 0, i);
+    const Color L = tracer.radiance(Ray{{0.3f, 5, -0.2f}, {0, -1, 0}}, sampler, stats);
     for (int c = 0; c < 3; ++c) sum[c] += L[c], sum2[c] += double(L[c]) * L[c];
   }
   EXPECT_GT(stats.probe_exits, 0u);

@@ -15,6 +15,7 @@
 #include "gonio/bxdf/layered.h"
 #include "gonio/bxdf/thin_film.h"
 #include "gonio/bxdf/thindielectric.h"
+#include "gonio/math/hash.h"
 #include "gonio/math/warp.h"
 #include "gonio/rng.h"
 #include "gonio/subsurface/henyey_greenstein.h"
@@ -22,14 +23,6 @@
 namespace gonio {
 namespace layered_detail {
 
-// splitmix64's finaliser (Steele, Lea & Flood 2014): a bijective mix of 64 bits.
-inline std::uint64_t mix64(std::uint64_t x) {
-  x ^= x >> 30;
-  x *= 0xbf58476d1ce4e5b9ULL;
-  x ^= x >> 27;
-  x *= 0x94d049bb133111ebULL;
-  return x ^ (x >> 31);
-}
 // The bit pattern of a direction (−0 counted as +0: the same direction).
 inline std::uint64_t direction_hash(const Vec3& w) {
   const auto b = [](Float v) { return std::uint64_t(std::bit_cast<std::uint32_t>(v + Float(0))); };

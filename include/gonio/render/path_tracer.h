@@ -23,7 +23,7 @@
 #include <vector>
 
 #include "gonio/polarization/polarized_bxdf.h"
-#include "gonio/rng.h"
+#include "gonio/render/sampler.h"
 #include "gonio/spectral_material.h"
 #include "gonio/spectrum/wavelengths.h"
 #include "gonio/render/accel.h"
@@ -44,29 +44,30 @@ class PathTracer {
   PathTracer(const Scene& scene, const Accel& accel);
 
   // Radiance arriving at the camera along `ray` (one sample of it).
-  Color radiance(Ray ray, Pcg32& rng, PathStats& stats) const;
+  Color radiance(Ray ray, PixelSampler& sampler, PathStats& stats) const;
   // Spectral mode: the radiance at the path's wavelengths `w`, which a dispersive surface
   // may reduce to the hero (SampledWavelengths::terminate_secondary). `scratch` is one
   // per thread.
-  SampledSpectrum radiance(Ray ray, SampledWavelengths& w, Pcg32& rng, PathStats& stats,
+  SampledSpectrum radiance(Ray ray, SampledWavelengths& w, PixelSampler& sampler, PathStats& stats,
                            SpectralScratch& scratch) const;
   // Polarized mode (issue 15; scene.settings.polarized): the Stokes vector S0..S3 (each a
   // colour) of the light arriving along `ray`, in the image's frame (SPEC §1: Q = I_x − I_y,
   // x to the right, y up), through the camera's polarizer when it has one. The lights are
   // unpolarized; S0 estimates what radiance() does, with the same paths.
-  std::array<Color, 4> stokes(Ray ray, Pcg32& rng, PathStats& stats) const;
-  std::array<SampledSpectrum, 4> stokes(Ray ray, SampledWavelengths& w, Pcg32& rng, PathStats& stats,
+  std::array<Color, 4> stokes(Ray ray, PixelSampler& sampler, PathStats& stats) const;
+  std::array<SampledSpectrum, 4> stokes(Ray ray, SampledWavelengths& w, PixelSampler& sampler, PathStats& stats,
                                         SpectralScratch& scratch) const;
 
  private:
   // The estimator for both colour modes (path_tracer.cpp).
   template <typename Shading>
-  typename Shading::Radiance trace(Ray ray, Pcg32& rng, PathStats& stats, Shading& shading) const;
+  typename Shading::Radiance trace(Ray ray, PixelSampler& sampler, PathStats& stats, Shading& shading) const;
   // Light reaching the vertex from the lights, by next-event estimation weighted against
   // BSDF sampling.
   template <typename Shading, typename Model>
   typename Shading::C direct_light(const SurfaceHit& hit, const Frame& frame, const Model& bxdf, const Vec3& wo,
-                                   const Vec3& wo_world, Pcg32& rng, PathStats& stats, Shading& shading) const;
+                                   const Vec3& wo_world, int depth, Float u_pick, PixelSampler& sampler, PathStats& stats,
+                                   Shading& shading) const;
   bool occluded(const Vec3& p, const Vec3& ng, const Vec3& dir, Float dist, PathStats& stats) const;
 
   const Scene& scene_;

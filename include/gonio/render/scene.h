@@ -13,6 +13,7 @@
 #include "gonio/bxdf.h"
 #include "gonio/spectral_material.h"
 #include "gonio/math/warp.h"
+#include "gonio/render/sampler.h"
 #include "gonio/render/camera.h"
 #include "gonio/render/lights.h"
 #include "gonio/render/texture.h"
@@ -76,6 +77,7 @@ struct RenderSettings {
   bool filmic = true;   // tone map for PNG output (else clamp)
   bool spectral = false;  // hero-wavelength spectral transport (else RGB)
   bool polarized = false;  // Stokes vectors along paths (issue 15), RGB or spectral
+  SamplerType sampler = SamplerType::ZSobol;  // sampler.h
 };
 
 struct Scene {
