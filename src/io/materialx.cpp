@@ -256,8 +256,10 @@ class Reader {
   pugi::xml_node find_material(const pugi::xml_node root, const std::optional<std::string>& name) const {
     std::vector<pugi::xml_node> materials;
     for (const pugi::xml_node child : root.children("surfacematerial")) materials.push_back(child);
-    std::string names;
-    for (const auto& m : materials) names += (names.empty() ? "" : ", ") + in_quotes(m.attribute("name").value());
+    std::string names;  // for messages: the first ten
+    for (size_t i = 0; i < materials.size() && i < 10; ++i)
+      names += cat(i ? ", " : "", in_quotes(materials[i].attribute("name").value()));
+    if (materials.size() > 10) names += cat(" and ", std::to_string(materials.size() - 10), " more");
     if (name) {
       for (const auto& m : materials)
         if (*name == m.attribute("name").value()) return m;
