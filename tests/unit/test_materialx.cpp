@@ -328,7 +328,8 @@ TEST(Materialx, ShaderInsideANodegraph) {
 // The document's colour space acescg: a colour converted to linear Rec.709. Expected: the
 // AP1 primaries and D60 white (ACES S-2014-004) to the BT.709 primaries and D65, white
 // adapted by CAT02, derived from the chromaticities in double precision outside gonio
-// (numpy); an input's own colorspace="lin_rec709" overrides the document's.
+// (tests/reference/acescg_reference.py); an input's own colorspace="lin_rec709" overrides
+// the document's.
 TEST(Materialx, AcescgColoursAreConvertedToLinearRec709) {
   auto want = openpbr_defaults();
   want["base_color"] = rgb(0.6863756837, 0.2186708695, 0.1003608509);
