@@ -355,6 +355,12 @@ TEST(Materialx, TextErrorsNameTheSource) {
       "type=\"surfaceshader\" nodename=\"x\"/></surfacematerial></materialx>");
   EXPECT_EQ(msg.find('\n'), std::string::npos) << msg;
   EXPECT_NE(msg.find("a\\nb"), std::string::npos) << msg;
+  // Twelve materials and no name: the message names the first ten and counts the rest.
+  std::string twelve = "<materialx version=\"1.39\">";
+  for (int i = 0; i < 12; ++i) twelve += "<surfacematerial name=\"m" + std::to_string(i) + "\"/>";
+  const std::string several = error(twelve + "</materialx>");
+  EXPECT_NE(several.find("\"m9\" and 2 more"), std::string::npos) << several;
+  EXPECT_EQ(several.find("m10"), std::string::npos) << several;
 }
 
 // {"mtlx": ...} wherever a material is accepted: the produced JSON goes to the parser.
