@@ -161,3 +161,17 @@ os.makedirs(os.path.join(corpus, "surface"), exist_ok=True)
 for i, s in enumerate(surfaces):
     with open(os.path.join(corpus, "surface", f"seed-{i:02d}"), "wb") as f:
         f.write(s.encode())
+
+# MaterialX documents for fuzz_mtlx: the test documents (tests/data/mtlx and its errors/),
+# one with a material's name before a NUL byte.
+import glob, shutil
+os.makedirs(os.path.join(corpus, "mtlx"), exist_ok=True)
+mtlx_dir = os.path.join(here, "..", "tests", "data", "mtlx")
+for path in sorted(glob.glob(os.path.join(mtlx_dir, "*.mtlx")) + glob.glob(os.path.join(mtlx_dir, "errors", "*.mtlx"))):
+    name = os.path.basename(path)
+    prefix = "error-" if os.path.basename(os.path.dirname(path)) == "errors" else ""
+    shutil.copyfile(path, os.path.join(corpus, "mtlx", f"seed-{prefix}{name}"))
+with open(os.path.join(mtlx_dir, "several.mtlx"), "rb") as f:
+    several = f.read()
+with open(os.path.join(corpus, "mtlx", "seed-named-M_blue"), "wb") as f:
+    f.write(b"M_blue\0" + several)

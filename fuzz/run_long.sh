@@ -13,11 +13,11 @@ src="$(cd "$(dirname "$0")" && pwd)"
 build="$(cd "$1" && pwd)"
 seconds="${2:-14400}"
 out="${3:-/tmp/gonio-fuzz-long}"
-for t in ${GONIO_FUZZ_TARGETS:-material merl scene obj png exr surface}; do
+for t in ${GONIO_FUZZ_TARGETS:-material merl scene obj png exr surface mtlx}; do
   mkdir -p "$out/$t/corpus" "$out/$t/bin"
   cp "$build/bin/fuzz_$t" "$out/$t/bin/"  # a rebuild must not replace the running binary
   dict=()
-  case "$t" in material | scene | surface) dict=(-dict="$src/json.dict") ;; esac
+  case "$t" in material | scene | surface) dict=(-dict="$src/json.dict") ;; mtlx) dict=(-dict="$src/mtlx.dict") ;; esac
   # Seeds without the known reproducers (crash-*), which would end every run at start.
   mkdir -p "$out/$t/seeds"
   find "$src/corpus/$t" -maxdepth 1 -type f ! -name 'crash-*' -exec cp {} "$out/$t/seeds/" \;

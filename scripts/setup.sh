@@ -7,6 +7,7 @@ packages=(
   cmake g++ make pkg-config
   libgtest-dev libgmock-dev libbenchmark-dev
   nlohmann-json3-dev libcli11-dev
+  libpugixml-dev            # MaterialX documents (.mtlx): {"mtlx": ...} and gonio materials --from-mtlx
   libceres-dev              # gonio fit (GONIO_BUILD_FIT)
   libembree-dev libtbb-dev libopenexr-dev libpng-dev libtinyobjloader-dev
   libfftw3-dev              # gonio measure: Gaussian random height fields

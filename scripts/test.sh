@@ -67,14 +67,14 @@ fuzz_seconds="${GONIO_FUZZ_SECONDS:-10}"
 # fuzz_seconds (libFuzzer's -max_total_time is wall time).
 fuzz_one() {
   local t="$1" dict=()
-  case "$t" in material | scene | surface | explore) dict=(-dict=fuzz/json.dict) ;; esac
+  case "$t" in material | scene | surface | explore) dict=(-dict=fuzz/json.dict) ;; mtlx) dict=(-dict=fuzz/mtlx.dict) ;; esac
   # The grown corpus stays in build-sanitize; the repository's seeds are only read.
   mkdir -p "build-sanitize/corpus/$t" "build-sanitize/artifacts/$t"
   build-sanitize/bin/fuzz_"$t" "${dict[@]}" -max_total_time="$fuzz_seconds" -print_final_stats=1 \
     -artifact_prefix="build-sanitize/artifacts/$t/" "build-sanitize/corpus/$t" "fuzz/corpus/$t" \
     >"build-sanitize/fuzz_$t.log" 2>&1
 }
-targets=(material merl scene obj png exr surface)
+targets=(material merl scene obj png exr surface mtlx)
 [ -x build-sanitize/bin/fuzz_explore ] && targets+=(explore)  # built with cpp-httplib (gonio explore)
 for ((i = 0; i < ${#targets[@]}; i += jobs)); do
   batch=("${targets[@]:i:jobs}")

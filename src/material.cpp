@@ -21,6 +21,7 @@
 #include <nlohmann/json.hpp>
 
 #include "gonio/hemispherical_average.h"
+#include "gonio/io/materialx.h"
 #include "gonio/json_text.h"
 #include "gonio/material_types.h"
 #include "gonio/metals.h"
@@ -907,6 +908,24 @@ BxDF parse_description(const json& description, const std::string& where, int bl
   const std::string at = where.empty() ? "" : where + ": ";
   if (!description.is_object())
     throw InputError(at + "material must be a JSON object, got " + show(description));
+  if (description.contains("mtlx")) {
+    // SPEC §2: {"mtlx": "file.mtlx", "material": "NAME"}, the document's material as its
+    // `openpbr` JSON, then parsed as any other; a relative path as `measured`'s file.
+    for (const auto& [key, value] : description.items())
+      if (key != "mtlx" && key != "material")
+        throw InputError(at + "mtlx: unknown field '" + key + "' (a MaterialX material takes mtlx and material)");
+    const json& file = description["mtlx"];
+    if (!file.is_string()) throw InputError(at + "mtlx: must be a file name, got " + show(file));
+    std::optional<std::string> name;
+    if (const auto m = description.find("material"); m != description.end()) {
+      if (!m->is_string()) throw InputError(at + "mtlx: material must be a material's name, got " + show(*m));
+      name = m->get<std::string>();
+    }
+    std::filesystem::path path = file.get<std::string>();
+    if (path.is_relative() && !base_dir.empty()) path = std::filesystem::path(base_dir) / path;
+    const json produced = materialx_file_to_json(path.string(), name);
+    return parse_description(produced, at + path.string(), blend_depth, spectra, base_dir);
+  }
   const auto it = description.find("type");
   if (it == description.end()) throw InputError(at + "material: missing field 'type'");
   if (!it->is_string()) throw InputError(at + "material: type must be a string, got " + show(*it));

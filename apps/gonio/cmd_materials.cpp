@@ -7,8 +7,11 @@
 #include <memory>
 #include <string>
 
+#include <nlohmann/json.hpp>
+
 #include "cli_io.h"
 #include "commands.h"
+#include "gonio/io/materialx.h"
 #include "gonio/material.h"
 #include "gonio/material_types.h"
 #include "gonio/metals.h"
@@ -19,6 +22,7 @@ namespace {
 struct MaterialsArgs {
   std::string type;
   bool markdown = false;
+  std::string from_mtlx, material;  // --from-mtlx FILE [--material NAME]
 };
 
 std::string join_names(const std::vector<std::string_view>& names, std::string_view quote = "") {
@@ -126,6 +130,16 @@ std::string describe_type(const MaterialTypeSpec& t) {
   return s;
 }
 
+// --from-mtlx: the document's material as gonio JSON (SPEC §3), checked by the material
+// parser where this build has the openpbr type.
+void print_from_mtlx(const MaterialsArgs& a, bool material_given) {
+  if (a.markdown || !a.type.empty()) throw InputError("materials: --from-mtlx takes no TYPE or --markdown");
+  const nlohmann::json j =
+      materialx_file_to_json(a.from_mtlx, material_given ? std::optional<std::string>(a.material) : std::nullopt);
+  if (find_material_type("openpbr")) material_from_json(j, a.from_mtlx);
+  std::cout << j.dump() << "\n";
+}
+
 void run_materials(const MaterialsArgs& a) {
   if (a.markdown) {
     if (!a.type.empty()) throw InputError("materials: --markdown prints every type; give no TYPE with it");
@@ -150,7 +164,17 @@ void register_materials(CLI::App& app) {
       "or the whole reference as Markdown (--markdown, = docs/materials.md)");
   cmd->add_option("TYPE", args->type, "a material type, e.g. roughconductor");
   cmd->add_flag("--markdown", args->markdown, "print docs/materials.md");
-  cmd->callback([args] { run_materials(*args); });
+  auto* mtlx = cmd->add_option("--from-mtlx", args->from_mtlx,
+                               "print the gonio JSON (openpbr) of a MaterialX document's material (docs/materialx.md)");
+  auto* name = cmd->add_option("--material", args->material, "the document's material to read (default: its only one)")
+                   ->needs(mtlx);
+  cmd->callback([args, mtlx, name] {
+    if (mtlx->count()) {
+      print_from_mtlx(*args, name->count() > 0);
+      return;
+    }
+    run_materials(*args);
+  });
 }
 
 }  // namespace gonio::cli

@@ -1,0 +1,36 @@
+#pragma once
+// MaterialX documents (.mtlx, versions 1.38 and 1.39) → gonio's `openpbr` material JSON
+// (SPEC §2, "A material may also come from a MaterialX document"; SPEC §3 `gonio
+// materials --from-mtlx`). One `surfacematerial` is chosen (by name, or the document's
+// only one); its `surfaceshader` input leads, directly or through a nodegraph's
+// `output`, to an `open_pbr_surface` or a `standard_surface` node, whose constant inputs
+// become the JSON object {"type": "openpbr", every OpenPBR 1.1 parameter: its value}.
+//
+// Only constant values are read. A connected input (an image or any other node, a
+// nodegraph, an interfacename), an unknown node or input, a value that does not parse or
+// is not finite, an unsupported colour space, several materials and no name: each is one
+// InputError line naming the file and the node or input. The mapping rules (1.38 names
+// and units, Standard Surface → OpenPBR, colour spaces) are in src/io/materialx.cpp and
+// docs/materialx.md.
+
+#include <cstddef>
+#include <optional>
+#include <string>
+#include <string_view>
+
+#include <nlohmann/json_fwd.hpp>
+
+namespace gonio {
+
+// Largest .mtlx file read (a hand-written material is a few KB).
+inline constexpr std::size_t kMaxMaterialxFileBytes = std::size_t(16) << 20;  // 16 MiB
+
+// The material `name` (nullopt: the document's only material) of the document text
+// `xml`; `source` names the document in messages (its path).
+nlohmann::json materialx_to_json(std::string_view xml, const std::string& source,
+                                 const std::optional<std::string>& name = std::nullopt);
+
+// The same, read from the file `path` (bounded: kMaxMaterialxFileBytes).
+nlohmann::json materialx_file_to_json(const std::string& path, const std::optional<std::string>& name = std::nullopt);
+
+}  // namespace gonio
