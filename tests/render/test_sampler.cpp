@@ -155,3 +155,25 @@ TEST(Sampler, Names) {
 }
 
 }  // namespace
+
+namespace {
+
+// The dimension layout gives each decision dimensions of its own: a number shared by two
+// decisions of one bounce (say the roulette and the lobe) would correlate them.
+TEST(SamplerDims, EveryDecisionHasDimensionsOfItsOwn) {
+  namespace d = gonio::render::dims;
+  std::set<int> used;
+  const auto take = [&](int first, int count) {
+    for (int k = first; k < first + count; ++k) EXPECT_TRUE(used.insert(k).second) << "dimension " << k << " twice";
+  };
+  take(d::kPixel, 2), take(d::kWavelength, 1), take(d::kLens, 2);
+  for (int b = 0; b < 3; ++b) {
+    const int base = d::bounce(b);
+    take(base + d::kChoiceAndLobe, 2), take(base + d::kLightPosition, 2), take(base + d::kDirection, 2),
+        take(base + d::kRoulette, 1);
+    EXPECT_LE(d::kRoulette + 1, d::kPerBounce);
+  }
+  EXPECT_EQ(*used.begin(), 0);
+}
+
+}  // namespace
