@@ -14,11 +14,17 @@
 //
 // Layering, per layer (the issue asks for the reciprocal albedo scaling
 // f_top + f_below (1 − E_top(wo))(1 − E_top(wi))/(1 − Ē_top) where it is allowed):
-//  * specular over diffuse (glossy-diffuse): the RECIPROCAL form, N_s = 1/(1 − Ē_s). SPEC-OPB
-//    "Glossy-diffuse" allows it there ("f_dielectric + N (1 − E(ωi))(1 − E(ωo)) f_diffuse",
-//    N a normalisation); 1/(1 − Ē) makes a Lambertian base of albedo C reflect exactly
-//    C (1 − E_s(wo)), so a white base passes the furnace exactly, EON within its departure
-//    from Lambert (docs/openpbr.md measures it). Below the specular layer sits the EON lobe
+//  * specular over diffuse (glossy-diffuse): the RECIPROCAL form. SPEC-OPB "Glossy-diffuse"
+//    allows it there ("f_dielectric + N (1 − E(ωi))(1 − E(ωo)) f_diffuse", N a normalisation
+//    "such that eq. glossy_diffuse_albedo_constraint is satisfied", left to the
+//    implementation for a rough base). For a Lambertian base N = 1/(1 − Ē_s) makes a base of
+//    albedo C reflect exactly C (1 − E_s(wo)). For EON (base_diffuse_roughness > 0) that
+//    constant left up to 1.6 % at grazing (EON is not Lambert's shape), so N is taken
+//    separable, N = b(μo) b(μi) (still reciprocal), with b solved once per material so that
+//    the white base reflects 1 − E_s(μo) at 64 cosines: b_i Σ_j k(μi, μj)(1 − E_s(μj)) b_j μj/64
+//    = 1, k the azimuthal integral of the albedo-1 EON lobe (closed form, diffuse_kernel),
+//    by the symmetric scaling iteration b ← b / sqrt(b K b) (a matrix balancing). With the
+//    specular layer's E_s the isotropic one of its mean roughness. Below the specular layer sits the EON lobe
 //    (eon.h) of albedo lerp(base_weight·base_color, subsurface_color, S): the subsurface is
 //    a BSDF here (a diffuse-like lobe of albedo subsurface_color; the BSSRDF is the
 //    renderer's, not stage 1's).
@@ -226,13 +232,20 @@ struct OpenPbrBxDFT {
   U diff_rho{}, diff_rho_ms{};   // reflection
   U difft_rho{}, difft_rho_ms{}; // thin-walled transmission
   Float eon_a = 1, eon_ms = 0;
+  // The separable normalisation b(μ) of the diffuse under the specular layer (top of the
+  // file), at μ_j = (j + ½)/kNormNodes; unused (b = 1/sqrt(1 − Ē_s)) at roughness 0.
+  static constexpr int kNormNodes = 64;
+  std::array<Float, kNormNodes> diff_b{};
   // Glass.
   RoughDielectricBxDFT<C> glass{};
   ThinDielectricBxDFT<C> sheet{};
   ThinDielectricBxDFT<C> sheet_film{};
   U trans_tint{Float(1)};
 
-  static OpenPbrBxDFT make(const OpenPbrParams<U>& p, ThinFilmT<U> film_on_spec = {}) {
+  // `norm`: the diffuse normalisation of a model made from the same parameters (the spectral
+  // and polarized forms copy the RGB model's instead of solving again).
+  static OpenPbrBxDFT make(const OpenPbrParams<U>& p, ThinFilmT<U> film_on_spec = {},
+                           const std::array<Float, kNormNodes>* norm = nullptr) {
     using namespace openpbr;
     OpenPbrBxDFT m;
     m.params = p;
@@ -304,6 +317,8 @@ struct OpenPbrBxDFT {
       m.difft_rho = half_t * m.sss;
       m.difft_rho_ms = half_t * m.sss;
     }
+    if (norm) m.diff_b = *norm;
+    else if (r > 0) m.solve_diffuse_norm();
     // Glass.
     m.glass.distribution = m.spec_dist;
     m.glass.eta = modulated_ior(p.specular_ior, p.specular_weight);
@@ -355,6 +370,56 @@ struct OpenPbrBxDFT {
       return "openpbr: the base under the coat is scaled by 1 - E_coat(wo) (OpenPBR's view-dependent albedo scaling; "
              "the reciprocal form gains energy over a specular base, docs/openpbr.md)";
     return {};
+  }
+
+  // ∫ f_EON(μo, μi, φ) dφ over the azimuth for ρ = 1 (eon.h): with s = sin θo sin θi cos φ,
+  // t = max(μo, μi) where s > 0 (|φ| < π/2) else 1, ∫ s/t dφ = 2 sin θo sin θi (1/max − 1),
+  // and the multiple-scattering term does not depend on φ.
+  Float diffuse_kernel(Float mo, Float mi, Float co, Float ci) const {
+    const Float r = params.base_diffuse_roughness;
+    const Float so = std::sqrt(std::max(Float(0), 1 - mo * mo)), si = std::sqrt(std::max(Float(0), 1 - mi * mi));
+    return 2 * eon_a + 2 * eon_a * r * kInvPi * so * si * (1 / std::max(mo, mi) - 1) + 2 * kPi * eon_ms * co * ci;
+  }
+  // b(μ) of the separable normalisation (top of the file), solved by matrix balancing.
+  void solve_diffuse_norm() {
+    constexpr int n = kNormNodes;
+    std::array<Float, n> mu{}, e{}, c{};
+    const Float a_iso = std::sqrt((spec_dist.alpha_x * spec_dist.alpha_x + spec_dist.alpha_y * spec_dist.alpha_y) / 2);
+    for (int j = 0; j < n; ++j) {
+      mu[size_t(j)] = (Float(j) + Float(0.5)) / n;
+      const Float m = mu[size_t(j)];
+      e[size_t(j)] = spec_eta == 1 ? Float(0)
+                     : spec_dist.effectively_smooth() ? fresnel_dielectric(m, spec_eta)
+                                                      : spec_albedo.E(a_iso, m);
+      c[size_t(j)] = eon::one_minus_g(m);
+    }
+    std::array<std::array<Float, n>, n> k{};
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < n; ++j)
+        k[size_t(i)][size_t(j)] = diffuse_kernel(mu[size_t(i)], mu[size_t(j)], c[size_t(i)], c[size_t(j)]) *
+                                  (1 - e[size_t(j)]) * mu[size_t(j)] / n;
+    diff_b.fill(std::sqrt(spec_norm));
+    for (int it = 0; it < 200; ++it) {
+      std::array<Float, n> next{};
+      for (int i = 0; i < n; ++i) {
+        Float kb = 0;
+        for (int j = 0; j < n; ++j) kb += k[size_t(i)][size_t(j)] * diff_b[size_t(j)];
+        const Float v = diff_b[size_t(i)] * kb;
+        next[size_t(i)] = v > Float(1e-12) ? std::min(diff_b[size_t(i)] / std::sqrt(v), Float(1e6)) : diff_b[size_t(i)];
+      }
+      diff_b = next;
+    }
+  }
+  // N(μo, μi) of the diffuse under the specular layer.
+  Float diffuse_norm(Float mo, Float mi) const {
+    if (!(params.base_diffuse_roughness > 0)) return spec_norm;
+    const auto at = [&](Float m) {
+      const Float x = std::clamp(m * kNormNodes - Float(0.5), Float(0), Float(kNormNodes - 1));
+      const int i = std::min(int(x), kNormNodes - 2);
+      const Float t = x - Float(i);
+      return diff_b[size_t(i)] * (1 - t) + diff_b[size_t(i + 1)] * t;
+    };
+    return at(std::min(mo, Float(1))) * at(std::min(mi, Float(1)));
   }
 
   // --- per-direction quantities -----------------------------------------------------
@@ -487,7 +552,7 @@ struct OpenPbrBxDFT {
           }
         }
         // Diffuse under it, reciprocal albedo scaling.
-        const Float scale = (1 - spec_E(wo_u)) * (1 - spec_E(wi_u)) * spec_norm;
+        const Float scale = (1 - spec_E(wo_u)) * (1 - spec_E(wi_u)) * diffuse_norm(wo_u.z, wi_u.z);
         f += C(eon_f(wo_u, wi_u, diff_rho, diff_rho_ms) * base * (scale * w));
         pdf += p[kDiffuse] * eon.pdf(wo_u, wi_u);
       }
@@ -514,7 +579,7 @@ struct OpenPbrBxDFT {
       // The thin-walled subsurface's transmission, mirrored to wo's side.
       const Vec3 wm{wi_u.x, wi_u.y, -wi_u.z};
       const Layers lv = radiance ? lo : layers(wm);
-      const Float scale = (1 - spec_E(wo_u)) * (1 - spec_E(wm)) * spec_norm;
+      const Float scale = (1 - spec_E(wo_u)) * (1 - spec_E(wm)) * diffuse_norm(wo_u.z, wm.z);
       f += C(eon_f(wo_u, wm, difft_rho, difft_rho_ms) * base_scale(lv, wo_u.z, wm.z) * (scale * diel * (1 - trans)));
       pdf += p[kDiffuseT] * eon.pdf(wo_u, wm);
     }

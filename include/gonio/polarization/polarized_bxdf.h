@@ -45,7 +45,7 @@ class PolarizedBxDFT {
           else if constexpr (std::is_same_v<M, ThinDielectricBxDFT<C>>)
             polar_ = ThinDielectricBxDFT<P>{m.eta, m.film};
           else if constexpr (std::is_same_v<M, OpenPbrBxDFT<C>>)
-            polar_ = OpenPbrBxDFT<P>::make(m.params, m.film);
+            polar_ = OpenPbrBxDFT<P>::make(m.params, m.film, &m.diff_b);
         },
         model.models());
   }
