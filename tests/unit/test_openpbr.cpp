@@ -447,6 +447,62 @@ TEST(OpenPbrReciprocity, BaseIsReciprocal) {
   EXPECT_FALSE(OpenPbrBxDF::make(q).nonreciprocal_reason().empty());
 }
 
+// Sampling: the density eval() reports integrates (this file's quadrature) to the share of
+// non-delta samples (counted over the stratified sweep), and every non-delta sample's pdf
+// and weight are eval's at its direction. chi² is gonio check's (test_validate.cpp).
+TEST(OpenPbrSampling, PdfIntegratesToNonDeltaShare) {
+  std::vector<P> set;
+  {
+    P p = white_base(0.6, 0.4);
+    p.coat_weight = 0.7f;
+    p.coat_roughness = 0.25f;
+    p.fuzz_weight = 0.5f;
+    p.base_metalness = 0.3f;
+    set.push_back(p);
+    p.transmission_weight = 0.5f;
+    p.coat_roughness = 0;
+    set.push_back(p);
+    p.geometry_thin_walled = true;
+    p.subsurface_weight = 0.6f;
+    p.geometry_opacity = 0.7f;
+    set.push_back(p);
+  }
+  for (size_t k = 0; k < set.size(); ++k) {
+    const OpenPbrBxDF m = OpenPbrBxDF::make(set[k]);
+    for (double th : {20.0, 70.0}) {
+      const Vec3 wo = direction(th);
+      struct Pdf {
+        const OpenPbrBxDF& m;
+        Color f(const Vec3& o, const Vec3& i, TransportMode mode) const {
+          return Color(m.pdf(o, i, mode) / std::max(std::abs(i.z), Float(1e-30)));
+        }
+      } pdf_as_f{m};
+      const Float eta = set[k].transmission_weight > 0 && !set[k].geometry_thin_walled ? m.glass.eta : Float(1);
+      Vec3 refr = -wo;
+      if (eta != 1)
+        if (const auto t = refract(wo, Vec3{0, 0, 1}, eta)) refr = t->wt;
+      const double integral = hemisphere_integral(pdf_as_f, wo, Vec3{-wo.x, -wo.y, wo.z}, true, TransportMode::Radiance)
+                                  .average() +
+                              hemisphere_integral(pdf_as_f, wo, refr, false, TransportMode::Radiance).average();
+      int n_non_delta = 0;
+      const int n = 20000;
+      for (int j = 0; j < n; ++j) {
+        const auto s = m.sample(wo, Float((j + 0.5) / n), Float(0.37), Float(0.61));
+        // A failed sample (below the horizon, masked) belongs to the non-delta share.
+        if (!s || !s->delta) ++n_non_delta;
+        if (s && !s->delta) {
+          const auto e = m.eval(wo, s->wi);
+          EXPECT_NEAR(s->pdf, e.pdf, 1e-4 * e.pdf);
+          EXPECT_NEAR(s->weight.average(), e.f.average() * std::abs(s->wi.z) / e.pdf, 1e-4 * s->weight.average() + 1e-7);
+        }
+      }
+      EXPECT_LE(integral, double(n_non_delta) / n + 2e-3) << k << " " << th;
+      EXPECT_GE(integral, double(n_non_delta) / n - 2e-2) << k << " " << th;  // mass lost below the horizon
+      std::printf("pdf integral %.5f, non-delta share %.5f (set %zu, theta %.0f)\n", integral, double(n_non_delta) / n, k, th);
+    }
+  }
+}
+
 // No NaN or Inf anywhere: extremes of every parameter, grazing and normal directions.
 TEST(OpenPbrFinite, Extremes) {
   std::vector<P> set;
