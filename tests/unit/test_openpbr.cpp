@@ -48,8 +48,8 @@ void frame(const Vec3& c, Vec3& a, Vec3& b) {
 
 // ∫ f |cos θi| dωi over the hemisphere on the side `up` of the surface, centred on c.
 template <typename M>
-Color hemisphere_integral(const M& m, const Vec3& wo, const Vec3& c, bool up, TransportMode mode, int nt = 1200,
-                          int np = 480) {
+Color hemisphere_integral(const M& m, const Vec3& wo, const Vec3& c, bool up, TransportMode mode, int nt = 640,
+                          int np = 256) {
   Vec3 a, b;
   frame(c, a, b);
   double acc[3] = {0, 0, 0};
