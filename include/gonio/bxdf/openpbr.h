@@ -471,14 +471,21 @@ struct OpenPbrBxDFT {
   }
 
   // The lobes' selection probabilities for wo (upper side): their albedo estimates.
-  std::array<Float, openpbr::kLobes> probabilities(const Vec3& wo, const Layers& l) const {
+  // In importance mode the layers' scaling follows wi (the adjoint of the view-dependent
+  // form), which sampling does not know: the base's share is then not reduced by wo's
+  // layers (else a grazing wo, where the coat reflects nearly everything, would draw the
+  // base almost never while wi's scaling lets it through: unbounded weights).
+  std::array<Float, openpbr::kLobes> probabilities(const Vec3& wo, const Layers& l,
+                                                   TransportMode mode = TransportMode::Radiance) const {
     using namespace openpbr;
     std::array<Float, kLobes> p{};
     const Float mu = std::min(wo.z, Float(1));
     p[kPass] = 1 - opacity;
     p[kFuzz] = opacity * l.e_fz * std::max(sheen.color.average(), Float(0.05));
     if (coat > 0 && coat_eta != 1) p[kCoat] = opacity * (1 - l.e_fz) * coat * std::max(l.e_c, Float(0.02));
-    const Float base = opacity * (1 - l.e_fz) * (1 - coat * l.e_c) * std::max(darkening.average(), Float(0.05));
+    const bool radiance = mode == TransportMode::Radiance;
+    const Float base = opacity * (radiance ? (1 - l.e_fz) * (1 - coat * l.e_c) : Float(1)) *
+                       std::max(darkening.average(), Float(0.05));
     if (metal_w > 0)
       p[kMetal] = base * metal_w * std::max(metal_xi * fresnel_f82(metal.fresnel.f0, metal.fresnel.f82, mu).average(), Float(0.05));
     const Float diel = base * (1 - metal_w);
@@ -509,7 +516,7 @@ struct OpenPbrBxDFT {
     const Float s = wo.z > 0 ? 1 : -1;  // mirror the pair to wo's side up
     const Vec3 wo_u{wo.x, wo.y, s * wo.z}, wi_u{wi.x, wi.y, s * wi.z};
     const Layers lo = layers(wo_u);
-    const auto p = probabilities(wo_u, lo);
+    const auto p = probabilities(wo_u, lo, mode);
     C f{};
     Float pdf = 0;
     const bool radiance = mode == TransportMode::Radiance;
@@ -621,7 +628,7 @@ struct OpenPbrBxDFT {
     const Float s = wo.z > 0 ? 1 : -1;
     const Vec3 wo_u{wo.x, wo.y, s * wo.z};
     const Layers lo = layers(wo_u);
-    const auto p = probabilities(wo_u, lo);
+    const auto p = probabilities(wo_u, lo, mode);
     int k = 0;
     Float acc = 0;
     for (; k < kLobes - 1; ++k) {
