@@ -318,6 +318,28 @@ TEST(OpenPbrReduction, CoatAbsorptionIsViewDependent) {
     }
 }
 
+// transmission_color at depth 0 is a constant tint of the refraction (SPEC-OPB "Translucent
+// base"), rough and smooth: T scales by it, R does not; with a depth it is the interior's.
+TEST(OpenPbrReduction, TransmissionColorTintsTheRefraction) {
+  for (double rs : {0.0, 0.3}) {
+    P p = white_base(0, rs);
+    p.transmission_weight = 1;
+    P q = p;
+    q.transmission_color = Color(0.5f, 0.25f, 1.0f);
+    const OpenPbrBxDF a = OpenPbrBxDF::make(p), b = OpenPbrBxDF::make(q);
+    const Vec3 wo = direction(35);
+    const Albedo aa = albedo(a, wo, TransportMode::Importance, a.glass.eta),
+                 ab = albedo(b, wo, TransportMode::Importance, b.glass.eta);
+    for (int c = 0; c < 3; ++c) {
+      EXPECT_NEAR(ab.t[c], q.transmission_color[c] * aa.t[c], 2e-4) << rs << " " << c;
+      EXPECT_NEAR(ab.r[c], aa.r[c], 2e-4) << rs << " " << c;
+    }
+    q.transmission_depth = 1;
+    const Albedo ad = albedo(OpenPbrBxDF::make(q), wo, TransportMode::Importance, a.glass.eta);
+    EXPECT_NEAR(ad.t.average(), aa.t.average(), 2e-4);
+  }
+}
+
 // Darkening (SPEC-OPB "Darkening"): a smooth coat of index η over a Lambertian base of
 // albedo ρ (no specular layer) reflects F(μo) + (1 − F(μo)) ρ (1 − K)/(1 − ρ K),
 // K = 1 − (1 − F̄)/η², F̄ = 2∫F μ dμ: the interfaced Lambertian's closed form (Weidlich &
