@@ -64,7 +64,7 @@ inline std::vector<std::string> extreme_materials() {
       R"({"type":"eon","reflectance":[1,0.5,0],"roughness":0.5})",
       // openpbr (issue 35): every parameter group at its extremes.
       R"({"type":"openpbr"})",
-      R"({"type":"openpbr","base_color":1,"base_diffuse_roughness":1,"specular_roughness":0,"specular_ior":10000,"specular_weight":10000})",
+      R"({"type":"openpbr","base_color":1,"base_diffuse_roughness":1,"specular_roughness":0,"specular_ior":3,"specular_weight":2})",
       R"({"type":"openpbr","specular_ior":0.0001,"specular_roughness":1,"specular_roughness_anisotropy":1,"specular_rotation":0.3})",
       R"({"type":"openpbr","specular_ior":1,"base_diffuse_roughness":1,"base_color":0})",
       R"({"type":"openpbr","base_metalness":1,"base_color":1,"specular_color":0,"specular_roughness":0.0001})",

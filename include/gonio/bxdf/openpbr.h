@@ -440,9 +440,17 @@ struct OpenPbrBxDFT {
     return coat_albedo.E(coat_dist, coat_rot.in(w));
   }
   Float spec_E(const Vec3& w) const {
-    if (spec_eta == 1) return 0;
-    if (spec_dist.effectively_smooth()) return fresnel_dielectric(std::min(w.z, Float(1)), spec_eta);
-    return spec_albedo.E(spec_dist, spec_rot.in(w));
+    if (spec_eta == 1 && !(film_w > 0)) return 0;
+    const Float mu = std::min(w.z, Float(1));
+    const Float e = spec_dist.effectively_smooth() ? fresnel_dielectric(mu, spec_eta) : spec_albedo.E(spec_dist, spec_rot.in(w));
+    if (!(film_w > 0)) return e;
+    // With the film: the bare albedo scaled by the film's reflectance over the bare
+    // Fresnel at μ (channel average; an approximation of the film-covered lobe's albedo,
+    // which keeps the layers below from adding to a film that reflects nearly everything).
+    const Float F = fresnel_dielectric(mu, spec_eta);
+    const Float R = std::clamp(film.reflectance(mu, U(spec_eta), U(0)).average(), Float(0), Float(1));
+    const Float ratio = F > Float(1e-6) ? R / F : Float(1);
+    return std::min(Float(1), e * ((1 - film_w) + film_w * ratio) + (F > Float(1e-6) ? Float(0) : film_w * R));
   }
   // The cosine refracted into the coat (SPEC-OPB "View-dependent absorption").
   Float coat_mu_t(Float mu) const {
@@ -476,7 +484,8 @@ struct OpenPbrBxDFT {
   // layers (else a grazing wo, where the coat reflects nearly everything, would draw the
   // base almost never while wi's scaling lets it through: unbounded weights).
   std::array<Float, openpbr::kLobes> probabilities(const Vec3& wo, const Layers& l,
-                                                   TransportMode mode = TransportMode::Radiance) const {
+                                                   TransportMode mode = TransportMode::Radiance,
+                                                   bool inside = false) const {
     using namespace openpbr;
     std::array<Float, kLobes> p{};
     const Float mu = std::min(wo.z, Float(1));
@@ -495,7 +504,9 @@ struct OpenPbrBxDFT {
       p[kDiffuse] = diel * (1 - trans) * (1 - es) * std::max(diff_rho.average(), Float(0.05));
       if (thin && sss > 0) p[kDiffuseT] = diel * (1 - trans) * (1 - es) * std::max(difft_rho.average(), Float(0.05));
     }
-    if (trans > 0) p[kGlass] = diel * trans;
+    // From inside (wo.z < 0 before the mirroring, non-thin) the glass is bare: its share is
+    // not reduced by the outside layers' albedo at wo.
+    if (trans > 0) p[kGlass] = (inside && !thin ? opacity * (1 - metal_w) : diel) * trans;
     Float sum = 0;
     for (Float v : p) sum += v;
     if (!(sum > 0)) {
@@ -516,7 +527,7 @@ struct OpenPbrBxDFT {
     const Float s = wo.z > 0 ? 1 : -1;  // mirror the pair to wo's side up
     const Vec3 wo_u{wo.x, wo.y, s * wo.z}, wi_u{wi.x, wi.y, s * wi.z};
     const Layers lo = layers(wo_u);
-    const auto p = probabilities(wo_u, lo, mode);
+    const auto p = probabilities(wo_u, lo, mode, wo.z < 0);
     C f{};
     Float pdf = 0;
     const bool radiance = mode == TransportMode::Radiance;
@@ -628,7 +639,7 @@ struct OpenPbrBxDFT {
     const Float s = wo.z > 0 ? 1 : -1;
     const Vec3 wo_u{wo.x, wo.y, s * wo.z};
     const Layers lo = layers(wo_u);
-    const auto p = probabilities(wo_u, lo, mode);
+    const auto p = probabilities(wo_u, lo, mode, wo.z < 0);
     int k = 0;
     Float acc = 0;
     for (; k < kLobes - 1; ++k) {
