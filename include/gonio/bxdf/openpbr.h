@@ -726,6 +726,9 @@ struct OpenPbrBxDFT {
         break;
       }
     }
+    // A reflection lobe's direction below the horizon (or the diffuse transmission's above)
+    // is no sample: eval's density has no share of it on the other side.
+    if (k != kGlass && (k == kDiffuseT ? !(wi_u.z < 0) : !(wi_u.z > 0))) return std::nullopt;
     const Vec3 wi = up(wi_u);
     if (wi.z == 0) return std::nullopt;
     const BSDFEvalT<C> e = eval(wo, wi, mode);
