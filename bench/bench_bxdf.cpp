@@ -358,6 +358,11 @@ int main(int argc, char** argv) {
   // Issue 34: EON against Oren–Nayar (target: f ≤ 2×), F82-tint against Schlick on the
   // same rough conductor (target: ≤ +10 %).
   register_model("eon_0.5", EonBxDF::make(Color(0.5f), 0.5f));
+  // Issue 35: openpbr with its defaults, and a dielectric base with coat and fuzz (target:
+  // eval <= 150 ns, sample <= 250 ns).
+  register_model("openpbr_default", std::get<OpenPbrBxDF>(parse_material(R"({"type":"openpbr"})").models()));
+  register_model("openpbr_coat_fuzz", std::get<OpenPbrBxDF>(parse_material(
+      R"({"type":"openpbr","base_diffuse_roughness":0.5,"coat_weight":1,"coat_roughness":0.2,"fuzz_weight":0.5})").models()));
   {
     ConductorFresnel schlick = gold(FresnelModel::Schlick), f82 = schlick;
     f82.model = FresnelModel::F82;

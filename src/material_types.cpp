@@ -181,6 +181,62 @@ constexpr ParamSpec kThinDielectric[] = {
     kThinFilmParam,
 };
 
+
+// OpenPBR Surface 1.1 (issue 35): every parameter under its own name, default and range
+// (OpenPBR's parameter reference; the hard ranges, [0, 1] where OpenPBR's is the soft one
+// only for weights and colours), plus gonio's rotations. thin_film_thickness in µm.
+constexpr ParamRange kUnbounded = closed(0, 1e9);
+constexpr ParamSpec kOpenPbr[] = {
+    {"base_weight", K::Number, "1", kUnit, "", "", false, "Multiplier on base_color (diffuse albedo and metal F0)."},
+    {"base_color", K::Colour, "0.8", kUnit, "", "", false, "Diffuse albedo of the glossy-diffuse base and F0 of the metal."},
+    {"base_metalness", K::Number, "0", kUnit, "", "", false, "Mix weight of the metal (F82-tint) against the dielectric base."},
+    {"base_diffuse_roughness", K::Number, "0", kUnit, "", "", false, "Roughness of the EON diffuse lobe (0: Lambert)."},
+    {"specular_weight", K::Number, "1", closed(0, 1e4), "", "", false,
+     "Scales the dielectric F0 by modulating the index (OpenPBR 1.1); multiplies the metal's BSDF once (at most 1)."},
+    {"specular_color", K::Colour, "1", kUnit, "", "", false,
+     "Tint of the dielectric reflection seen from above; the metal's tint at 82 degrees (F82)."},
+    {"specular_roughness", K::Number, "0.3", kUnit, "", "", false, "GGX roughness r of the base (alpha = r^2); 0 is smooth."},
+    {"specular_roughness_anisotropy", K::Number, "0", kUnit, "", "", false,
+     "Anisotropy of the base's GGX: alpha_t = r^2 sqrt(2/(1 + (1-a)^2)), alpha_b = (1-a) alpha_t."},
+    {"specular_ior", K::Number, "1.5", kIndex, "", "", false, "Index of the base dielectric (1 and below accepted)."},
+    {"specular_rotation", K::Number, "0", closed(-1e3, 1e3), "turns", "", false,
+     "gonio extension: turns the base's anisotropy tangent about the normal, in fractions of a turn."},
+    {"transmission_weight", K::Number, "0", kUnit, "", "", false, "Mix weight of the translucent base (glass) against the opaque one."},
+    {"transmission_color", K::Colour, "1", kUnit, "", "", false,
+     "Colour of the refracted light: a constant tint when transmission_depth is 0 (else the interior's, a renderer's medium)."},
+    {"transmission_depth", K::Number, "0", kUnbounded, "", "", false, "Distance at which white light takes transmission_color (interior medium; not in the BSDF)."},
+    {"transmission_scatter", K::Colour, "0", kUnit, "", "", false, "Scattering coefficient times depth of the interior (not in the BSDF)."},
+    {"transmission_scatter_anisotropy", K::Number, "0", closed(-1, 1), "", "", false, "Henyey-Greenstein g of the interior (not in the BSDF)."},
+    {"transmission_dispersion_scale", K::Number, "0", kUnit, "", "", false, "Amount of dispersion (not yet applied)."},
+    {"transmission_dispersion_abbe_number", K::Number, "20", closed(0, 1e4), "", "", false, "Abbe number at scale 1 (not yet applied)."},
+    {"subsurface_weight", K::Number, "0", kUnit, "", "", false,
+     "Mix weight of the subsurface against the glossy-diffuse base; as a BSDF a diffuse lobe of albedo subsurface_color."},
+    {"subsurface_color", K::Colour, "0.8", kUnit, "", "", false, "Multiple-scattering albedo of the subsurface."},
+    {"subsurface_radius", K::Number, "1", kUnbounded, "", "", false, "Mean free path scale (the renderer's BSSRDF; not in the BSDF)."},
+    {"subsurface_radius_scale", K::Colour, "[1, 0.5, 0.25]", kUnit, "", "", false, "Per-channel multiplier on the radius (not in the BSDF)."},
+    {"subsurface_scatter_anisotropy", K::Number, "0", closed(-1, 1), "", "", false,
+     "Henyey-Greenstein g; thin-walled: splits the subsurface between reflection (1 - g)/2 and transmission (1 + g)/2."},
+    {"coat_weight", K::Number, "0", kUnit, "", "", false, "Coverage of the coat."},
+    {"coat_color", K::Colour, "1", kUnit, "", "", false, "Coat transmittance squared at normal incidence (view-dependent absorption)."},
+    {"coat_roughness", K::Number, "0", kUnit, "", "", false, "GGX roughness of the coat; it also roughens the base."},
+    {"coat_roughness_anisotropy", K::Number, "0", kUnit, "", "", false, "Anisotropy of the coat's GGX."},
+    {"coat_ior", K::Number, "1.6", kIndex, "", "", false, "Index of the coat."},
+    {"coat_darkening", K::Number, "1", kUnit, "", "", false, "1: the physical darkening of the base under the coat; 0: none."},
+    {"coat_rotation", K::Number, "0", closed(-1e3, 1e3), "turns", "", false,
+     "gonio extension: turns the coat's anisotropy tangent about the normal, in fractions of a turn."},
+    {"fuzz_weight", K::Number, "0", kUnit, "", "", false, "Coverage of the fuzz (sheen) layer."},
+    {"fuzz_color", K::Colour, "1", kUnit, "", "", false, "Colour of the fuzz lobe."},
+    {"fuzz_roughness", K::Number, "0.5", kUnit, "", "", false, "Roughness of the fuzz (0 is the sheen fits' smallest, 0.01)."},
+    {"thin_film_weight", K::Number, "0", kUnit, "", "", false, "Coverage of the thin film on the dielectric reflection."},
+    {"thin_film_thickness", K::Number, "0.5", closed(0, 10), "um", "", false, "Film thickness in micrometres (OpenPBR's unit)."},
+    {"thin_film_ior", K::Number, "1.4", closed(1, 1e4), "", "", false, "Index of the film."},
+    {"emission_luminance", K::Number, "0", kUnbounded, "", "", false, "Emitted luminance (scenes; not in the BSDF)."},
+    {"emission_color", K::Colour, "1", kUnit, "", "", false, "Emission colour (scenes; not in the BSDF)."},
+    {"geometry_opacity", K::Number, "1", kUnit, "", "", false, "Presence: 1 - opacity of the light passes straight through (a delta)."},
+    {"geometry_thin_walled", K::Boolean, "false", {}, "", "", false,
+     "Thin-walled: the translucent base becomes a thin sheet and the subsurface a translucent sheet."},
+};
+
 constexpr MaterialTypeSpec kTypes[] = {
     {"diffuse", "Ideal diffuse (Lambertian) reflection, f = ρ/π.", "Lambert 1760; the lecture, §5.1", kDiffuse, ""},
     {"mirror", "Perfect specular reflection with a constant reflectance.", "The lecture, §5.2, eq. 23", kMirror, ""},
@@ -253,6 +309,13 @@ constexpr MaterialTypeSpec kTypes[] = {
      "f is a Monte Carlo estimate, seeded by the unordered pair of directions and run from both ends, so that it is "
      "reciprocal exactly; sample() draws from a closed-form mixture. A bottom that transmits makes the stack transmit (and "
      "seen from below, the bottom comes first); one that does not makes it two-sided. Polarized mode: depolarizing."},
+    {"openpbr", "OpenPBR Surface 1.1: fuzz over coat over a mix of metal, glass, subsurface and glossy-diffuse bases.",
+     "OpenPBR Surface specification v1.1 (2024); EON (Portsmouth et al. 2025); F82-tint (Kutz et al. 2021); Zeltner et al. "
+     "2022 (fuzz); Walter et al. 2007; Kulla & Conty 2017; Belcour & Barla 2017 (thin film)",
+     kOpenPbr,
+     "docs/openpbr.md: the layering per layer (reciprocal albedo scaling for specular over diffuse, view-dependent for coat "
+     "and fuzz, so a coat or fuzz makes it non-reciprocal), what the BSDF leaves to the renderer (emission, interior "
+     "media, subsurface transport, dispersion) and the furnace errors."},
 };
 
 std::string number_text(double v) {

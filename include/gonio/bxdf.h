@@ -21,6 +21,7 @@
 #include "gonio/bxdf/layered.h"
 #include "gonio/bxdf/measured.h"
 #include "gonio/bxdf/mirror.h"
+#include "gonio/bxdf/openpbr.h"
 #include "gonio/bxdf/orennayar.h"
 #include "gonio/bxdf/phong.h"
 #include "gonio/bxdf/plastic.h"
@@ -42,7 +43,7 @@ class BxDFT {
                               RoughConductorBxDFT<C>, RoughDielectricBxDFT<C>, OrenNayarBxDFT<C>, PhongBxDFT<C>,
                               BlinnPhongBxDFT<C>, WardBxDFT<C>, AshikhminShirleyBxDFT<C>, PlasticBxDFT<C>,
                               MeasuredBxDFT<C>, BlendBxDFT<C>, UserBxDFT<C>, SheenBxDFT<C>, EonBxDFT<C>,
-                              ThinDielectricBxDFT<C>, LayeredBxDFT<C>>;
+                              ThinDielectricBxDFT<C>, LayeredBxDFT<C>, OpenPbrBxDFT<C>>;
 
   BxDFT() = default;
   template <typename M>

@@ -31,6 +31,8 @@ EXAMPLES = {
     "thindielectric": '{"type":"thindielectric","eta":1.45}',
     "layered": '{"type":"layered","top":{"type":"roughdielectric","eta":1.5,"alpha":0.2},'
                '"bottom":{"type":"diffuse","reflectance":0.5},"thickness":0.1,"albedo":0.5}',
+    "openpbr": '{"type":"openpbr","base_color":[0.8,0.3,0.1],"base_diffuse_roughness":0.5,"coat_weight":0.6,'
+               '"coat_roughness":0.2,"fuzz_weight":0.3,"base_metalness":0.2,"transmission_weight":0.2}',
 }
 # More of the code paths the same types take.
 VARIANTS = [

@@ -109,6 +109,114 @@ inline DeltaReference conductor_reference(const Vec3& wo, const ConductorFresnel
   return r;
 }
 
+
+// openpbr (issue 35): its delta lobes summed per side, from the declared parameters and
+// the validator's own Fresnel (fresnel_reference.h): the pass-through 1 − α; under the
+// layers seen from wo (α (1 − F E_fuzz) lerp(1, T_coat^(2/μt) (1 − E_coat), C) Δ, with
+// E_fuzz the fuzz's fitted albedo, a smooth coat's E its Fresnel and a rough one's its
+// tables, Δ = lerp(1, (1 − K)/(1 − E_b K), C δ)) the smooth coat's F, a smooth metal's
+// ξ F82, a smooth specular layer's tinted F (or its film's), and the glass's (tinted
+// reflection F from outside, (1 − F) times the mode's scaling through the layers at the
+// outside direction, bare from inside) or the thin sheet's.
+inline DeltaReference openpbr_reference(const OpenPbrBxDF& m, const Vec3& wo, TransportMode mode) {
+  DeltaReference r;
+  if (wo.z == 0) return r;
+  const OpenPbrParams<Color>& p = m.params;
+  const double alpha = std::clamp(double(p.geometry_opacity), 0.0, 1.0);
+  r.transmission.fill(1 - alpha);
+  if (!(alpha > 0)) return r;
+  const double mu = std::min(1.0, std::abs(double(wo.z)));
+  const Vec3 up{wo.x, wo.y, Float(mu)};
+  const double eta_c = p.coat_ior < 1 ? 1 / double(p.coat_ior) : double(p.coat_ior);
+  const bool coat_smooth = m.coat_dist.effectively_smooth();
+  const auto coat_e = [&](const Vec3& w) {
+    if (eta_c == 1) return 0.0;
+    return coat_smooth ? reference_fresnel_dielectric(std::min(1.0, double(w.z)), eta_c) : double(m.coat_E(w));
+  };
+  // Ē of the coat (smooth: 2∫F μ dμ by the midpoint rule), K, E_b, Δ (SPEC-OPB "Darkening").
+  double ebar = 0;
+  if (eta_c != 1) {
+    if (coat_smooth) {
+      for (int i = 0; i < 4096; ++i) {
+        const double x = (i + 0.5) / 4096;
+        ebar += 2 * reference_fresnel_dielectric(x, eta_c) * x / 4096;
+      }
+    } else {
+      ebar = m.coat_avg;
+    }
+  }
+  const double K = 1 - (1 - ebar) / (eta_c * eta_c);
+  const double C = p.coat_weight, M = p.base_metalness, T = p.transmission_weight, S = p.subsurface_weight;
+  const double xi_m = std::clamp(double(p.specular_weight), 0.0, 1.0);
+  const auto layer = [&](const Vec3& w, double mu_o, double mu_i, int c) {
+    const double efz = p.fuzz_weight * double(sheen_albedo(w.z, std::max(p.fuzz_roughness, Float(0.01))));
+    const double ec = C > 0 ? coat_e(w) : 0.0;
+    const double tc = std::sqrt(std::max(0.0, double(p.coat_color[c])));
+    const auto mut = [&](double x) { return std::sqrt(std::max(1e-12, 1 - (1 - x * x) / (eta_c * eta_c))); };
+    const double a = tc >= 1 ? 1.0 : std::pow(tc, 1 / mut(mu_o) + (mu_i > 0 ? 1 / mut(mu_i) : 0.0));
+    const double rho = std::clamp(double(p.base_color[c] * p.base_weight), 0.0, 1.0);
+    const double eb = ((1 - S) * rho + S * std::clamp(double(p.subsurface_color[c]), 0.0, 1.0)) * (1 - T) + T;
+    const double e_b = eb * (1 - M) + std::clamp(double(p.base_color[c] * p.base_weight), 0.0, 1.0) * xi_m * M;
+    const double delta = (1 - K) / std::max(1e-6, 1 - e_b * K);
+    const double dark = 1 + (delta - 1) * C * std::clamp(double(p.coat_darkening), 0.0, 1.0);
+    return alpha * (1 - efz) * (1 - C * (1 - a * (1 - ec))) * dark;
+  };
+  const bool spec_smooth = m.spec_dist.effectively_smooth();
+  const double eta_spec = m.spec_eta;  // the declared index through the coat, modulated (openpbr.h)
+  const bool outside = wo.z > 0;
+  for (int c = 0; c < kColorChannels; ++c) {
+    double refl = 0;
+    // The layers and the opaque parts (two-sided: mirrored for wo below).
+    if (C > 0 && coat_smooth && eta_c != 1)
+      refl += alpha * (1 - p.fuzz_weight * double(sheen_albedo(up.z, std::max(p.fuzz_roughness, Float(0.01))))) * C *
+              reference_fresnel_dielectric(mu, eta_c);
+    const double base = layer(up, mu, mu, c);
+    if (spec_smooth) {
+      refl += base * M * xi_m *
+              reference_fresnel_f82(mu, std::clamp(double(p.base_color[c] * p.base_weight), 0.0, 1.0),
+                                    std::clamp(double(p.specular_color[c]), 0.0, 1.0));
+      if (T < 1 && eta_spec != 1) {
+        double F = reference_fresnel_dielectric(mu, eta_spec);
+        if (m.film_w > 0) F = (1 - m.film_w) * F + m.film_w * film_reference(mu, m.film)[size_t(c)];
+        refl += base * (1 - M) * (1 - T) * p.specular_color[c] * F;
+      }
+    }
+    double trans = 0;
+    const double tint = p.transmission_depth > 0 ? 1.0 : std::clamp(double(p.transmission_color[c]), 0.0, 1.0);
+    if (T > 0 && M < 1) {
+      if (p.geometry_thin_walled) {
+        const auto sheet = thin_sheet_reference(up, eta_spec);
+        double R = sheet.reflection[size_t(c)], Tr = sheet.transmission[size_t(c)];
+        if (m.film_w > 0) {
+          const auto bubble = thin_sheet_reference(up, eta_spec, &m.film);
+          R = (1 - m.film_w) * R + m.film_w * bubble.reflection[size_t(c)];
+          Tr = (1 - m.film_w) * Tr + m.film_w * bubble.transmission[size_t(c)];
+        }
+        refl += base * (1 - M) * T * p.specular_color[c] * R;
+        trans += base * (1 - M) * T * tint * Tr;
+      } else if (m.glass.specular()) {
+        const DeltaReference g = dielectric_reference(wo, m.glass.eta, mode);
+        if (outside) {
+          refl += base * (1 - M) * T * p.specular_color[c] * g.reflection[size_t(c)];
+          trans += layer(up, mu, 0, c) * (1 - M) * T * tint * g.transmission[size_t(c)];
+        } else {
+          refl += alpha * (1 - M) * T * g.reflection[size_t(c)];
+          // Out through the layers at the refracted outside direction.
+          const double e = 1 / double(m.glass.eta), st2 = e * e * (1 - mu * mu);
+          if (st2 < 1) {
+            const double mo = std::sqrt(1 - st2);
+            const Vec3 w_out{Float(-wo.x * e), Float(-wo.y * e), Float(mo)};
+            trans += layer(w_out, mo, 0, c) * (1 - M) * T * tint * g.transmission[size_t(c)];
+          }
+        }
+      }
+    }
+    r.reflection[size_t(c)] = refl;
+    r.transmission[size_t(c)] += trans;
+  }
+  return r;
+}
+
 // The expected delta-lobe reflectances of `bxdf` at wo, or none when the validator does
 // not know what the model's delta lobe is (a user model with a specular reflection lobe
 // and no specular transmission). Models without delta lobes expect 0: a delta sample
@@ -211,6 +319,8 @@ inline std::optional<DeltaReference> delta_reference(const BxDF& bxdf, const Vec
             if (through) r.transmission[c] = top.transmission[c] * T1 * b->transmission[c] / (1 - f * T * rb);
           }
           return r;
+        } else if constexpr (std::is_same_v<M, OpenPbrBxDF>) {
+          return openpbr_reference(m, wo, mode);
         } else if constexpr (std::is_same_v<M, UserBxDF>) {
           const BxDFFlags f = m.flags();
           if (has(f, BxDFFlags::Specular) && has(f, BxDFFlags::Transmission) && !has(f, BxDFFlags::Glossy | BxDFFlags::Diffuse))

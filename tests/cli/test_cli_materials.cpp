@@ -46,7 +46,7 @@ TEST(CliMaterials, DocsMaterialsMdIsTheGeneratedReference) {
 const std::vector<std::string> kImplemented = {"diffuse", "mirror",     "conductor", "dielectric", "roughconductor",
                                                "roughdielectric", "orennayar", "phong", "blinnphong", "ward",
                                                "ashikhminshirley", "plastic", "blend", "measured", "subsurface",
-                                               "eon", "sheen", "thindielectric", "layered"};
+                                               "eon", "sheen", "thindielectric", "layered", "openpbr"};
 
 TEST(CliMaterials, ListsEveryTypeOnOneLine) {
   const RunResult r = run_gonio({"materials"});
@@ -129,6 +129,7 @@ const std::map<std::string, nlohmann::json> kMinimal = {
     {"subsurface", {{"type", "subsurface"}, {"sigma_s", 1}, {"sigma_a", 0.1}}},
     {"sheen", {{"type", "sheen"}}},
     {"thindielectric", {{"type", "thindielectric"}}},
+    {"openpbr", {{"type", "openpbr"}}},
 };
 
 bool parses(const nlohmann::json& j, std::string* error = nullptr) {

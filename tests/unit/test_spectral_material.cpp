@@ -110,6 +110,8 @@ std::map<std::string, std::string> grey_materials(double g) {
       {"layered", R"({"type":"layered","top":{"type":"roughdielectric","alpha":0.3,"eta":1.4},"bottom":{"type":"diffuse","reflectance":)" +
                       G + R"(},"thickness":0.2,"albedo":)" + H + "}"},
       {"thindielectric", R"({"type":"thindielectric","eta":1.4})"},
+      {"openpbr", R"({"type":"openpbr","base_color":)" + G + R"(,"base_diffuse_roughness":0.4,"coat_weight":0.5,"fuzz_weight":0.3,"fuzz_color":)" +
+                      G + R"(,"base_metalness":0.3,"transmission_weight":0.2})"},
   };
 }
 
@@ -146,6 +148,7 @@ std::vector<std::string> coloured_materials() {
       R"({"type":"blend","weight":0.5,"bsdfs":[{"type":"dielectric","eta":"SF11"},{"type":"conductor","material":"Au"}]})",
       R"({"type":"sheen","color":[0.9,0.3,0.05],"roughness":0.05})",
       R"({"type":"sheen","color":{"spectrum":[[360,0],[600,1],[830,0.3]]},"roughness":1})",
+      R"({"type":"openpbr","base_color":[0.9,0.3,0.05],"coat_weight":1,"coat_color":{"spectrum":[[360,0],[600,1],[830,0.3]]},"fuzz_weight":0.5,"thin_film_weight":1,"geometry_opacity":0.5})",
   };
 }
 

@@ -3,7 +3,7 @@
 // colour channel (MuellerT<C>), from the frame of the incident beam (travelling along −wi)
 // to that of the outgoing one (along wo), each the s/p frame of its direction's plane of
 // incidence (polarization/fresnel_factor.h, SPEC §3). The polarizing models — conductor,
-// dielectric, roughconductor, roughdielectric, plastic, thindielectric — are the very same templates as in
+// dielectric, roughconductor, roughdielectric, plastic, thindielectric, openpbr (its lobes that polarize) — are the very same templates as in
 // unpolarized mode, instantiated with C = MuellerT<colour>: their one Fresnel customization
 // point (fresnel_factor) turns into the interface's Mueller matrix there. Every other model
 // depolarizes: M = f · diag(1, 0, 0, 0). M00 is always exactly the unpolarized value, and
@@ -26,7 +26,8 @@ class PolarizedBxDFT {
   using color_type = MuellerT<C>;
   using Polarizing = std::variant<std::monostate, ConductorBxDFT<MuellerT<C>>, DielectricBxDFT<MuellerT<C>>,
                                   RoughConductorBxDFT<MuellerT<C>>, RoughDielectricBxDFT<MuellerT<C>>,
-                                  PlasticBxDFT<MuellerT<C>>, ThinDielectricBxDFT<MuellerT<C>>>;
+                                  PlasticBxDFT<MuellerT<C>>, ThinDielectricBxDFT<MuellerT<C>>,
+                                  OpenPbrBxDFT<MuellerT<C>>>;
 
   explicit PolarizedBxDFT(const BxDFT<C>& model) : base_(model) {
     using P = MuellerT<C>;
@@ -43,6 +44,8 @@ class PolarizedBxDFT {
             polar_ = PlasticBxDFT<P>::make(static_cast<const PlasticCoat&>(m), m.reflectance);
           else if constexpr (std::is_same_v<M, ThinDielectricBxDFT<C>>)
             polar_ = ThinDielectricBxDFT<P>{m.eta, m.film};
+          else if constexpr (std::is_same_v<M, OpenPbrBxDFT<C>>)
+            polar_ = OpenPbrBxDFT<P>::make(m.params, m.film, &m.diff_b);
         },
         model.models());
   }

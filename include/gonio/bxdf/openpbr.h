@@ -1,0 +1,774 @@
+#pragma once
+// OpenPBR Surface 1.1 (Academy Software Foundation, "OpenPBR Surface specification",
+// v1.1, 2024-06-28; cited as SPEC-OPB with its section names) as one BSDF built from
+// gonio's own lobes (issue 35, docs/openpbr.md). The slab tree of SPEC-OPB "Model",
+// reduced to a mixture of lobes as its "Reduction to a mixture of lobes" does:
+//
+//   f = lerp(δ_passthrough, f_surface, geometry_opacity)                 (opacity)
+//   f_surface = F f_fuzz + (1 − F E_fuzz(v)) f_coated                     (fuzz)
+//   f_coated  = C f_coat + lerp(1, A_coat (1 − E_coat(v)), C) Δ f_base   (coat)
+//   f_base    = M ξ f_metal + (1 − M) f_dielectric
+//   f_dielectric = (1 − T) [f_spec + N_s (1 − E_s(wo))(1 − E_s(wi)) f_diffuse] + T f_glass
+//
+// v is the view direction (wo in radiance mode, wi in importance mode: the adjoint).
+//
+// Layering, per layer (the issue asks for the reciprocal albedo scaling
+// f_top + f_below (1 − E_top(wo))(1 − E_top(wi))/(1 − Ē_top) where it is allowed):
+//  * specular over diffuse (glossy-diffuse): the RECIPROCAL form. SPEC-OPB "Glossy-diffuse"
+//    allows it there ("f_dielectric + N (1 − E(ωi))(1 − E(ωo)) f_diffuse", N a normalisation
+//    "such that eq. glossy_diffuse_albedo_constraint is satisfied", left to the
+//    implementation for a rough base). For a Lambertian base N = 1/(1 − Ē_s) makes a base of
+//    albedo C reflect exactly C (1 − E_s(wo)). For EON (base_diffuse_roughness > 0) that
+//    constant left up to 1.6 % at grazing (EON is not Lambert's shape), so N is taken
+//    separable, N = b(μo) b(μi) (still reciprocal), with b solved once per material so that
+//    the white base reflects 1 − E_s(μo) at 64 cosines: b_i Σ_j k(μi, μj)(1 − E_s(μj)) b_j μj/64
+//    = 1, k the azimuthal integral of the albedo-1 EON lobe (closed form, diffuse_kernel),
+//    by the symmetric scaling iteration b ← b / sqrt(b K b) (a matrix balancing). With the
+//    specular layer's E_s the isotropic one of its mean roughness. Below the specular layer sits the EON lobe
+//    (eon.h) of albedo lerp(base_weight·base_color, subsurface_color, S): the subsurface is
+//    a BSDF here (a diffuse-like lobe of albedo subsurface_color; the BSSRDF is the
+//    renderer's, not stage 1's).
+//  * coat over base and fuzz over coated base: the VIEW-DEPENDENT form of SPEC-OPB eqs.
+//    `coat_layering_formula_with_albedo_scaling` and `fuzz-layering-approx`. The reciprocal
+//    form over a specular base gains energy: a white mirror under a coat of Ē would reflect
+//    E(wo) + (1 − E(wo))²/(1 − Ē) at normal incidence, 1.049 for coat_ior 1.6. The fuzz lobe
+//    itself is not reciprocal (sheen.h). So a material with coat_weight or fuzz_weight > 0
+//    is not reciprocal (nonreciprocal_reason()); the rest is.
+//  * metal: F82-tint (Kutz et al. 2021, SPEC-OPB "Metal") with specular_color as the tint at
+//    82° and Kulla–Conty's multiple-scattering lobe (roughconductor.h, multiscatter.h; an
+//    isotropic roughness only), times ξ = min(specular_weight, 1) once.
+//  * glass (transmission_weight): the rough dielectric of roughdielectric.h with its
+//    Kulla–Conty compensation (R + T conserves energy), transmission_color a constant tint
+//    on the refraction when transmission_depth is 0 (SPEC-OPB "Translucent base"; with a
+//    depth the interior is the renderer's medium). Thin-walled: the thin sheet
+//    (thindielectric.h; smooth whatever the roughness in stage 1) and the thin-walled
+//    subsurface ½ S (1 ∓ g) of an albedo-1 EON lobe reflected and transmitted (SPEC-OPB
+//    "Thin-walled case").
+// Coat: absorption A_coat = coat_color^((1/μt_o + 1/μt_i)/2) (SPEC-OPB "View-dependent
+// absorption", coat_color = T² at normal incidence), darkening Δ = lerp(1, (1 − K)/(1 − E_b K),
+// C·coat_darkening), K = 1 − (1 − Ē_coat)/η_c² (SPEC-OPB "Darkening": the interfaced-Lambertian
+// result; with Ē of the coat's own lobe it is exactly plastic.h's internal-reflection series),
+// roughening r' = lerp(r, min(1, r⁴ + 2 r_c⁴)^¼, C) of the base (SPEC-OPB "Roughening"), and
+// the base's index seen through the coat η_s = lerp(n_b, tirfix(n_b / n_c), C) (SPEC-OPB eq.
+// `specular_ior_ratio_with_tir_fix`). specular_weight ξ modulates that index (SPEC-OPB eqs.
+// `unmodulated_fresnel`, `modulated_ior`): F_s = ((1 − η)/(1 + η))², ε = sgn(η − 1)
+// sqrt(min(ξ F_s, 0.99999)), η' = (1 + ε)/(1 − ε). An index below 1 reflects as its inverse
+// (the same TIR fix; the coat tables are for η ≥ 1). Thin film (Belcour & Barla 2017,
+// thin_film.h) on the dielectric reflection lobe, covering thin_film_weight of it
+// (the metal's film and the glass's are not in stage 1).
+//
+// Polarized mode (C = MuellerT<colour>): the specular, coat, metal and glass lobes polarize
+// (fresnel_factor); the diffuse, subsurface and fuzz lobes depolarize, and the layer
+// factors (transmission through coat and fuzz) are taken as non-polarizing attenuations.
+//
+// No allocation, no virtual call: the model is a value; everything that depends on the
+// material alone is made once by make() (per shading point in spectral mode).
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <optional>
+#include <string_view>
+
+#include "gonio/bxdf/contract.h"
+#include "gonio/bxdf/eon.h"
+#include "gonio/bxdf/roughconductor.h"
+#include "gonio/bxdf/roughdielectric.h"
+#include "gonio/bxdf/sheen.h"
+#include "gonio/bxdf/thin_film.h"
+#include "gonio/bxdf/thindielectric.h"
+#include "gonio/coat_albedo.h"
+#include "gonio/dielectric_multiscatter.h"
+#include "gonio/fresnel.h"
+#include "gonio/microfacet.h"
+#include "gonio/multiscatter.h"
+#include "gonio/polarization/fresnel_factor.h"
+#include "gonio/polarization/interface.h"
+
+namespace gonio {
+
+// Every OpenPBR Surface 1.1 parameter (SPEC-OPB "Parameter reference"), OpenPBR's own units
+// (thin_film_thickness in µm), plus gonio's rotations (fractions of a turn). U: Color or
+// SampledSpectrum. Parameters a BSDF does not use (emission, the interior media,
+// dispersion, subsurface radii) are kept so that the material round-trips.
+template <typename U>
+struct OpenPbrParams {
+  Float base_weight = 1;
+  U base_color{Float(0.8)};
+  Float base_metalness = 0, base_diffuse_roughness = 0;
+  Float specular_weight = 1;
+  U specular_color{Float(1)};
+  Float specular_roughness = Float(0.3), specular_roughness_anisotropy = 0, specular_ior = Float(1.5);
+  Float specular_rotation = 0;
+  Float transmission_weight = 0;
+  U transmission_color{Float(1)};
+  Float transmission_depth = 0;
+  U transmission_scatter{Float(0)};
+  Float transmission_scatter_anisotropy = 0, transmission_dispersion_scale = 0,
+        transmission_dispersion_abbe_number = 20;
+  Float subsurface_weight = 0;
+  U subsurface_color{Float(0.8)};
+  Float subsurface_radius = 1;
+  U subsurface_radius_scale{Float(1)};
+  Float subsurface_scatter_anisotropy = 0;
+  Float coat_weight = 0;
+  U coat_color{Float(1)};
+  Float coat_roughness = 0, coat_roughness_anisotropy = 0, coat_ior = Float(1.6), coat_darkening = 1;
+  Float coat_rotation = 0;
+  Float fuzz_weight = 0;
+  U fuzz_color{Float(1)};
+  Float fuzz_roughness = Float(0.5);
+  Float thin_film_weight = 0, thin_film_thickness = Float(0.5), thin_film_ior = Float(1.4);
+  Float emission_luminance = 0;
+  U emission_color{Float(1)};
+  Float geometry_opacity = 1;
+  bool geometry_thin_walled = false;
+};
+
+namespace openpbr {
+
+// SPEC-OPB "Microfacet model", eq. `openpbr-anisotropy-formula`: α_t = r² sqrt(2/(1 + (1 − a)²)),
+// α_b = (1 − a) α_t, along the tangent (x) and bitangent (y).
+inline MicrofacetDistribution distribution(Float r, Float a) {
+  MicrofacetDistribution d;
+  d.type = MicrofacetType::GGX;
+  const Float b = 1 - std::clamp(a, Float(0), Float(1));
+  // Floored at 1e-4 (still "smooth" below MicrofacetDistribution::kSmoothAlpha): anisotropy 1
+  // gives α_b = 0, on which D and Λ would divide by zero.
+  const Float at = r * r * std::sqrt(2 / (1 + b * b));
+  d.alpha_x = std::max(at, Float(1e-4));
+  d.alpha_y = std::max(b * at, Float(1e-4));
+  return d;
+}
+
+// SPEC-OPB eq. `modulated_ior`: the index whose normal-incidence Fresnel is ξ F_s.
+inline Float modulated_ior(Float eta, Float xi) {
+  const Float fs = (1 - eta) * (1 - eta) / ((1 + eta) * (1 + eta));
+  const Float s = std::sqrt(std::clamp(xi * fs, Float(0), Float(0.99999)));
+  const Float eps = eta >= 1 ? s : -s;
+  return (1 + eps) / (1 - eps);
+}
+
+// The TIR fix (SPEC-OPB eq. `specular_ior_ratio_with_tir_fix`): an index below 1 reflects as its inverse.
+inline Float tirfix(Float eta) { return eta < 1 ? 1 / eta : eta; }
+
+// A turn about the normal by the fraction `turn` (cos, sin), and directions into/out of it.
+struct Rotation {
+  Float c = 1, s = 0;
+  static Rotation of(Float turn) {
+    if (turn == 0) return {};
+    const double a = 2 * kPiD * double(turn);
+    return {Float(std::cos(a)), Float(std::sin(a))};
+  }
+  bool identity() const { return c == 1 && s == 0; }
+  // Into the lobe's frame (its tangent turned by the angle).
+  Vec3 in(const Vec3& w) const { return {c * w.x + s * w.y, -s * w.x + c * w.y, w.z}; }
+  Vec3 out(const Vec3& w) const { return {c * w.x - s * w.y, s * w.x + c * w.y, w.z}; }
+};
+
+// The single-scattering microfacet reflection of wo, wi (upper side, lobe frame), per unit
+// Fresnel: f/F = D G2 / (4 cos θo cos θi) (Walter et al. 2007, eq. 20), its visible-normal
+// density D / (4 cos θo (1 + Λo)) and the facet cosine |wo + wi|/2 (the forms of plastic.h).
+struct Glossy {
+  Float f_per_f = 0, pdf = 0, cos_h = 1;
+  bool valid = false;
+};
+inline Glossy glossy(const MicrofacetDistribution& d, const Vec3& wo, const Vec3& wi) {
+  Glossy g;
+  if (wo.z < Float(1e-7) || wi.z < Float(1e-7)) return g;
+  const Vec3 h = wo + wi;
+  const Float h2 = length_squared(h);
+  if (!(h2 > 0)) return g;
+  const Float D = d.D_unnormalized(h, h2);
+  const Float to = d.smith_t(wo), ti = d.smith_t(wi);
+  g.f_per_f = D / (2 * (wi.z * to + wo.z * ti));
+  g.pdf = D / (2 * (to + wo.z));
+  g.cos_h = std::min(std::sqrt(h2) / 2, Float(1));
+  g.valid = true;
+  return g;
+}
+
+enum Component : int { kPass, kFuzz, kCoat, kMetal, kSpec, kDiffuse, kDiffuseT, kGlass, kLobes };
+
+}  // namespace openpbr
+
+template <typename C>
+struct OpenPbrBxDFT {
+  using color_type = C;
+  using U = Unpolarized<C>;
+  static constexpr std::string_view kName = "openpbr";
+
+  OpenPbrParams<U> params;  // as given (what the model was made from)
+
+  // What make() derives.
+  Float opacity = 1, fuzz = 0, coat = 0, metal_w = 0, trans = 0, sss = 0;
+  bool thin = false;
+  BxDFFlags flags_ = BxDFFlags::DiffuseReflection;
+  // Fuzz (sheen.h), white for the layer's albedo, tinted for its lobe.
+  SheenBxDFT<U> sheen{};
+  // Coat.
+  MicrofacetDistribution coat_dist{};
+  openpbr::Rotation coat_rot{};
+  Float coat_eta = Float(1.6);  // tirfix(coat_ior)
+  CoatAlbedo coat_albedo{};
+  Float coat_avg = 0;          // Ē_coat
+  U coat_trans{Float(1)};       // sqrt(coat_color): the one-way transmittance at normal incidence
+  U darkening{Float(1)};        // lerp(1, Δ, C δ)
+  // Metal.
+  RoughConductorBxDFT<C> metal{};
+  Float metal_xi = 1;           // min(specular_weight, 1)
+  U f82_avg_est{Float(1)};
+  // Dielectric specular layer (reflection lobe of the opaque base).
+  MicrofacetDistribution spec_dist{};
+  openpbr::Rotation spec_rot{};
+  Float spec_eta = Float(1.5);  // the reflecting index (≥ 1)
+  CoatAlbedo spec_albedo{};
+  Float spec_avg = 0;            // Ē_s
+  Float spec_norm = 1;           // 1/(1 − Ē_s)
+  Float film_w = 0;
+  ThinFilmT<U> film{};
+  // Diffuse (EON): single- and multiple-scattering colours of the mixture (eon.h).
+  EonBxDFT<U> eon{};             // its sampling and pdf
+  U diff_rho{}, diff_rho_ms{};   // reflection
+  U difft_rho{}, difft_rho_ms{}; // thin-walled transmission
+  Float eon_a = 1, eon_ms = 0;
+  // The separable normalisation b(μ) of the diffuse under the specular layer (top of the
+  // file), at μ_j = (j + ½)/kNormNodes; unused (b = 1/sqrt(1 − Ē_s)) at roughness 0.
+  static constexpr int kNormNodes = 64;
+  std::array<Float, kNormNodes> diff_b{};
+  // Glass.
+  RoughDielectricBxDFT<C> glass{};
+  ThinDielectricBxDFT<C> sheet{};
+  ThinDielectricBxDFT<C> sheet_film{};
+  U trans_tint{Float(1)};
+
+  // `norm`: the diffuse normalisation of a model made from the same parameters (the spectral
+  // and polarized forms copy the RGB model's instead of solving again).
+  static OpenPbrBxDFT make(const OpenPbrParams<U>& p, ThinFilmT<U> film_on_spec = {},
+                           const std::array<Float, kNormNodes>* norm = nullptr) {
+    using namespace openpbr;
+    OpenPbrBxDFT m;
+    m.params = p;
+    m.opacity = std::clamp(p.geometry_opacity, Float(0), Float(1));
+    m.fuzz = p.fuzz_weight;
+    m.coat = p.coat_weight;
+    m.metal_w = p.base_metalness;
+    m.trans = p.transmission_weight;
+    m.sss = p.subsurface_weight;
+    m.thin = p.geometry_thin_walled;
+    // Fuzz: fuzz_roughness 0 is the sheen fits' smallest roughness (sheen.h).
+    m.sheen.color = p.fuzz_color;
+    m.sheen.roughness = sheen_fit::clamp_roughness(p.fuzz_roughness);
+    // Coat.
+    m.coat_dist = distribution(p.coat_roughness, p.coat_roughness_anisotropy);
+    m.coat_rot = Rotation::of(p.coat_rotation);
+    m.coat_eta = tirfix(p.coat_ior);
+    m.coat_albedo = CoatAlbedo::make(MicrofacetType::GGX, m.coat_eta);
+    if (!m.coat_dist.effectively_smooth()) m.coat_albedo.prepare_roughness(m.coat_dist.alpha_x);
+    m.coat_avg = m.coat_eta == 1 ? Float(0)
+                 : m.coat_dist.effectively_smooth() ? average_dielectric_fresnel(m.coat_eta)
+                                                    : m.coat_albedo.average(m.coat_dist);
+    m.coat_trans = map(p.coat_color, [](Float c) { return std::sqrt(std::max(c, Float(0))); });
+    // The base's roughness, roughened by the coat (SPEC-OPB "Roughening").
+    const Float rb = p.specular_roughness, rc = p.coat_roughness;
+    const Float rough = rb + (std::pow(std::min(Float(1), rb * rb * rb * rb + 2 * rc * rc * rc * rc), Float(0.25)) - rb) * m.coat;
+    // The base's index through the coat, modulated by specular_weight (SPEC-OPB §4.1, §3.1).
+    const Float eta_s = p.specular_ior + (tirfix(p.specular_ior / p.coat_ior) - p.specular_ior) * m.coat;
+    const Float eta_mod = modulated_ior(eta_s, p.specular_weight);
+    m.spec_eta = tirfix(eta_mod);
+    m.spec_dist = distribution(rough, p.specular_roughness_anisotropy);
+    m.spec_rot = Rotation::of(p.specular_rotation);
+    m.spec_albedo = CoatAlbedo::make(MicrofacetType::GGX, m.spec_eta);
+    if (!m.spec_dist.effectively_smooth()) m.spec_albedo.prepare_roughness(m.spec_dist.alpha_x);
+    m.spec_avg = m.spec_eta == 1 ? Float(0)
+                 : m.spec_dist.effectively_smooth() ? average_dielectric_fresnel(m.spec_eta)
+                                                    : m.spec_albedo.average(m.spec_dist);
+    m.spec_norm = 1 / std::max(Float(1e-6), 1 - m.spec_avg);
+    m.film_w = film_on_spec.active() ? p.thin_film_weight : Float(0);
+    m.film = film_on_spec;
+    // Metal: F82-tint, F0 = base_weight base_color, tint specular_color (SPEC-OPB "Metal").
+    m.metal.distribution = m.spec_dist;
+    m.metal.fresnel.model = FresnelModel::F82;
+    m.metal.fresnel.f0 = map(p.base_color * p.base_weight, [](Float v) { return std::clamp(v, Float(0), Float(1)); });
+    m.metal.fresnel.f82 = map(p.specular_color, [](Float v) { return std::clamp(v, Float(0), Float(1)); });
+    m.metal.fresnel.prepare();
+    m.f82_avg_est = fresnel_f82_average(m.metal.fresnel.f0, m.metal.fresnel.f82);
+    if (!m.spec_dist.effectively_smooth() && m.spec_dist.is_isotropic())
+      m.metal.multiscatter = MultiscatterLobeT<U>::make(m.spec_dist, m.f82_avg_est);
+    m.metal_xi = std::clamp(p.specular_weight, Float(0), Float(1));
+    // Diffuse: EON of roughness base_diffuse_roughness (eon.h), mixed with the subsurface's.
+    const Float r = p.base_diffuse_roughness;
+    m.eon = EonBxDFT<U>::make(U(1), r);
+    const U rho_d = map(p.base_color * p.base_weight, [](Float v) { return std::clamp(v, Float(0), Float(1)); });
+    const U rho_s = map(p.subsurface_color, [](Float v) { return std::clamp(v, Float(0), Float(1)); });
+    const eon::Constants<U> kd(rho_d, r), ks(rho_s, r);
+    m.eon_a = kd.a;
+    m.eon_ms = kd.ms;
+    if (!m.thin) {
+      m.diff_rho = rho_d * (1 - m.sss) + rho_s * m.sss;
+      m.diff_rho_ms = kd.rho_ms * (1 - m.sss) + ks.rho_ms * m.sss;
+    } else {
+      // SPEC-OPB "Thin-walled case": ½ S (1 − g) reflected, ½ S (1 + g) transmitted, each an
+      // albedo-1 lobe (ρ = ρ_ms = 1 for EON).
+      const Float g = std::clamp(p.subsurface_scatter_anisotropy, Float(-1), Float(1));
+      const U half_r = rho_s * (Float(0.5) * (1 - g)), half_t = rho_s * (Float(0.5) * (1 + g));
+      m.diff_rho = rho_d * (1 - m.sss) + half_r * m.sss;
+      m.diff_rho_ms = kd.rho_ms * (1 - m.sss) + half_r * m.sss;
+      m.difft_rho = half_t * m.sss;
+      m.difft_rho_ms = half_t * m.sss;
+    }
+    if (norm) m.diff_b = *norm;
+    else if (r > 0) m.solve_diffuse_norm();
+    // Glass.
+    m.glass.distribution = m.spec_dist;
+    m.glass.eta = modulated_ior(p.specular_ior, p.specular_weight);
+    if (!m.glass.specular() && m.glass.distribution.is_isotropic() && m.glass.eta >= Float(0.25) &&
+        m.glass.eta <= Float(4))
+      m.glass.multiscatter = DielectricMultiscatterLobe::make(m.glass.distribution, m.glass.eta);
+    m.sheet.eta = m.spec_eta;
+    m.sheet_film.eta = m.spec_eta;
+    m.sheet_film.film = film_on_spec;
+    if (m.film_w > 0) m.sheet_film.film.eta = film_on_spec.eta;
+    m.trans_tint = p.transmission_depth > 0 ? U(1) : map(p.transmission_color, [](Float v) { return std::clamp(v, Float(0), Float(1)); });
+    // Darkening (SPEC-OPB "Darkening"): Δ = (1 − K)/(1 − E_b K), K = 1 − (1 − Ē_coat)/η_c²,
+    // E_b the base's albedo blended by the mix weights (a translucent base returns no
+    // internally reflected light: E_b = 1 there, no darkening).
+    {
+      const Float K = 1 - (1 - m.coat_avg) / (m.coat_eta * m.coat_eta);
+      const U eb_diel = (rho_d * (1 - m.sss) + rho_s * m.sss) * (1 - m.trans) + U(m.trans);
+      const U eb = eb_diel * (1 - m.metal_w) + m.metal.fresnel.f0 * (m.metal_xi * m.metal_w);
+      const U delta = map(eb, [K](Float e) { return (1 - K) / std::max(Float(1e-6), 1 - e * K); });
+      const Float t = m.coat * std::clamp(p.coat_darkening, Float(0), Float(1));
+      m.darkening = U(1) + (delta - U(1)) * t;
+    }
+    // Flags.
+    BxDFFlags f = BxDFFlags::None;
+    const bool spec_smooth = m.spec_dist.effectively_smooth();
+    if (m.fuzz > 0) f = f | BxDFFlags::GlossyReflection;
+    if (m.coat > 0) f = f | (m.coat_dist.effectively_smooth() ? BxDFFlags::SpecularReflection : BxDFFlags::GlossyReflection);
+    if (m.metal_w > 0 || (1 - m.trans) > 0)
+      f = f | (spec_smooth ? BxDFFlags::SpecularReflection : BxDFFlags::GlossyReflection);
+    if ((1 - m.metal_w) * (1 - m.trans) > 0) f = f | BxDFFlags::DiffuseReflection;
+    if (m.thin && m.sss > 0 && (1 - m.metal_w) * (1 - m.trans) > 0) f = f | BxDFFlags::DiffuseTransmission;
+    if (m.trans > 0 && m.metal_w < 1) f = f | (m.thin ? m.sheet.flags() : m.glass.flags());
+    if (m.opacity < 1) f = f | BxDFFlags::SpecularTransmission;
+    if (m.opacity <= 0) f = BxDFFlags::SpecularTransmission;
+    m.flags_ = f;
+    return m;
+  }
+
+  BxDFFlags flags() const { return flags_; }
+  Float relative_eta() const { return trans > 0 && !thin && metal_w < 1 && opacity > 0 ? glass.eta : Float(1); }
+  bool is_isotropic() const {
+    return spec_dist.is_isotropic() && (coat <= 0 || coat_dist.is_isotropic());
+  }
+  std::string_view nonreciprocal_reason() const {
+    if (opacity > 0 && fuzz > 0)
+      return "openpbr: the fuzz (LTC sheen, Zeltner et al. 2022) follows wo only, and the layers under it are scaled "
+             "by 1 - E_fuzz(wo) (OpenPBR's view-dependent albedo scaling)";
+    if (opacity > 0 && coat > 0)
+      return "openpbr: the base under the coat is scaled by 1 - E_coat(wo) (OpenPBR's view-dependent albedo scaling; "
+             "the reciprocal form gains energy over a specular base, docs/openpbr.md)";
+    return {};
+  }
+
+  // ∫ f_EON(μo, μi, φ) dφ over the azimuth for ρ = 1 (eon.h): with s = sin θo sin θi cos φ,
+  // t = max(μo, μi) where s > 0 (|φ| < π/2) else 1, ∫ s/t dφ = 2 sin θo sin θi (1/max − 1),
+  // and the multiple-scattering term does not depend on φ.
+  Float diffuse_kernel(Float mo, Float mi, Float co, Float ci) const {
+    const Float r = params.base_diffuse_roughness;
+    const Float so = std::sqrt(std::max(Float(0), 1 - mo * mo)), si = std::sqrt(std::max(Float(0), 1 - mi * mi));
+    return 2 * eon_a + 2 * eon_a * r * kInvPi * so * si * (1 / std::max(mo, mi) - 1) + 2 * kPi * eon_ms * co * ci;
+  }
+  // b(μ) of the separable normalisation (top of the file), solved by matrix balancing.
+  void solve_diffuse_norm() {
+    constexpr int n = kNormNodes;
+    std::array<Float, n> mu{}, e{}, c{};
+    const Float a_iso = std::sqrt((spec_dist.alpha_x * spec_dist.alpha_x + spec_dist.alpha_y * spec_dist.alpha_y) / 2);
+    for (int j = 0; j < n; ++j) {
+      mu[size_t(j)] = (Float(j) + Float(0.5)) / n;
+      const Float m = mu[size_t(j)];
+      e[size_t(j)] = spec_eta == 1 ? Float(0)
+                     : spec_dist.effectively_smooth() ? fresnel_dielectric(m, spec_eta)
+                                                      : spec_albedo.E(a_iso, m);
+      c[size_t(j)] = eon::one_minus_g(m);
+    }
+    std::array<std::array<Float, n>, n> k{};
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < n; ++j)
+        k[size_t(i)][size_t(j)] = diffuse_kernel(mu[size_t(i)], mu[size_t(j)], c[size_t(i)], c[size_t(j)]) *
+                                  (1 - e[size_t(j)]) * mu[size_t(j)] / n;
+    diff_b.fill(std::sqrt(spec_norm));
+    for (int it = 0; it < 200; ++it) {
+      std::array<Float, n> next{};
+      for (int i = 0; i < n; ++i) {
+        Float kb = 0;
+        for (int j = 0; j < n; ++j) kb += k[size_t(i)][size_t(j)] * diff_b[size_t(j)];
+        const Float v = diff_b[size_t(i)] * kb;
+        next[size_t(i)] = v > Float(1e-12) ? std::min(diff_b[size_t(i)] / std::sqrt(v), Float(1e6)) : diff_b[size_t(i)];
+      }
+      diff_b = next;
+    }
+  }
+  // N(μo, μi) of the diffuse under the specular layer.
+  Float diffuse_norm(Float mo, Float mi) const {
+    if (!(params.base_diffuse_roughness > 0)) return spec_norm;
+    const auto at = [&](Float m) {
+      const Float x = std::clamp(m * kNormNodes - Float(0.5), Float(0), Float(kNormNodes - 1));
+      const int i = std::min(int(x), kNormNodes - 2);
+      const Float t = x - Float(i);
+      return diff_b[size_t(i)] * (1 - t) + diff_b[size_t(i + 1)] * t;
+    };
+    return at(std::min(mo, Float(1))) * at(std::min(mi, Float(1)));
+  }
+
+  // --- per-direction quantities -----------------------------------------------------
+
+  // The layers' albedos seen from w (upper side): F E_fuzz(w) and E_coat(w).
+  struct Layers {
+    Float e_fz = 0, e_c = 0;
+  };
+  Layers layers(const Vec3& w) const {
+    Layers l;
+    if (fuzz > 0) l.e_fz = fuzz * sheen_albedo(w.z, sheen.roughness);
+    if (coat > 0) l.e_c = coat_E(w);
+    return l;
+  }
+  Float coat_E(const Vec3& w) const {
+    if (coat_eta == 1) return 0;
+    if (coat_dist.effectively_smooth()) return fresnel_dielectric(std::min(w.z, Float(1)), coat_eta);
+    return coat_albedo.E(coat_dist, coat_rot.in(w));
+  }
+  Float spec_E(const Vec3& w) const {
+    if (spec_eta == 1 && !(film_w > 0)) return 0;
+    const Float mu = std::min(w.z, Float(1));
+    const Float e = spec_dist.effectively_smooth() ? fresnel_dielectric(mu, spec_eta) : spec_albedo.E(spec_dist, spec_rot.in(w));
+    if (!(film_w > 0)) return e;
+    // With the film: the bare albedo scaled by the film's reflectance over the bare
+    // Fresnel at μ (channel average; an approximation of the film-covered lobe's albedo,
+    // which keeps the layers below from adding to a film that reflects nearly everything).
+    const Float F = fresnel_dielectric(mu, spec_eta);
+    const Float R = std::clamp(film.reflectance(mu, U(spec_eta), U(0)).average(), Float(0), Float(1));
+    const Float ratio = F > Float(1e-6) ? R / F : Float(1);
+    return std::min(Float(1), e * ((1 - film_w) + film_w * ratio) + (F > Float(1e-6) ? Float(0) : film_w * R));
+  }
+  // The cosine refracted into the coat (SPEC-OPB "View-dependent absorption").
+  Float coat_mu_t(Float mu) const {
+    return std::sqrt(std::max(Float(1e-12), 1 - (1 - mu * mu) / (coat_eta * coat_eta)));
+  }
+  // coat_color^((1/μt_o + 1/μt_i)/2) = T^(1/μt_o + 1/μt_i), T = sqrt(coat_color).
+  U coat_absorption(Float mu_o, Float mu_i) const {
+    const Float k = 1 / coat_mu_t(mu_o) + 1 / coat_mu_t(mu_i);
+    return map(coat_trans, [k](Float t) { return t >= 1 ? Float(1) : std::pow(t, k); });
+  }
+  // What reaches the base and comes back, seen from v: α (1 − F E_fz(v)) lerp(1, A (1 − E_c(v)), C) Δ.
+  U base_scale(const Layers& v, Float mu_o, Float mu_i) const {
+    U s = U(opacity * (1 - v.e_fz));
+    if (coat > 0) {
+      const U through = coat_absorption(mu_o, mu_i) * (1 - v.e_c);
+      s = s * ((U(1) - through) * (-coat) + U(1)) * darkening;
+    }
+    return s;
+  }
+
+  // The specular layer's Fresnel (with the film over thin_film_weight of it).
+  U spec_fresnel(Float c) const {
+    const Float F = fresnel_dielectric(c, spec_eta);
+    if (!(film_w > 0)) return U(F);
+    return U(F * (1 - film_w)) + film.reflectance(c, U(spec_eta), U(0)) * film_w;
+  }
+
+  // The lobes' selection probabilities for wo (upper side): their albedo estimates.
+  // In importance mode the layers' scaling follows wi (the adjoint of the view-dependent
+  // form), which sampling does not know: the base's share is then not reduced by wo's
+  // layers (else a grazing wo, where the coat reflects nearly everything, would draw the
+  // base almost never while wi's scaling lets it through: unbounded weights).
+  std::array<Float, openpbr::kLobes> probabilities(const Vec3& wo, const Layers& l,
+                                                   TransportMode mode = TransportMode::Radiance,
+                                                   bool inside = false) const {
+    using namespace openpbr;
+    std::array<Float, kLobes> p{};
+    const Float mu = std::min(wo.z, Float(1));
+    p[kPass] = 1 - opacity;
+    p[kFuzz] = opacity * l.e_fz * std::max(sheen.color.average(), Float(0.05));
+    if (coat > 0 && coat_eta != 1) p[kCoat] = opacity * (1 - l.e_fz) * coat * std::max(l.e_c, Float(0.02));
+    const bool radiance = mode == TransportMode::Radiance;
+    const Float base = opacity * (radiance ? (1 - l.e_fz) * (1 - coat * l.e_c) : Float(1)) *
+                       std::max(darkening.average(), Float(0.05));
+    if (metal_w > 0)
+      p[kMetal] = base * metal_w * std::max(metal_xi * fresnel_f82(metal.fresnel.f0, metal.fresnel.f82, mu).average(), Float(0.05));
+    const Float diel = base * (1 - metal_w);
+    const Float es = spec_E(wo);
+    if (trans < 1) {
+      if (spec_eta != 1) p[kSpec] = diel * (1 - trans) * std::max(es, Float(0.02)) * std::max(params.specular_color.average(), Float(0.1));
+      p[kDiffuse] = diel * (1 - trans) * (1 - es) * std::max(diff_rho.average(), Float(0.05));
+      if (thin && sss > 0) p[kDiffuseT] = diel * (1 - trans) * (1 - es) * std::max(difft_rho.average(), Float(0.05));
+    }
+    // From inside (wo.z < 0 before the mirroring, non-thin) the glass is bare: its share is
+    // not reduced by the outside layers' albedo at wo.
+    if (trans > 0) p[kGlass] = (inside && !thin ? opacity * (1 - metal_w) : diel) * trans;
+    Float sum = 0;
+    for (Float v : p) sum += v;
+    if (!(sum > 0)) {
+      p = {};
+      p[opacity < 1 ? kPass : kDiffuse] = 1;
+      return p;
+    }
+    for (Float& v : p) v /= sum;
+    return p;
+  }
+
+  // --- evaluation -------------------------------------------------------------------
+
+  BSDFEvalT<C> eval(const Vec3& wo, const Vec3& wi, TransportMode mode = TransportMode::Radiance) const {
+    using namespace openpbr;
+    if (wo.z == 0 || wi.z == 0 || opacity <= 0) return {};
+    const bool reflection = (wo.z > 0) == (wi.z > 0);
+    const Float s = wo.z > 0 ? 1 : -1;  // mirror the pair to wo's side up
+    const Vec3 wo_u{wo.x, wo.y, s * wo.z}, wi_u{wi.x, wi.y, s * wi.z};
+    const Layers lo = layers(wo_u);
+    const auto p = probabilities(wo_u, lo, mode, wo.z < 0);
+    C f{};
+    Float pdf = 0;
+    const bool radiance = mode == TransportMode::Radiance;
+    if (reflection) {
+      const Layers lv = radiance ? lo : layers(wi_u);  // the view direction's layers
+      // Fuzz.
+      if (fuzz > 0 && p[kFuzz] > 0) {
+        f += C(sheen.f(wo_u, wi_u, mode) * (opacity * fuzz));
+        pdf += p[kFuzz] * sheen.pdf(wo_u, wi_u, mode);
+      }
+      // Coat (rough; the smooth one is a delta).
+      if (coat > 0 && coat_eta != 1 && !coat_dist.effectively_smooth()) {
+        const Glossy g = glossy(coat_dist, coat_rot.in(wo_u), coat_rot.in(wi_u));
+        if (g.valid) {
+          const Float F = fresnel_dielectric(g.cos_h, coat_eta);
+          f += fresnel_factor<C>(
+              F * g.f_per_f * (opacity * (1 - lv.e_fz) * coat),
+              [&] { return broadcast<U>(dielectric_reflection_mueller(g.cos_h, coat_eta)); }, wo, wi);
+          pdf += p[kCoat] * g.pdf;
+        }
+      }
+      const U base = base_scale(lv, wo_u.z, wi_u.z);
+      // Metal.
+      if (metal_w > 0) {
+        const BSDFEvalT<C> e = metal.eval(spec_rot.in(wo), spec_rot.in(wi), mode);
+        f += e.f * (base * (metal_w * metal_xi));
+        pdf += p[kMetal] * e.pdf;
+      }
+      const Float diel = (1 - metal_w);
+      if (diel > 0 && trans < 1) {
+        const Float w = diel * (1 - trans);
+        // Specular reflection (rough; the smooth one is a delta).
+        if (spec_eta != 1 && !spec_dist.effectively_smooth()) {
+          const Glossy g = glossy(spec_dist, spec_rot.in(wo_u), spec_rot.in(wi_u));
+          if (g.valid) {
+            f += fresnel_factor<C>(
+                spec_fresnel(g.cos_h) * params.specular_color * base * (g.f_per_f * w),
+                [&] { return broadcast<U>(dielectric_reflection_mueller(g.cos_h, spec_eta)); }, wo, wi);
+            pdf += p[kSpec] * g.pdf;
+          }
+        }
+        // Diffuse under it, reciprocal albedo scaling.
+        const Float scale = (1 - spec_E(wo_u)) * (1 - spec_E(wi_u)) * diffuse_norm(wo_u.z, wi_u.z);
+        f += C(eon_f(wo_u, wi_u, diff_rho, diff_rho_ms) * base * (scale * w));
+        pdf += p[kDiffuse] * eon.pdf(wo_u, wi_u);
+      }
+      // Glass, reflection: from outside under the layers, tinted; from inside bare.
+      if (diel > 0 && trans > 0 && !thin) {
+        const BSDFEvalT<C> e = glass.eval(spec_rot.in(wo), spec_rot.in(wi), mode);
+        if (wo.z > 0) f += e.f * (params.specular_color * base * (diel * trans));
+        else f += e.f * (opacity * diel * trans);
+        pdf += p[kGlass] * e.pdf;
+      }
+      return {f, pdf};
+    }
+    // Transmission.
+    const Float diel = 1 - metal_w;
+    if (!(diel > 0)) return {};
+    if (!thin && trans > 0) {
+      const BSDFEvalT<C> e = glass.eval(spec_rot.in(wo), spec_rot.in(wi), mode);
+      const Vec3 w_out = wo.z > 0 ? wo : wi;
+      const Layers l = w_out.z == wo_u.z ? lo : layers(w_out);
+      f += e.f * (through_layers(l, w_out.z) * trans_tint * (diel * trans));
+      pdf += p[kGlass] * e.pdf;
+    }
+    if (thin && sss > 0 && trans < 1) {
+      // The thin-walled subsurface's transmission, mirrored to wo's side.
+      const Vec3 wm{wi_u.x, wi_u.y, -wi_u.z};
+      const Layers lv = radiance ? lo : layers(wm);
+      const Float scale = (1 - spec_E(wo_u)) * (1 - spec_E(wm)) * diffuse_norm(wo_u.z, wm.z);
+      f += C(eon_f(wo_u, wm, difft_rho, difft_rho_ms) * base_scale(lv, wo_u.z, wm.z) * (scale * diel * (1 - trans)));
+      pdf += p[kDiffuseT] * eon.pdf(wo_u, wm);
+    }
+    return {f, pdf};
+  }
+  C f(const Vec3& wo, const Vec3& wi, TransportMode mode = TransportMode::Radiance) const { return eval(wo, wi, mode).f; }
+  Float pdf(const Vec3& wo, const Vec3& wi, TransportMode mode = TransportMode::Radiance) const {
+    return eval(wo, wi, mode).pdf;
+  }
+
+  // Transmission through fuzz and coat once, at the outside direction w (upper side).
+  U through_layers(const Layers& l, Float mu) const {
+    U s = U(opacity * (1 - l.e_fz));
+    if (coat > 0) {
+      const Float k = 1 / coat_mu_t(std::min(mu, Float(1)));
+      const U a = map(coat_trans, [k](Float t) { return t >= 1 ? Float(1) : std::pow(t, k); });
+      s = s * ((U(1) - a * (1 - l.e_c)) * (-coat) + U(1)) * darkening;
+    }
+    return s;
+  }
+
+  // EON (eon.h) for a single-scattering colour rho and a multiple-scattering one rho_ms:
+  // f = rho A/π (1 + r s/t) + rho_ms r A (c1 − G_o/π)(c1 − G_i/π)/(π (c1 − c2)).
+  U eon_f(const Vec3& wo, const Vec3& wi, const U& rho, const U& rho_ms) const {
+    if (!diffuse_glossy::usable(wo, wi)) return U(0);
+    const Float r = params.base_diffuse_roughness;
+    if (r <= 0) return rho * kInvPi;
+    const Float s = std::max(Float(-1), dot(wi, wo) - wi.z * wo.z);
+    const eon::FonTerms t = eon::fon_terms(wo.z, wi.z, s);
+    return rho * (kInvPi * eon_a * (1 + r * t.s_over_t)) + rho_ms * (eon_ms * t.c_o * t.c_i);
+  }
+
+  // --- sampling ---------------------------------------------------------------------
+
+  std::optional<BSDFSampleT<C>> sample(const Vec3& wo, Float u_lobe, Float u1, Float u2,
+                                       TransportMode mode = TransportMode::Radiance) const {
+    using namespace openpbr;
+    if (wo.z == 0) return std::nullopt;
+    const Float s = wo.z > 0 ? 1 : -1;
+    const Vec3 wo_u{wo.x, wo.y, s * wo.z};
+    const Layers lo = layers(wo_u);
+    const auto p = probabilities(wo_u, lo, mode, wo.z < 0);
+    int k = 0;
+    Float acc = 0;
+    for (; k < kLobes - 1; ++k) {
+      if (u_lobe < acc + p[size_t(k)]) break;
+      acc += p[size_t(k)];
+    }
+    while (k > 0 && !(p[size_t(k)] > 0)) --k;
+    const Float pk = p[size_t(k)];
+    if (!(pk > 0)) return std::nullopt;
+    const Float u = std::clamp((u_lobe - acc) / pk, Float(0), kOneMinusEpsilon);
+    const auto up = [&](const Vec3& w) { return Vec3{w.x, w.y, s * w.z}; };  // upper ↔ actual
+    Vec3 wi_u;
+    switch (k) {
+      case kPass: {
+        const Vec3 wi = -wo;
+        return BSDFSampleT<C>{wi, identity(U(Float(1))) * ((1 - opacity) / pk), pk, true, Lobe::Transmission, 1};
+      }
+      case kFuzz: {
+        const auto sm = sheen.sample(wo_u, u, u1, u2, mode);
+        if (!sm) return std::nullopt;
+        wi_u = sm->wi;
+        break;
+      }
+      case kCoat: {
+        if (coat_dist.effectively_smooth()) {
+          const Float F = fresnel_dielectric(std::min(wo_u.z, Float(1)), coat_eta);
+          const Vec3 wi{-wo.x, -wo.y, wo.z};
+          const C w = fresnel_factor<C>(F * (opacity * (1 - lo.e_fz) * coat / pk),
+                                        [&] { return broadcast<U>(dielectric_reflection_mueller(std::min(wo_u.z, Float(1)), coat_eta)); },
+                                        wo, wi);
+          return BSDFSampleT<C>{wi, w, pk, true, Lobe::Reflection, 1};
+        }
+        const Vec3 wl = coat_rot.in(wo_u);
+        wi_u = coat_rot.out(reflect(wl, coat_dist.sample_visible(wl, u1, u2)));
+        break;
+      }
+      case kMetal: {
+        const auto sm = metal.sample(spec_rot.in(wo), u, u1, u2, mode);
+        if (!sm) return std::nullopt;
+        const Vec3 wi = spec_rot.out(sm->wi);
+        if (sm->delta) {
+          const U base = base_scale(lo, wo_u.z, wo_u.z);
+          return BSDFSampleT<C>{wi, sm->weight * (base * (metal_w * metal_xi / pk)), pk * sm->pdf, true, Lobe::Reflection, 1};
+        }
+        wi_u = up(wi);
+        break;
+      }
+      case kSpec: {
+        if (spec_dist.effectively_smooth()) {
+          const Float c = std::min(wo_u.z, Float(1));
+          const Vec3 wi{-wo.x, -wo.y, wo.z};
+          const U base = base_scale(lo, wo_u.z, wo_u.z);
+          const U v = spec_fresnel(c) * params.specular_color * base * ((1 - metal_w) * (1 - trans) / pk);
+          const C w = fresnel_factor<C>(v, [&] { return broadcast<U>(dielectric_reflection_mueller(c, spec_eta)); }, wo, wi);
+          return BSDFSampleT<C>{wi, w, pk, true, Lobe::Reflection, 1};
+        }
+        const Vec3 wl = spec_rot.in(wo_u);
+        wi_u = spec_rot.out(reflect(wl, spec_dist.sample_visible(wl, u1, u2)));
+        break;
+      }
+      case kDiffuse:
+      case kDiffuseT: {
+        const auto sm = eon.sample(wo_u, u, u1, u2);
+        if (!sm) return std::nullopt;
+        wi_u = sm->wi;
+        if (k == kDiffuseT) wi_u.z = -wi_u.z;
+        break;
+      }
+      case kGlass:
+      default: {
+        if (thin) return sample_sheet(wo, wo_u, lo, u, pk);
+        const auto sm = glass.sample(spec_rot.in(wo), u, u1, u2, mode);
+        if (!sm) return std::nullopt;
+        const Vec3 wi = spec_rot.out(sm->wi);
+        if (sm->delta) {
+          U scale;
+          if (sm->lobe == Lobe::Reflection)
+            scale = wo.z > 0 ? params.specular_color * base_scale(lo, wo_u.z, wo_u.z) : U(opacity);
+          else
+            scale = through_layers(wo.z > 0 ? lo : layers(Vec3{wi.x, wi.y, wi.z}), wo.z > 0 ? wo.z : wi.z) * trans_tint;
+          return BSDFSampleT<C>{wi, sm->weight * (scale * ((1 - metal_w) * trans / pk)), pk * sm->pdf, true, sm->lobe, sm->eta};
+        }
+        wi_u = up(wi);
+        break;
+      }
+    }
+    // A reflection lobe's direction below the horizon (or the diffuse transmission's above)
+    // is no sample: eval's density has no share of it on the other side.
+    if (k != kGlass && (k == kDiffuseT ? !(wi_u.z < 0) : !(wi_u.z > 0))) return std::nullopt;
+    const Vec3 wi = up(wi_u);
+    if (wi.z == 0) return std::nullopt;
+    const BSDFEvalT<C> e = eval(wo, wi, mode);
+    if (!(e.pdf > 0)) return std::nullopt;
+    const bool transmit = (wi.z > 0) != (wo.z > 0);
+    const Float eta = transmit && !thin ? (wo.z > 0 ? glass.eta : 1 / glass.eta) : Float(1);
+    return BSDFSampleT<C>{wi, e.f * (std::abs(wi.z) / e.pdf), e.pdf, false, transmit ? Lobe::Transmission : Lobe::Reflection, eta};
+  }
+
+ private:
+  // A non-polarizing pass-through of value v (identity Mueller matrix in polarized mode).
+  static C identity(const U& v) {
+    if constexpr (kPolarized<C>) {
+      C m;
+      for (int i = 0; i < 4; ++i) m(i, i) = v;
+      return m;
+    } else {
+      return C(v);
+    }
+  }
+
+  // The thin-walled translucent base: the smooth sheet (and the soap-bubble film over
+  // thin_film_weight of it), under the layers seen from wo.
+  std::optional<BSDFSampleT<C>> sample_sheet(const Vec3& wo, const Vec3& wo_u, const Layers& lo, Float u, Float pk) const {
+    Float pf = 1;
+    bool with_film = false;
+    if (film_w > 0 && film.active()) {
+      with_film = u < film_w;
+      pf = with_film ? film_w : 1 - film_w;
+      u = std::clamp(with_film ? u / film_w : (u - film_w) / (1 - film_w), Float(0), kOneMinusEpsilon);
+    }
+    const auto sm = (with_film ? sheet_film : sheet).sample(wo, u, 0, 0);
+    if (!sm) return std::nullopt;
+    const U base = base_scale(lo, wo_u.z, wo_u.z);
+    const U scale = sm->lobe == Lobe::Reflection ? params.specular_color * base : base * trans_tint;
+    // The film's share of the choice is the mix weight: the weight is unchanged by it.
+    return BSDFSampleT<C>{sm->wi, sm->weight * (scale * ((1 - metal_w) * trans / pk)), pk * pf * sm->pdf, true, sm->lobe, 1};
+  }
+};
+
+using OpenPbrBxDF = OpenPbrBxDFT<Color>;
+
+}  // namespace gonio
