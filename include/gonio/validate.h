@@ -41,6 +41,7 @@
 // A property that does not apply to a model passes with no figure.
 
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -76,7 +77,10 @@ struct ValidationOptions {
   double scale = 1;
 };
 
-ValidationReport validate(const BxDF& bxdf, const ValidationOptions& options = {});
+// before_each_property (may be empty) is called before each property: a caller that must
+// stop a long validation early (the explorer, when a newer one is asked for) throws from it.
+ValidationReport validate(const BxDF& bxdf, const ValidationOptions& options = {},
+                          const std::function<void()>& before_each_property = {});
 
 // The properties one at a time (for tests that feed deliberately broken models).
 PropertyResult check_finite(const BxDF& bxdf, const ValidationOptions& options = {});

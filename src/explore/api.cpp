@@ -644,24 +644,9 @@ std::string api_check(const std::string& body, const ApiContext& ctx) {
   const BxDF bxdf = load_material(b, ctx);
   // One validation at a time: it takes seconds of a core, and the views must stay live.
   const std::lock_guard<std::mutex> lock(check_mutex());
-  // validate()'s properties in its order (src/validate/validate.cpp; a test compares the
-  // two reports), with a look at the stale flag before each: a newer validation of the
-  // same page stops this one between properties instead of after seconds.
-  const ValidationOptions opt{seed, 1.0};
-  ValidationReport report;
-  const auto step = [&](auto&& check) {
-    ctx.check_stale();
-    report.properties.push_back(check(bxdf, opt));
-  };
-  step([](const BxDF& m, const ValidationOptions& o) { return check_finite(m, o); });
-  step([](const BxDF& m, const ValidationOptions& o) { return check_reciprocity(m, o); });
-  step([](const BxDF& m, const ValidationOptions& o) { return check_energy(m, o); });
-  ctx.check_stale();
-  for (auto& p : check_sampling(bxdf, opt)) report.properties.push_back(std::move(p));
-  step([](const BxDF& m, const ValidationOptions& o) { return check_consistency(m, o); });
-  step([](const BxDF& m, const ValidationOptions& o) { return check_isotropy(m, o); });
-  step([](const BxDF& m, const ValidationOptions& o) { return check_linearity(m, o); });
-  step([](const BxDF& m, const ValidationOptions& o) { return check_weights(m, o); });
+  // A newer validation of the same page stops this one between properties (the stale
+  // flag, looked at before each) instead of after seconds.
+  const ValidationReport report = validate(bxdf, {seed, 1.0}, [&] { ctx.check_stale(); });
   // The object of `gonio check --json` (SPEC §3).
   json props = json::array();
   for (const auto& p : report.properties) {

@@ -75,8 +75,9 @@ class PixelSampler {
     const std::uint64_t h = dimension_hash(dim);
     if (type_ == SamplerType::Independent) return {fraction_to_float(std::uint32_t(h >> 32)), fraction_to_float(std::uint32_t(h))};
     const std::uint64_t i = shuffled_index(std::uint32_t(h));
-    // The second coordinate's scramble: another 32 bits from the same hash (a multiply
-    // by an odd constant is a bijection, so the two seeds are never equal).
+    // The second coordinate's scramble: another function of the same 64 hashed bits (the
+    // two coordinates are different Sobol' dimensions, so even equal seeds would not make
+    // them equal).
     return {sobol_owen_dim0(i, std::uint32_t(h >> 32)), sobol_owen_dim1(i, std::uint32_t(h >> 32) * 0x9e3779b9u ^ std::uint32_t(h))};
   }
 
@@ -88,8 +89,8 @@ class PixelSampler {
   // dimension (Burley 2020, §5, "shuffling") — so that each dimension visits the pixel's
   // points, and for zsobol the pixels of each aligned block, in an order of its own.
   // Aligned blocks map to aligned blocks, so a pixel's samples stay a net. (Ahmed & Wonka
-  // permute each base-4 digit by any of the 24 permutations; the base-2 scramble of a digit
-  // reaches 8 of them at a ninth of the cost: issue 38's figures in docs/benchmarks.md.)
+  // permute each base-4 digit by any of the 24 permutations, a hash per digit; the base-2
+  // scramble reaches 8 of them with one hash for all bits: docs/benchmarks-history.md.)
   // Bits above the 32 the points use are folded into the seed, so that pixels far apart
   // still differ.
   std::uint64_t shuffled_index(std::uint32_t seed) const {
