@@ -804,19 +804,17 @@ BxDF make_openpbr(Params& p) {
   o.emission_color = p.color("emission_color");
   o.geometry_opacity = num("geometry_opacity");
   o.geometry_thin_walled = p.boolean("geometry_thin_walled");
-  OpenPbrBxDF m = OpenPbrBxDF::make(o);
+  ThinFilmT<Color> film;
   if (o.thin_film_weight > 0 && o.thin_film_thickness > 0) {
     // The film on the specular layer's reflecting index (µm → nm).
-    ThinFilmT<Color> film;
     film.lambda = thin_film_rgb_lambda();
     film.thickness = o.thin_film_thickness * 1000;
     film.eta = o.thin_film_ior;
-    const double substrate = m.spec_eta;
+    const double substrate = openpbr::specular_layer_eta(o.specular_ior, o.coat_ior, o.coat_weight, o.specular_weight);
     film.table = make_thin_film_rgb_table(film.thickness, film.eta,
                                           [substrate](double) { return std::pair<double, double>(substrate, 0); });
-    m = OpenPbrBxDF::make(o, film);
   }
-  return m;
+  return OpenPbrBxDF::make(o, film);
 }
 
 // The constructor of each type of the registry but blend (which needs its place and depth).

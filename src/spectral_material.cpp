@@ -241,7 +241,8 @@ struct Converter {
     s.emission_color = up(p.emission_color);
     s.geometry_opacity = p.geometry_opacity;
     s.geometry_thin_walled = p.geometry_thin_walled;
-    return OpenPbrBxDFT<SS>::make(s, film(m.film), &m.diff_b);
+    const openpbr::Solved solved = m.solved();
+    return OpenPbrBxDFT<SS>::make(s, film(m.film), &solved);
   }
   SpectralBxDF operator()(const UserBxDF&) const { return DiffuseBxDFT<SS>{SS(0)}; }
 

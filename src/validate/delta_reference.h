@@ -127,8 +127,25 @@ inline DeltaReference openpbr_reference(const OpenPbrBxDF& m, const Vec3& wo, Tr
   if (!(alpha > 0)) return r;
   const double mu = std::min(1.0, std::abs(double(wo.z)));
   const Vec3 up{wo.x, wo.y, Float(mu)};
-  const double eta_c = p.coat_ior < 1 ? 1 / double(p.coat_ior) : double(p.coat_ior);
-  const bool coat_smooth = m.coat_dist.effectively_smooth();
+  // The indices and smoothness, written out again from SPEC-OPB (not read from the model):
+  // the TIR fix, the modulated index of eq. `modulated_ior` (F0 scaled by ξ), the base's
+  // index through the coat (eq. `specular_ior_ratio_with_tir_fix`), the roughening of the
+  // base by the coat ("Roughening") and the anisotropic α of eq. `openpbr-anisotropy-formula`.
+  const auto tir = [](double e) { return e < 1 ? 1 / e : e; };
+  const auto modulated = [](double eta, double xi) {
+    const double f0 = (eta - 1) * (eta - 1) / ((eta + 1) * (eta + 1));
+    const double s = std::sqrt(std::clamp(xi * f0, 0.0, 0.99999)) * (eta >= 1 ? 1 : -1);
+    return (1 + s) / (1 - s);
+  };
+  const auto largest_alpha = [](double roughness, double aniso) {
+    const double b = 1 - std::clamp(aniso, 0.0, 1.0);
+    return roughness * roughness * std::sqrt(2 / (1 + b * b));
+  };
+  const double smooth_alpha = double(MicrofacetDistribution::kSmoothAlpha);
+  const double eta_c = tir(double(p.coat_ior));
+  const bool coat_smooth = largest_alpha(p.coat_roughness, p.coat_roughness_anisotropy) < smooth_alpha;
+  // A rough coat's E(w) and Ē are its albedo tables' (coat_albedo.h, whose own tests
+  // compare them with a quadrature of the microfacet lobe): the one input taken from the model.
   const auto coat_e = [&](const Vec3& w) {
     if (eta_c == 1) return 0.0;
     return coat_smooth ? reference_fresnel_dielectric(std::min(1.0, double(w.z)), eta_c) : double(m.coat_E(w));
@@ -161,8 +178,18 @@ inline DeltaReference openpbr_reference(const OpenPbrBxDF& m, const Vec3& wo, Tr
     const double dark = 1 + (delta - 1) * C * std::clamp(double(p.coat_darkening), 0.0, 1.0);
     return alpha * (1 - efz) * (1 - C * (1 - a * (1 - ec))) * dark;
   };
-  const bool spec_smooth = m.spec_dist.effectively_smooth();
-  const double eta_spec = m.spec_eta;  // the declared index through the coat, modulated (openpbr.h)
+  const double rb = p.specular_roughness, rc = p.coat_roughness;
+  const double rough = rb + (std::pow(std::min(1.0, std::pow(rb, 4) + 2 * std::pow(rc, 4)), 0.25) - rb) * C;
+  const double alpha_spec = largest_alpha(rough, p.specular_roughness_anisotropy);
+  const bool spec_smooth = alpha_spec < smooth_alpha;
+  const double eta_spec =
+      tir(modulated(double(p.specular_ior) + (tir(double(p.specular_ior / p.coat_ior)) - double(p.specular_ior)) * C,
+                    double(p.specular_weight)));
+  const double eta_glass = modulated(double(p.specular_ior), double(p.specular_weight));
+  const bool glass_smooth = spec_smooth || alpha_spec * std::abs(eta_glass - 1) < smooth_alpha;
+  // The film covers thin_film_weight of the specular layer; its reflectance is the validator's
+  // own Airy sum over the film's substrate table.
+  const double film_w = p.thin_film_thickness > 0 ? double(p.thin_film_weight) : 0.0;
   const bool outside = wo.z > 0;
   for (int c = 0; c < kColorChannels; ++c) {
     double refl = 0;
@@ -175,9 +202,9 @@ inline DeltaReference openpbr_reference(const OpenPbrBxDF& m, const Vec3& wo, Tr
       refl += base * M * xi_m *
               reference_fresnel_f82(mu, std::clamp(double(p.base_color[c] * p.base_weight), 0.0, 1.0),
                                     std::clamp(double(p.specular_color[c]), 0.0, 1.0));
-      if (T < 1 && eta_spec != 1) {
+      if (T < 1 && (eta_spec != 1 || film_w > 0)) {
         double F = reference_fresnel_dielectric(mu, eta_spec);
-        if (m.film_w > 0) F = (1 - m.film_w) * F + m.film_w * film_reference(mu, m.film)[size_t(c)];
+        if (film_w > 0) F = (1 - film_w) * F + film_w * film_reference(mu, m.film)[size_t(c)];
         refl += base * (1 - M) * (1 - T) * p.specular_color[c] * F;
       }
     }
@@ -187,22 +214,22 @@ inline DeltaReference openpbr_reference(const OpenPbrBxDF& m, const Vec3& wo, Tr
       if (p.geometry_thin_walled) {
         const auto sheet = thin_sheet_reference(up, eta_spec);
         double R = sheet.reflection[size_t(c)], Tr = sheet.transmission[size_t(c)];
-        if (m.film_w > 0) {
+        if (film_w > 0) {
           const auto bubble = thin_sheet_reference(up, eta_spec, &m.film);
-          R = (1 - m.film_w) * R + m.film_w * bubble.reflection[size_t(c)];
-          Tr = (1 - m.film_w) * Tr + m.film_w * bubble.transmission[size_t(c)];
+          R = (1 - film_w) * R + film_w * bubble.reflection[size_t(c)];
+          Tr = (1 - film_w) * Tr + film_w * bubble.transmission[size_t(c)];
         }
         refl += base * (1 - M) * T * p.specular_color[c] * R;
         trans += base * (1 - M) * T * tint * Tr;
-      } else if (m.glass.specular()) {
-        const DeltaReference g = dielectric_reference(wo, m.glass.eta, mode);
+      } else if (glass_smooth) {
+        const DeltaReference g = dielectric_reference(wo, eta_glass, mode);
         if (outside) {
           refl += base * (1 - M) * T * p.specular_color[c] * g.reflection[size_t(c)];
           trans += layer(up, mu, 0, c) * (1 - M) * T * tint * g.transmission[size_t(c)];
         } else {
           refl += alpha * (1 - M) * T * g.reflection[size_t(c)];
           // Out through the layers at the refracted outside direction.
-          const double e = 1 / double(m.glass.eta), st2 = e * e * (1 - mu * mu);
+          const double e = 1 / eta_glass, st2 = e * e * (1 - mu * mu);
           if (st2 < 1) {
             const double mo = std::sqrt(1 - st2);
             const Vec3 w_out{Float(-wo.x * e), Float(-wo.y * e), Float(mo)};

@@ -152,6 +152,14 @@ inline Float modulated_ior(Float eta, Float xi) {
 // The TIR fix (SPEC-OPB eq. `specular_ior_ratio_with_tir_fix`): an index below 1 reflects as its inverse.
 inline Float tirfix(Float eta) { return eta < 1 ? 1 / eta : eta; }
 
+// The specular layer's reflecting index: the base's index seen through the coat,
+// η_s = lerp(n_b, tirfix(n_b / n_c), C) (SPEC-OPB eq. `specular_ior_ratio_with_tir_fix`),
+// modulated by specular_weight (eq. `modulated_ior`), as an index ≥ 1.
+inline Float specular_layer_eta(Float specular_ior, Float coat_ior, Float coat_weight, Float specular_weight) {
+  const Float eta_s = specular_ior + (tirfix(specular_ior / coat_ior) - specular_ior) * coat_weight;
+  return tirfix(modulated_ior(eta_s, specular_weight));
+}
+
 // A turn about the normal by the fraction `turn` (cos, sin), and directions into/out of it.
 struct Rotation {
   Float c = 1, s = 0;
@@ -186,6 +194,24 @@ inline Glossy glossy(const MicrofacetDistribution& d, const Vec3& wo, const Vec3
   g.cos_h = std::min(std::sqrt(h2) / 2, Float(1));
   g.valid = true;
   return g;
+}
+
+// What make() solves by quadrature at kNormNodes cosines μ_j = (j + ½)/kNormNodes, which the
+// spectral and polarized forms of a model take from its RGB form (made from the same
+// parameters) instead of solving again.
+constexpr int kNormNodes = 64;
+struct Solved {
+  std::array<Float, kNormNodes> diff_b{}, film_dE{};
+  std::array<Color, kNormNodes> film_dE_rgb{};  // per RGB channel (film_dE is their mean)
+};
+
+// A table at the nodes μ_j = (j + ½)/kNormNodes read at μ, linearly (clamped at the ends).
+template <typename T>
+T at_nodes(const std::array<T, kNormNodes>& table, Float mu) {
+  const Float x = std::clamp(mu * kNormNodes - Float(0.5), Float(0), Float(kNormNodes - 1));
+  const int i = std::min(int(x), kNormNodes - 2);
+  const Float t = x - Float(i);
+  return table[size_t(i)] * (1 - t) + table[size_t(i + 1)] * t;
 }
 
 enum Component : int { kPass, kFuzz, kCoat, kMetal, kSpec, kDiffuse, kDiffuseT, kGlass, kLobes };
@@ -234,18 +260,24 @@ struct OpenPbrBxDFT {
   Float eon_a = 1, eon_ms = 0;
   // The separable normalisation b(μ) of the diffuse under the specular layer (top of the
   // file), at μ_j = (j + ½)/kNormNodes; unused (b = 1/sqrt(1 − Ē_s)) at roughness 0.
-  static constexpr int kNormNodes = 64;
+  static constexpr int kNormNodes = openpbr::kNormNodes;
   std::array<Float, kNormNodes> diff_b{};
+  // A thin film's change of the rough specular lobe's albedo at the same cosines (unused
+  // without a film or for a smooth layer, whose film albedo is exact: solve_film_albedo()).
+  std::array<Float, kNormNodes> film_dE{};
+  U film_norm_ratio{Float(1)};  // (1 − Ē_s)/(1 − Ē_c) per channel with a film (make())
+  std::array<Color, kNormNodes> film_dE_rgb{};
+  openpbr::Solved solved() const { return {diff_b, film_dE, film_dE_rgb}; }
   // Glass.
   RoughDielectricBxDFT<C> glass{};
   ThinDielectricBxDFT<C> sheet{};
   ThinDielectricBxDFT<C> sheet_film{};
   U trans_tint{Float(1)};
 
-  // `norm`: the diffuse normalisation of a model made from the same parameters (the spectral
+  // `solved`: the quadratures of a model made from the same parameters (the spectral
   // and polarized forms copy the RGB model's instead of solving again).
   static OpenPbrBxDFT make(const OpenPbrParams<U>& p, ThinFilmT<U> film_on_spec = {},
-                           const std::array<Float, kNormNodes>* norm = nullptr) {
+                           const openpbr::Solved* solved = nullptr) {
     using namespace openpbr;
     OpenPbrBxDFT m;
     m.params = p;
@@ -272,20 +304,43 @@ struct OpenPbrBxDFT {
     // The base's roughness, roughened by the coat (SPEC-OPB "Roughening").
     const Float rb = p.specular_roughness, rc = p.coat_roughness;
     const Float rough = rb + (std::pow(std::min(Float(1), rb * rb * rb * rb + 2 * rc * rc * rc * rc), Float(0.25)) - rb) * m.coat;
-    // The base's index through the coat, modulated by specular_weight (SPEC-OPB §4.1, §3.1).
-    const Float eta_s = p.specular_ior + (tirfix(p.specular_ior / p.coat_ior) - p.specular_ior) * m.coat;
-    const Float eta_mod = modulated_ior(eta_s, p.specular_weight);
-    m.spec_eta = tirfix(eta_mod);
+    m.spec_eta = specular_layer_eta(p.specular_ior, p.coat_ior, m.coat, p.specular_weight);
     m.spec_dist = distribution(rough, p.specular_roughness_anisotropy);
     m.spec_rot = Rotation::of(p.specular_rotation);
     m.spec_albedo = CoatAlbedo::make(MicrofacetType::GGX, m.spec_eta);
     if (!m.spec_dist.effectively_smooth()) m.spec_albedo.prepare_roughness(m.spec_dist.alpha_x);
+    m.film_w = film_on_spec.active() ? p.thin_film_weight : Float(0);
+    m.film = film_on_spec;
     m.spec_avg = m.spec_eta == 1 ? Float(0)
                  : m.spec_dist.effectively_smooth() ? average_dielectric_fresnel(m.spec_eta)
                                                     : m.spec_albedo.average(m.spec_dist);
+    // Ē_s must be the cosine-weighted mean of the E_s(μ) that eval uses, film included, or
+    // the diffuse under a film gains (an anti-reflection film) or loses energy: the film's
+    // change of E_s, 2 ∫ (E_film(μ) − E(μ)) μ dμ, added by the midpoint rule.
+    if (m.film_w > 0 && !m.spec_dist.effectively_smooth()) {
+      if (solved) {
+        m.film_dE = solved->film_dE;
+        m.film_dE_rgb = solved->film_dE_rgb;
+      } else {
+        m.solve_film_albedo();
+      }
+    }
+    U channel_change(Float(0));
+    if (m.film_w > 0) {
+      double change = 0;
+      for (int j = 0; j < kNormNodes; ++j) {
+        const Float mu = (Float(j) + Float(0.5)) / kNormNodes, e = m.spec_E_iso_bare(mu);
+        change += 2.0 * double(m.with_film(mu, e) - e) * double(mu) / kNormNodes;
+        channel_change += m.film_deviation(mu) * (2 * mu / kNormNodes);
+      }
+      m.spec_avg = std::clamp(m.spec_avg + Float(change), Float(0), Float(1));
+    }
     m.spec_norm = 1 / std::max(Float(1e-6), 1 - m.spec_avg);
-    m.film_w = film_on_spec.active() ? p.thin_film_weight : Float(0);
-    m.film = film_on_spec;
+    // Per channel the film's Ē_c = Ē_s + its channel's deviation; the diffuse's normalisation
+    // is scaled by (1 − Ē_s)/(1 − Ē_c), which makes it exact per channel for a Lambertian base.
+    m.film_norm_ratio = map(channel_change, [&](Float d) {
+      return (1 - m.spec_avg) / std::max(Float(1e-6), 1 - std::clamp(m.spec_avg + d, Float(0), Float(1)));
+    });
     // Metal: F82-tint, F0 = base_weight base_color, tint specular_color (SPEC-OPB "Metal").
     m.metal.distribution = m.spec_dist;
     m.metal.fresnel.model = FresnelModel::F82;
@@ -317,7 +372,7 @@ struct OpenPbrBxDFT {
       m.difft_rho = half_t * m.sss;
       m.difft_rho_ms = half_t * m.sss;
     }
-    if (norm) m.diff_b = *norm;
+    if (solved) m.diff_b = solved->diff_b;
     else if (r > 0) m.solve_diffuse_norm();
     // Glass.
     m.glass.distribution = m.spec_dist;
@@ -346,7 +401,7 @@ struct OpenPbrBxDFT {
     const bool spec_smooth = m.spec_dist.effectively_smooth();
     if (m.fuzz > 0) f = f | BxDFFlags::GlossyReflection;
     if (m.coat > 0) f = f | (m.coat_dist.effectively_smooth() ? BxDFFlags::SpecularReflection : BxDFFlags::GlossyReflection);
-    if (m.metal_w > 0 || (1 - m.trans) > 0)
+    if (m.metal_w > 0 || ((1 - m.metal_w) * (1 - m.trans) > 0 && m.spec_on()))
       f = f | (spec_smooth ? BxDFFlags::SpecularReflection : BxDFFlags::GlossyReflection);
     if ((1 - m.metal_w) * (1 - m.trans) > 0) f = f | BxDFFlags::DiffuseReflection;
     if (m.thin && m.sss > 0 && (1 - m.metal_w) * (1 - m.trans) > 0) f = f | BxDFFlags::DiffuseTransmission;
@@ -384,13 +439,11 @@ struct OpenPbrBxDFT {
   void solve_diffuse_norm() {
     constexpr int n = kNormNodes;
     std::array<Float, n> mu{}, e{}, c{};
-    const Float a_iso = std::sqrt((spec_dist.alpha_x * spec_dist.alpha_x + spec_dist.alpha_y * spec_dist.alpha_y) / 2);
+    const Float a_iso = iso_alpha();
     for (int j = 0; j < n; ++j) {
       mu[size_t(j)] = (Float(j) + Float(0.5)) / n;
       const Float m = mu[size_t(j)];
-      e[size_t(j)] = spec_eta == 1 ? Float(0)
-                     : spec_dist.effectively_smooth() ? fresnel_dielectric(m, spec_eta)
-                                                      : spec_albedo.E(a_iso, m);
+      e[size_t(j)] = film_w > 0 ? with_film(m, spec_E_iso_bare(m, a_iso)) : spec_E_iso_bare(m, a_iso);
       c[size_t(j)] = eon::one_minus_g(m);
     }
     std::array<std::array<Float, n>, n> k{};
@@ -413,13 +466,7 @@ struct OpenPbrBxDFT {
   // N(μo, μi) of the diffuse under the specular layer.
   Float diffuse_norm(Float mo, Float mi) const {
     if (!(params.base_diffuse_roughness > 0)) return spec_norm;
-    const auto at = [&](Float m) {
-      const Float x = std::clamp(m * kNormNodes - Float(0.5), Float(0), Float(kNormNodes - 1));
-      const int i = std::min(int(x), kNormNodes - 2);
-      const Float t = x - Float(i);
-      return diff_b[size_t(i)] * (1 - t) + diff_b[size_t(i + 1)] * t;
-    };
-    return at(std::min(mo, Float(1))) * at(std::min(mi, Float(1)));
+    return openpbr::at_nodes(diff_b, std::min(mo, Float(1))) * openpbr::at_nodes(diff_b, std::min(mi, Float(1)));
   }
 
   // --- per-direction quantities -----------------------------------------------------
@@ -439,18 +486,92 @@ struct OpenPbrBxDFT {
     if (coat_dist.effectively_smooth()) return fresnel_dielectric(std::min(w.z, Float(1)), coat_eta);
     return coat_albedo.E(coat_dist, coat_rot.in(w));
   }
+  // Whether the opaque base has a specular reflection lobe: an interface of index ≠ 1, or
+  // a film (which reflects even on an index-1 interface, specular_weight 0).
+  bool spec_on() const { return spec_eta != 1 || film_w > 0; }
   Float spec_E(const Vec3& w) const {
-    if (spec_eta == 1 && !(film_w > 0)) return 0;
+    if (!spec_on()) return 0;
     const Float mu = std::min(w.z, Float(1));
-    const Float e = spec_dist.effectively_smooth() ? fresnel_dielectric(mu, spec_eta) : spec_albedo.E(spec_dist, spec_rot.in(w));
-    if (!(film_w > 0)) return e;
-    // With the film: the bare albedo scaled by the film's reflectance over the bare
-    // Fresnel at μ (channel average; an approximation of the film-covered lobe's albedo,
-    // which keeps the layers below from adding to a film that reflects nearly everything).
-    const Float F = fresnel_dielectric(mu, spec_eta);
-    const Float R = std::clamp(film.reflectance(mu, U(spec_eta), U(0)).average(), Float(0), Float(1));
-    const Float ratio = F > Float(1e-6) ? R / F : Float(1);
-    return std::min(Float(1), e * ((1 - film_w) + film_w * ratio) + (F > Float(1e-6) ? Float(0) : film_w * R));
+    const Float e = spec_eta == 1                      ? Float(0)
+                    : spec_dist.effectively_smooth() ? fresnel_dielectric(mu, spec_eta)
+                                                     : spec_albedo.E(spec_dist, spec_rot.in(w));
+    return film_w > 0 ? with_film(mu, e) : e;
+  }
+  // E_s per channel, which the diffuse's scaling uses (a coloured film must not let a
+  // channel gain): the channel average spec_E plus the film's deviation from its average
+  // at μ, w (R_c(μ) − R̄(μ)) (exact for a smooth layer, (1 − w) F + w R_c; for a rough one
+  // the deviation of the lobe's albedo is taken as the film's at the macro-surface cosine).
+  U spec_E_channels(const Vec3& w) const {
+    const Float e = spec_E(w);
+    if (!(film_w > 0)) return U(e);
+    return map(U(e) + film_deviation(std::min(w.z, Float(1))), [](Float v) { return std::clamp(v, Float(0), Float(1)); });
+  }
+  // Each channel's film albedo less the channels' mean, at μ: smooth, w (R_c(μ) − R̄(μ))
+  // exactly; rough, in RGB, w (ΔE_c(μ) − mean ΔE(μ)) from solve_film_albedo's table; rough in
+  // spectral mode (whose channels are the path's wavelengths, not the table's), the smooth
+  // form at the macro-surface cosine (an approximation, docs/openpbr.md).
+  U film_deviation(Float mu) const {
+    if (!(film_w > 0)) return U(0);
+    if constexpr (std::is_same_v<U, Color>) {
+      if (!spec_dist.effectively_smooth()) {
+        const Color d = openpbr::at_nodes(film_dE_rgb, mu);
+        return (d - Color(d.average())) * film_w;
+      }
+    }
+    const U R = film.reflectance(mu, U(spec_eta), U(0));
+    return (R - U(R.average())) * film_w;
+  }
+  // The diffuse's albedo scaling (1 − E_s(wo))(1 − E_s(wi)) N(μo, μi) (top of the file).
+  U diffuse_scale(const Vec3& wo, const Vec3& wi) const {
+    const Float n = diffuse_norm(wo.z, wi.z);
+    if (!(film_w > 0)) return U((1 - spec_E(wo)) * (1 - spec_E(wi)) * n);
+    return (U(1) - spec_E_channels(wo)) * (U(1) - spec_E_channels(wi)) * film_norm_ratio * n;
+  }
+  // The isotropic roughness standing for an anisotropic pair in μ-only quadratures.
+  Float iso_alpha() const {
+    return std::sqrt((spec_dist.alpha_x * spec_dist.alpha_x + spec_dist.alpha_y * spec_dist.alpha_y) / 2);
+  }
+  // The bare interface's albedo at μ (no film), of the isotropic roughness iso_alpha().
+  Float spec_E_iso_bare(Float mu, std::optional<Float> a_iso = std::nullopt) const {
+    if (spec_eta == 1) return 0;
+    if (spec_dist.effectively_smooth()) return fresnel_dielectric(mu, spec_eta);
+    return spec_albedo.E(a_iso ? *a_iso : iso_alpha(), mu);
+  }
+  // The albedo at μ of the specular layer whose bare albedo is e, with the film over film_w
+  // of it (channel average: the layers below see one albedo). Smooth: exactly
+  // (1 − w) F + w R_film. Rough: e + w ΔE(μ), ΔE solved at make() (solve_film_albedo).
+  Float with_film(Float mu, Float e) const {
+    if (spec_dist.effectively_smooth()) {
+      const Float R = film.reflectance(mu, U(spec_eta), U(0)).average();
+      return std::clamp(e * (1 - film_w) + R * film_w, Float(0), Float(1));
+    }
+    return std::clamp(e + film_w * openpbr::at_nodes(film_dE, mu), Float(0), Float(1));
+  }
+  // ΔE(μ) = ∫ D G2 / (4 μo μi) (R_film(h·wo) − F(h·wo)) μi dωi at the nodes μ_j: the film's
+  // change of the rough lobe's albedo (Walter et al. 2007 eq. 20 with the film's Fresnel),
+  // by visible-normal sampling (Heitz 2018), whose weight for this integrand is
+  // G2/G1(wo) (R_film − F), on a 16 × 16 stratified grid, for the isotropic iso_alpha().
+  void solve_film_albedo() {
+    MicrofacetDistribution d = spec_dist;
+    d.alpha_x = d.alpha_y = iso_alpha();
+    constexpr int kGrid = 16;
+    for (int j = 0; j < kNormNodes; ++j) {
+      const Float mu = (Float(j) + Float(0.5)) / kNormNodes;
+      const Vec3 wo{std::sqrt(1 - mu * mu), 0, mu};
+      const Float g1 = d.G1(wo);
+      U acc(Float(0));
+      for (int a = 0; a < kGrid; ++a)
+        for (int b = 0; b < kGrid; ++b) {
+          const Vec3 h = d.sample_visible(wo, (Float(a) + Float(0.5)) / kGrid, (Float(b) + Float(0.5)) / kGrid);
+          const Vec3 wi = reflect(wo, h);
+          if (!(wi.z > 0)) continue;
+          const Float c = std::clamp(dot(wo, h), Float(0), Float(1));
+          acc += (film.reflectance(c, U(spec_eta), U(0)) - U(fresnel_dielectric(c, spec_eta))) * (d.G2(wo, wi) / g1);
+        }
+      acc = acc * (Float(1) / (kGrid * kGrid));
+      film_dE[size_t(j)] = acc.average();
+      if constexpr (std::is_same_v<U, Color>) film_dE_rgb[size_t(j)] = acc;
+    }
   }
   // The cosine refracted into the coat (SPEC-OPB "View-dependent absorption").
   Float coat_mu_t(Float mu) const {
@@ -500,7 +621,7 @@ struct OpenPbrBxDFT {
     const Float diel = base * (1 - metal_w);
     const Float es = spec_E(wo);
     if (trans < 1) {
-      if (spec_eta != 1) p[kSpec] = diel * (1 - trans) * std::max(es, Float(0.02)) * std::max(params.specular_color.average(), Float(0.1));
+      if (spec_on()) p[kSpec] = diel * (1 - trans) * std::max(es, Float(0.02)) * std::max(params.specular_color.average(), Float(0.1));
       p[kDiffuse] = diel * (1 - trans) * (1 - es) * std::max(diff_rho.average(), Float(0.05));
       if (thin && sss > 0) p[kDiffuseT] = diel * (1 - trans) * (1 - es) * std::max(difft_rho.average(), Float(0.05));
     }
@@ -560,7 +681,7 @@ struct OpenPbrBxDFT {
       if (diel > 0 && trans < 1) {
         const Float w = diel * (1 - trans);
         // Specular reflection (rough; the smooth one is a delta).
-        if (spec_eta != 1 && !spec_dist.effectively_smooth()) {
+        if (spec_on() && !spec_dist.effectively_smooth()) {
           const Glossy g = glossy(spec_dist, spec_rot.in(wo_u), spec_rot.in(wi_u));
           if (g.valid) {
             f += fresnel_factor<C>(
@@ -570,8 +691,7 @@ struct OpenPbrBxDFT {
           }
         }
         // Diffuse under it, reciprocal albedo scaling.
-        const Float scale = (1 - spec_E(wo_u)) * (1 - spec_E(wi_u)) * diffuse_norm(wo_u.z, wi_u.z);
-        f += C(eon_f(wo_u, wi_u, diff_rho, diff_rho_ms) * base * (scale * w));
+        f += C(eon_f(wo_u, wi_u, diff_rho, diff_rho_ms) * base * diffuse_scale(wo_u, wi_u) * w);
         pdf += p[kDiffuse] * eon.pdf(wo_u, wi_u);
       }
       // Glass, reflection: from outside under the layers, tinted; from inside bare.
@@ -597,8 +717,8 @@ struct OpenPbrBxDFT {
       // The thin-walled subsurface's transmission, mirrored to wo's side.
       const Vec3 wm{wi_u.x, wi_u.y, -wi_u.z};
       const Layers lv = radiance ? lo : layers(wm);
-      const Float scale = (1 - spec_E(wo_u)) * (1 - spec_E(wm)) * diffuse_norm(wo_u.z, wm.z);
-      f += C(eon_f(wo_u, wm, difft_rho, difft_rho_ms) * base_scale(lv, wo_u.z, wm.z) * (scale * diel * (1 - trans)));
+      f += C(eon_f(wo_u, wm, difft_rho, difft_rho_ms) * base_scale(lv, wo_u.z, wm.z) * diffuse_scale(wo_u, wm) *
+             (diel * (1 - trans)));
       pdf += p[kDiffuseT] * eon.pdf(wo_u, wm);
     }
     return {f, pdf};
@@ -646,7 +766,8 @@ struct OpenPbrBxDFT {
       if (u_lobe < acc + p[size_t(k)]) break;
       acc += p[size_t(k)];
     }
-    while (k > 0 && !(p[size_t(k)] > 0)) --k;
+    // Rounding can leave u_lobe past the last nonzero share: step back to it, and its start.
+    while (k > 0 && !(p[size_t(k)] > 0)) acc = std::max(Float(0), acc - p[size_t(--k)]);
     const Float pk = p[size_t(k)];
     if (!(pk > 0)) return std::nullopt;
     const Float u = std::clamp((u_lobe - acc) / pk, Float(0), kOneMinusEpsilon);

@@ -44,8 +44,10 @@ class PolarizedBxDFT {
             polar_ = PlasticBxDFT<P>::make(static_cast<const PlasticCoat&>(m), m.reflectance);
           else if constexpr (std::is_same_v<M, ThinDielectricBxDFT<C>>)
             polar_ = ThinDielectricBxDFT<P>{m.eta, m.film};
-          else if constexpr (std::is_same_v<M, OpenPbrBxDFT<C>>)
-            polar_ = OpenPbrBxDFT<P>::make(m.params, m.film, &m.diff_b);
+          else if constexpr (std::is_same_v<M, OpenPbrBxDFT<C>>) {
+            const openpbr::Solved solved = m.solved();
+            polar_ = OpenPbrBxDFT<P>::make(m.params, m.film, &solved);
+          }
         },
         model.models());
   }
