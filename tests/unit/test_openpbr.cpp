@@ -189,26 +189,27 @@ TEST(OpenPbrFurnace, WhiteFuzzOverWhiteBase) {
 TEST(OpenPbrFurnace, ThinFilmOverWhiteBase) {
   struct Case {
     const char* film;
-    double rs, xi, weight;
+    double rs, xi, weight, rd = 0;
   };
   for (const Case& c : {Case{"\"thin_film_ior\":1.22,\"thin_film_thickness\":0.113", 0.0, 1, 1},
                         Case{"\"thin_film_ior\":1.22,\"thin_film_thickness\":0.113", 0.3, 1, 1},
                         Case{"\"thin_film_ior\":2.0,\"thin_film_thickness\":0.3", 0.0, 1, 0.7},
                         Case{"\"thin_film_ior\":2.0,\"thin_film_thickness\":0.3", 0.3, 1, 0.7},
                         Case{"\"thin_film_ior\":2.0,\"thin_film_thickness\":0.3", 0.0, 0, 1},
-                        Case{"\"thin_film_ior\":2.0,\"thin_film_thickness\":0.3", 0.3, 0, 1}}) {
+                        Case{"\"thin_film_ior\":2.0,\"thin_film_thickness\":0.3", 0.3, 0, 1},
+                        Case{"\"thin_film_ior\":2.0,\"thin_film_thickness\":0.3", 0.3, 0, 1, 0.7}}) {
     char json[320];
     std::snprintf(json, sizeof json,
                   R"({"type":"openpbr","base_color":1,"specular_roughness":%g,"specular_weight":%g,)"
-                  R"("thin_film_weight":%g,%s})",
-                  c.rs, c.xi, c.weight, c.film);
+                  R"("base_diffuse_roughness":%g,"thin_film_weight":%g,%s})",
+                  c.rs, c.xi, c.rd, c.weight, c.film);
     const BxDF b = parse_material(json);
     const auto* m = std::get_if<OpenPbrBxDF>(&b.models());
     ASSERT_NE(m, nullptr) << json;
     ASSERT_GT(m->film_w, 0) << json;
     char name[96];
-    std::snprintf(name, sizeof name, "film %.0f%% %s specular_r %.1f weight %.0f", c.weight * 100,
-                  c.film[16] == '1' ? "AR 1.22" : "n 2.0", c.rs, c.xi);
+    std::snprintf(name, sizeof name, "film %.0f%% %s specular_r %.1f weight %.0f%s", c.weight * 100,
+                  c.film[16] == '1' ? "AR 1.22" : "n 2.0", c.rs, c.xi, c.rd > 0 ? " EON 0.7" : "");
     furnace_of(name, *m);
   }
 }

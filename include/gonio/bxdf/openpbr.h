@@ -202,7 +202,7 @@ inline Glossy glossy(const MicrofacetDistribution& d, const Vec3& wo, const Vec3
 constexpr int kNormNodes = 64;
 struct Solved {
   std::array<Float, kNormNodes> diff_b{}, film_dE{};
-  std::array<Color, kNormNodes> film_dE_rgb{};  // per RGB channel (film_dE is their mean)
+  std::array<Color, kNormNodes> film_dE_rgb{}, diff_b_rgb{};  // per RGB channel, with a film
 };
 
 // A table at the nodes μ_j = (j + ½)/kNormNodes read at μ, linearly (clamped at the ends).
@@ -266,8 +266,8 @@ struct OpenPbrBxDFT {
   // without a film or for a smooth layer, whose film albedo is exact: solve_film_albedo()).
   std::array<Float, kNormNodes> film_dE{};
   U film_norm_ratio{Float(1)};  // (1 − Ē_s)/(1 − Ē_c) per channel with a film (make())
-  std::array<Color, kNormNodes> film_dE_rgb{};
-  openpbr::Solved solved() const { return {diff_b, film_dE, film_dE_rgb}; }
+  std::array<Color, kNormNodes> film_dE_rgb{}, diff_b_rgb{};
+  openpbr::Solved solved() const { return {diff_b, film_dE, film_dE_rgb, diff_b_rgb}; }
   // Glass.
   RoughDielectricBxDFT<C> glass{};
   ThinDielectricBxDFT<C> sheet{};
@@ -372,7 +372,10 @@ struct OpenPbrBxDFT {
       m.difft_rho = half_t * m.sss;
       m.difft_rho_ms = half_t * m.sss;
     }
-    if (solved) m.diff_b = solved->diff_b;
+    if (solved) {
+      m.diff_b = solved->diff_b;
+      m.diff_b_rgb = solved->diff_b_rgb;
+    }
     else if (r > 0) m.solve_diffuse_norm();
     // Glass.
     m.glass.distribution = m.spec_dist;
@@ -436,32 +439,55 @@ struct OpenPbrBxDFT {
     return 2 * eon_a + 2 * eon_a * r * kInvPi * so * si * (1 / std::max(mo, mi) - 1) + 2 * kPi * eon_ms * co * ci;
   }
   // b(μ) of the separable normalisation (top of the file), solved by matrix balancing.
+  // With a film in RGB, one b per channel (diff_b_rgb) for each channel's E_s; diff_b for
+  // their mean.
   void solve_diffuse_norm() {
-    constexpr int n = kNormNodes;
-    std::array<Float, n> mu{}, e{}, c{};
+    std::array<Float, kNormNodes> e{};
     const Float a_iso = iso_alpha();
+    for (int j = 0; j < kNormNodes; ++j) {
+      const Float m = (Float(j) + Float(0.5)) / kNormNodes;
+      e[size_t(j)] = film_w > 0 ? with_film(m, spec_E_iso_bare(m, a_iso)) : spec_E_iso_bare(m, a_iso);
+    }
+    diff_b = balance(e);
+    if constexpr (std::is_same_v<U, Color>) {
+      if (!(film_w > 0)) return;
+      for (int ch = 0; ch < 3; ++ch) {
+        std::array<Float, kNormNodes> ec{};
+        for (int j = 0; j < kNormNodes; ++j) {
+          const Float m = (Float(j) + Float(0.5)) / kNormNodes;
+          ec[size_t(j)] = std::clamp(e[size_t(j)] + film_deviation(m)[ch], Float(0), Float(1));
+        }
+        const auto b = balance(ec);
+        for (int j = 0; j < kNormNodes; ++j) diff_b_rgb[size_t(j)][ch] = b[size_t(j)];
+      }
+    }
+  }
+  // b_i Σ_j k(μi, μj)(1 − e_j) b_j μj/n = 1 for the specular layer's albedos e_j at the nodes.
+  std::array<Float, kNormNodes> balance(const std::array<Float, kNormNodes>& e) const {
+    constexpr int n = kNormNodes;
+    std::array<Float, n> mu{}, c{};
     for (int j = 0; j < n; ++j) {
       mu[size_t(j)] = (Float(j) + Float(0.5)) / n;
-      const Float m = mu[size_t(j)];
-      e[size_t(j)] = film_w > 0 ? with_film(m, spec_E_iso_bare(m, a_iso)) : spec_E_iso_bare(m, a_iso);
-      c[size_t(j)] = eon::one_minus_g(m);
+      c[size_t(j)] = eon::one_minus_g(mu[size_t(j)]);
     }
     std::array<std::array<Float, n>, n> k{};
     for (int i = 0; i < n; ++i)
       for (int j = 0; j < n; ++j)
         k[size_t(i)][size_t(j)] = diffuse_kernel(mu[size_t(i)], mu[size_t(j)], c[size_t(i)], c[size_t(j)]) *
                                   (1 - e[size_t(j)]) * mu[size_t(j)] / n;
-    diff_b.fill(std::sqrt(spec_norm));
+    std::array<Float, n> b{};
+    b.fill(std::sqrt(spec_norm));
     for (int it = 0; it < 200; ++it) {
       std::array<Float, n> next{};
       for (int i = 0; i < n; ++i) {
         Float kb = 0;
-        for (int j = 0; j < n; ++j) kb += k[size_t(i)][size_t(j)] * diff_b[size_t(j)];
-        const Float v = diff_b[size_t(i)] * kb;
-        next[size_t(i)] = v > Float(1e-12) ? std::min(diff_b[size_t(i)] / std::sqrt(v), Float(1e6)) : diff_b[size_t(i)];
+        for (int j = 0; j < n; ++j) kb += k[size_t(i)][size_t(j)] * b[size_t(j)];
+        const Float v = b[size_t(i)] * kb;
+        next[size_t(i)] = v > Float(1e-12) ? std::min(b[size_t(i)] / std::sqrt(v), Float(1e6)) : b[size_t(i)];
       }
-      diff_b = next;
+      b = next;
     }
+    return b;
   }
   // N(μo, μi) of the diffuse under the specular layer.
   Float diffuse_norm(Float mo, Float mi) const {
@@ -525,7 +551,14 @@ struct OpenPbrBxDFT {
   U diffuse_scale(const Vec3& wo, const Vec3& wi) const {
     const Float n = diffuse_norm(wo.z, wi.z);
     if (!(film_w > 0)) return U((1 - spec_E(wo)) * (1 - spec_E(wi)) * n);
-    return (U(1) - spec_E_channels(wo)) * (U(1) - spec_E_channels(wi)) * film_norm_ratio * n;
+    const U through = (U(1) - spec_E_channels(wo)) * (U(1) - spec_E_channels(wi));
+    if constexpr (std::is_same_v<U, Color>) {
+      // An EON base: each channel's own b (solve_diffuse_norm).
+      if (params.base_diffuse_roughness > 0)
+        return through * openpbr::at_nodes(diff_b_rgb, std::min(wo.z, Float(1))) *
+               openpbr::at_nodes(diff_b_rgb, std::min(wi.z, Float(1)));
+    }
+    return through * film_norm_ratio * n;
   }
   // The isotropic roughness standing for an anisotropic pair in μ-only quadratures.
   Float iso_alpha() const {
