@@ -38,8 +38,8 @@ std::vector<AreaLight> many_lights(int n, std::uint64_t seed) {
       QuadLight q;
       q.corner = c;
       // e1 × e2 = (0, −s², 0) for the one-sided ones: they face the floor; the others lean.
-      q.edge1 = {0, 0, s};
-      q.edge2 = i % 3 == 1 ? Vec3{s, 0, 0} : Vec3{s, s * (rng.next_float() - 0.5f), 0};
+      q.edge1 = i % 3 == 1 ? Vec3{s, 0, 0} : Vec3{s, s * (rng.next_float() - 0.5f), 0};
+      q.edge2 = {0, 0, s};
       q.two_sided = i % 3 == 2;
       q.radiance = Color(L);
       lights.emplace_back(q);
@@ -233,9 +233,9 @@ TEST(LightSampler, UniformIsOneOverCount) {
   EXPECT_EQ(ls.sample({0, 0, 0}, {0, 1, 0}, 0.95f).light, 9);
 }
 
-// A tiny scene of 24 small lights of powers over three decades, over a diffuse floor,
-// with a glossy sphere and a glossy floor patch (where BSDF samples hit the lights, so
-// that the MIS weights matter) and a dim sky.
+// A tiny scene of 24 small lights (spheres, and quads facing down) of powers over three
+// decades over a diffuse floor, with a glossy sphere and a glossy floor patch (where BSDF
+// samples hit the lights, so that the MIS weights matter) and a dim sky.
 std::string tiny_scene(const std::string& light_sampler, int seed, int spp) {
   std::string lights;
   Pcg32 rng(11);
@@ -248,7 +248,7 @@ std::string tiny_scene(const std::string& light_sampler, int seed, int spp) {
                 R"(], "radius": 0.06, "radiance": )" + std::to_string(L) + "}";
     else
       lights += R"({"type": "quad", "corner": [)" + std::to_string(x) + ", " + std::to_string(y) + ", " + std::to_string(z) +
-                R"(], "edge1": [0, 0, 0.12], "edge2": [0.12, 0, 0], "radiance": )" + std::to_string(L) + "}";
+                R"(], "edge1": [0.12, 0, 0], "edge2": [0, 0, 0.12], "radiance": )" + std::to_string(L) + "}";
   }
   return R"({"camera": {"position": [0, 3, 2.5], "look_at": [0, 0, 0], "fov": 50, "width": 16, "height": 16},
     "render": {"spp": )" + std::to_string(spp) + R"(, "seed": )" + std::to_string(seed) + R"(, "max_depth": 3, "light_sampler": ")" +
