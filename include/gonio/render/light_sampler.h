@@ -8,9 +8,10 @@
 //   4th ed. §12.6.3): each node bounds its lights' emitters (a box), their power and the
 //   cone of their normals; one descent from the root picks a child with probability
 //   proportional to its importance at the shading point (power, orientation cone,
-//   distance, and the receiver's cosine bound), so the light is chosen with the product
-//   of those probabilities, which pmf() recomputes for MIS. The environment takes a fixed
-//   share kEnvironmentShare of the choices (1 when it is the only sampled light).
+//   distance, and the receiver's cosine bound; by power where both children's importance
+//   is 0), so the light is chosen with the product of those probabilities, which pmf()
+//   recomputes for MIS, and the pmf over all lights sums to 1. The environment takes a
+//   fixed share kEnvironmentShare of the choices (1 when it is the only sampled light).
 // - "power": probability proportional to each light's emitted power (light_power), from
 //   a CDF made once per scene; the environment among them by its estimate.
 // - "uniform": every sampled light alike (the renderer's choice before issue 38).

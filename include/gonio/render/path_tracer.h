@@ -3,7 +3,9 @@
 // tracing with next-event estimation, BSDF sampling and multiple importance sampling by
 // the power heuristic (Veach & Guibas 1995; Veach 1997, ch. 9), and Russian roulette.
 // Point lights are summed over exactly at every non-specular vertex (lecture eq. 2);
-// area lights and the environment are sampled as the integral of eq. 1.
+// area lights and the environment are sampled as the integral of eq. 1, one of them per
+// vertex, chosen by the scene's light sampler (light_sampler.h) with a pmf the MIS weights
+// use both where the light is sampled and where a BSDF sample hits it.
 //
 // Subsurface materials (issue 14): the boundary is an ordinary vertex, shaded with the
 // boundary's BSDF. A direction sampled into the medium of a random-walk material starts
