@@ -48,6 +48,7 @@ struct RenderArgs {
   std::optional<double> polarizer;  // --polarizer DEG: overrides the scene's /camera/polarizer
   std::int64_t seed = -1;  // -1: the scene's
   std::string sampler;     // empty: the scene's
+  std::string light_sampler;  // empty: the scene's
   // --sample-range A B: only the per-pixel sample indices [A, B), written as their sums
   // (docs/distributed.md); empty: the whole render.
   std::vector<std::int64_t> sample_range;
@@ -98,6 +99,11 @@ void run_render(const RenderArgs& a) {
     const auto type = render::sampler_type_from_name(a.sampler);
     if (!type) throw InputError("--sampler must be zsobol, sobol or independent, got \"" + a.sampler + "\"");
     scene.settings.sampler = *type;
+  }
+  if (!a.light_sampler.empty()) {
+    const auto type = render::light_sampler_type_from_name(a.light_sampler);
+    if (!type) throw InputError("--light-sampler must be bvh, power or uniform, got \"" + a.light_sampler + "\"");
+    scene.settings.light_sampler = *type;
   }
   if (a.spectral) scene.settings.spectral = true;
   if (a.polarized) scene.settings.polarized = true;
@@ -205,6 +211,9 @@ void register_render(CLI::App& app) {
   cmd->add_option("--sampler", args->sampler,
                   "zsobol (default), sobol or independent: where the samples' random numbers come from (overrides "
                   "the scene's \"render\": {\"sampler\"}; docs/scene-format.md)");
+  cmd->add_option("--light-sampler", args->light_sampler,
+                  "bvh (default), power or uniform: how next-event estimation picks the light it samples (overrides "
+                  "the scene's \"render\": {\"light_sampler\"}; docs/scene-format.md)");
   cmd->add_option("--sample-range", args->sample_range,
                   "A B: render only the per-pixel sample indices [A, B) of the render's sequences, 0 <= A < B <= "
                   "1048576, and write their per-pixel SUMS (not the mean) as linear .exr: passes of a distributed "

@@ -30,7 +30,7 @@ Environment::Environment(Image map, Float scale, Float rotation_deg)
   const int w = map_.width(), h = map_.height();
   row_cdf_.assign(static_cast<size_t>(h + 1), 0);
   col_cdf_.assign(static_cast<size_t>(h) * static_cast<size_t>(w + 1), 0);
-  double total = 0;
+  double total = 0, mean = 0, solid = 0;
   for (int y = 0; y < h; ++y) {
     // Pixels near the poles cover less solid angle: weight by sin θ of the row.
     const double sin_theta = std::sin(kPiD * (y + 0.5) / h);
@@ -38,6 +38,8 @@ Environment::Environment(Image map, Float scale, Float rotation_deg)
     double row = 0;
     for (int x = 0; x < w; ++x) {
       row += std::max(0.0, static_cast<double>(pixel_weight(map_.at(x, y)))) * sin_theta;
+      mean += static_cast<double>(map_.at(x, y).average()) * sin_theta;
+      solid += sin_theta;
       col[x + 1] = static_cast<Float>(row);
     }
     for (int x = 1; x <= w; ++x) col[x] = row > 0 ? static_cast<Float>(col[x] / row) : Float(x) / Float(w);
@@ -48,6 +50,7 @@ Environment::Environment(Image map, Float scale, Float rotation_deg)
     row_cdf_[static_cast<size_t>(y)] = total > 0 ? static_cast<Float>(row_cdf_[static_cast<size_t>(y)] / total) : Float(y) / Float(h);
   // Mean of the sin-weighted luminance per pixel; pdf over (u, v) is weight / mean.
   total_ = static_cast<Float>(total / (static_cast<double>(w) * h));
+  mean_ = solid > 0 ? static_cast<Float>(std::max(0.0, mean / solid) * static_cast<double>(scale_)) : Float(0);
 }
 
 // The centre column (u = 0.5) looks along −z, the default camera's view, and u grows

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 #include <type_traits>
 
@@ -152,9 +153,31 @@ struct PolarizedShading {
   }
 };
 
+// Half the diagonal of the box holding every shape and point light: the environment's
+// power estimate (light_sampler.h) needs the scene's size.
+Float scene_radius(const Scene& scene) {
+  constexpr Float inf = std::numeric_limits<Float>::infinity();
+  Vec3 lo{inf, inf, inf}, hi{-inf, -inf, -inf};
+  auto add = [&](const Vec3& p, Float r) {
+    lo = {std::min(lo.x, p.x - r), std::min(lo.y, p.y - r), std::min(lo.z, p.z - r)};
+    hi = {std::max(hi.x, p.x + r), std::max(hi.y, p.y + r), std::max(hi.z, p.z + r)};
+  };
+  for (const Sphere& s : scene.spheres) add(s.center, s.radius);
+  for (const Mesh& m : scene.meshes)
+    for (const Vec3& p : m.positions) add(p, 0);
+  for (const PointLight& l : scene.point_lights) add(l.position, 0);
+  if (!(hi.x >= lo.x)) return 1;
+  const Float r = length(hi - lo) / 2;
+  return std::isfinite(r) && r > 0 ? r : Float(1);
+}
+
 }  // namespace
 
-PathTracer::PathTracer(const Scene& scene, const Accel& accel) : scene_(scene), accel_(accel) {
+PathTracer::PathTracer(const Scene& scene, const Accel& accel)
+    : scene_(scene),
+      accel_(accel),
+      light_sampler_(scene.area_lights, scene.environment.is_black() ? nullptr : &scene.environment, scene_radius(scene),
+                     scene.settings.light_sampler) {
   // The media are RGB (σs, σa per channel); carrying them at a path's wavelengths is not
   // done yet, and rendering them grey or wrong would not say so.
   if (scene.settings.spectral)
@@ -177,8 +200,6 @@ PathTracer::PathTracer(const Scene& scene, const Accel& accel) : scene_(scene), 
       polarizer_spectral_ = broadcast<SampledSpectrum>(mueller_linear_polarizer(*scene.camera.polarizer_deg * kPi / 180));
     }
   }
-  sampled_lights_ = static_cast<int>(scene.area_lights.size()) + (scene.environment.is_black() ? 0 : 1);
-  light_select_pdf_ = sampled_lights_ > 0 ? 1 / Float(sampled_lights_) : Float(0);
 }
 
 bool PathTracer::occluded(const Vec3& p, const Vec3& ng, const Vec3& dir, Float dist, PathStats& stats) const {
@@ -211,11 +232,14 @@ typename Shading::C PathTracer::direct_light(const SurfaceHit& hit, const Frame&
     if (f.is_black() || occluded(hit.p, hit.ng, wi_world, dist, stats)) continue;
     sum += f * shading.point(light) * (std::abs(wi.z) / dist2);
   }
-  // Eq. 1 by sampling one of the other lights, chosen uniformly.
-  if (sampled_lights_ == 0) return sum;
+  // Eq. 1 by sampling one of the other lights, chosen by the light sampler with the
+  // probability choice.pmf, which divides out below.
+  if (light_sampler_.count() == 0) return sum;
+  const LightSampler::Choice choice = light_sampler_.sample(hit.p, frame.n, u_pick);
+  if (choice.light < 0) return sum;
+  const int pick = choice.light;
   const auto [u1, u2] = sampler.get2d(dims::bounce(depth) + dims::kLightPosition);
-  const int pick = std::min(static_cast<int>(u_pick * Float(sampled_lights_)), sampled_lights_ - 1);
-  const bool env = pick == static_cast<int>(scene_.area_lights.size());
+  const bool env = pick == light_sampler_.environment_index();
   const LightSample ls = env ? scene_.environment.sample(u1, u2)
                              : sample_area_light(scene_.area_lights[static_cast<size_t>(pick)], hit.p, u1, u2);
   if (!(ls.pdf > 0) || ls.radiance.is_black()) return sum;
@@ -223,7 +247,7 @@ typename Shading::C PathTracer::direct_light(const SurfaceHit& hit, const Frame&
   if (!sides_agree(wo_world, ls.wi, hit.ng, wo, wi)) return sum;
   const auto e = bxdf.eval(wo, wi);
   if (e.f.is_black() || occluded(hit.p, hit.ng, ls.wi, ls.distance, stats)) return sum;
-  const Float light_pdf = light_select_pdf_ * ls.pdf;
+  const Float light_pdf = choice.pmf * ls.pdf;
   const Float w = power_heuristic(light_pdf, e.pdf);
   const auto Le = env ? shading.environment(scene_.environment, ls.wi, ls.radiance)
                    : shading.area(scene_.area_lights[static_cast<size_t>(pick)], ls.radiance);
@@ -269,6 +293,7 @@ typename Shading::Radiance PathTracer::trace(Ray ray, PixelSampler& sampler, Pat
   bool specular = true;  // the previous vertex was a delta lobe (or is the camera)
   Float prev_pdf = 0;    // solid-angle density of the BSDF sample that made `ray`
   Vec3 prev_p = ray.o;
+  Vec3 prev_n{0, 0, 0};  // the normal light selection used at prev_p (LightSampler::pmf)
   Float eta_scale = 1;   // undoes the (n_wo/n_wi)² of refraction for Russian roulette
   const int max_depth = scene_.settings.max_depth;
   // The boundary point a random walk reached: the next vertex, found without a ray.
@@ -288,7 +313,8 @@ typename Shading::Radiance PathTracer::trace(Ray ray, PixelSampler& sampler, Pat
       if (!accel_.intersect(ray, hit)) {
         if (!scene_.environment.is_black()) {
           const Color rgb = scene_.environment.radiance(ray.d);
-          const Float w = specular ? 1 : power_heuristic(prev_pdf, light_select_pdf_ * scene_.environment.pdf(ray.d));
+          const Float w = specular ? 1 : power_heuristic(prev_pdf, light_sampler_.pmf(prev_p, prev_n, light_sampler_.environment_index()) *
+                                                                            scene_.environment.pdf(ray.d));
           if (!rgb.is_black()) shading.add(L, beta, shading.environment(scene_.environment, ray.d, rgb), w);
         }
         break;
@@ -300,7 +326,8 @@ typename Shading::Radiance PathTracer::trace(Ray ray, PixelSampler& sampler, Pat
         const Vec3 n = quad ? quad->normal() : hit.ng;
         const Color rgb = area_light_radiance(light, n, -ray.d);
         if (!rgb.is_black()) {
-          const Float w = specular ? 1 : power_heuristic(prev_pdf, light_select_pdf_ * area_light_pdf(light, prev_p, hit.p, n));
+          const Float w = specular ? 1 : power_heuristic(prev_pdf, light_sampler_.pmf(prev_p, prev_n, hit.area_light) *
+                                                                            area_light_pdf(light, prev_p, hit.p, n));
           shading.add(L, beta, shading.area(light, rgb), w);
         }
         break;
@@ -332,6 +359,7 @@ typename Shading::Radiance PathTracer::trace(Ray ray, PixelSampler& sampler, Pat
     specular = s->delta;
     prev_pdf = s->pdf;
     prev_p = hit.p;
+    prev_n = frame.n;
     if (s->lobe == Lobe::Transmission) eta_scale *= s->eta * s->eta;
 
     // Russian roulette (Arvo & Kirk 1990): continue with probability ~ the throughput.
@@ -391,6 +419,7 @@ typename Shading::Radiance PathTracer::trace(Ray ray, PixelSampler& sampler, Pat
         specular = false;
         prev_pdf = so->pdf;
         prev_p = xo.p;
+        prev_n = exit_frame.n;
         ray = Ray{offset_ray_origin(xo.p, xo.ng, wi_world), wi_world};
         continue;
       } else {

@@ -467,7 +467,7 @@ struct Loader {
   }
 
   void render_settings(const Node& n) {
-    n.object({"spp", "max_depth", "rr_depth", "seed", "exposure", "tonemap", "spectral", "polarized", "sampler"});
+    n.object({"spp", "max_depth", "rr_depth", "seed", "exposure", "tonemap", "spectral", "polarized", "sampler", "light_sampler"});
     RenderSettings& s = scene.settings;
     if (n.has("spp")) s.spp = n.at("spp").integer(1, 1 << 20);
     if (n.has("max_depth")) s.max_depth = n.at("max_depth").integer(0, 1024);
@@ -486,6 +486,12 @@ struct Loader {
       const auto type = sampler_type_from_name(t);
       if (!type) n.at("sampler").fail("must be \"zsobol\", \"sobol\" or \"independent\", got \"" + t + "\"");
       s.sampler = *type;
+    }
+    if (n.has("light_sampler")) {
+      const std::string t = n.at("light_sampler").string();
+      const auto type = light_sampler_type_from_name(t);
+      if (!type) n.at("light_sampler").fail("must be \"bvh\", \"power\" or \"uniform\", got \"" + t + "\"");
+      s.light_sampler = *type;
     }
   }
 

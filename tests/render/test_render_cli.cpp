@@ -101,6 +101,9 @@ TEST(RenderCli, BadCommandLineIsOneLineAndExit2) {
   expect_bad_input(run_gonio({"render", scene, "-o", dir.path("x.jpg")}), {"x.jpg", ".exr"});
   expect_bad_input(run_gonio({"render", scene, "-o", dir.path("no/such/dir/x.png")}), {"no/such/dir"});
   expect_bad_input(run_gonio({"render", dir.path("")}), {});
+  expect_bad_input(run_gonio({"render", scene, "-o", dir.path("y.png"), "--light-sampler", "tree"}),
+                   {"--light-sampler", "tree"});
+  EXPECT_FALSE(fs::exists(dir.path("y.png")));
 }
 
 // SPEC §3: --spp 1–1,048,576, --threads 0–1024 (0: all cores), --seed 0–2,147,483,647,

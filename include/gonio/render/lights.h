@@ -71,6 +71,9 @@ class Environment {
   SampledSpectrum radiance(const Vec3& dir, const SampledWavelengths& w) const;
   LightSample sample(Float u1, Float u2) const;
   Float pdf(const Vec3& dir) const;
+  // The radiance averaged over the sphere of directions and the colour's channels (the
+  // power estimate of light selection, light_sampler.h).
+  Float mean_radiance() const { return map_.width() == 0 ? constant_.average() : mean_; }
 
  private:
   Color constant_;
@@ -80,6 +83,7 @@ class Environment {
   // Piecewise-constant 2-D distribution over the map's pixels (rows then columns).
   std::vector<Float> row_cdf_, col_cdf_;  // row_cdf_: height+1; col_cdf_: height×(width+1)
   Float total_ = 0;
+  Float mean_ = 0;  // mean_radiance() of a map
   Vec2 direction_to_uv(const Vec3& dir) const;
   Vec3 uv_to_direction(Float u, Float v) const;
 };

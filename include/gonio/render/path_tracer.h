@@ -3,7 +3,9 @@
 // tracing with next-event estimation, BSDF sampling and multiple importance sampling by
 // the power heuristic (Veach & Guibas 1995; Veach 1997, ch. 9), and Russian roulette.
 // Point lights are summed over exactly at every non-specular vertex (lecture eq. 2);
-// area lights and the environment are sampled as the integral of eq. 1.
+// area lights and the environment are sampled as the integral of eq. 1, one of them per
+// vertex, chosen by the scene's light sampler (light_sampler.h) with a pmf the MIS weights
+// use both where the light is sampled and where a BSDF sample hits it.
 //
 // Subsurface materials (issue 14): the boundary is an ordinary vertex, shaded with the
 // boundary's BSDF. A direction sampled into the medium of a random-walk material starts
@@ -27,6 +29,7 @@
 #include "gonio/spectral_material.h"
 #include "gonio/spectrum/wavelengths.h"
 #include "gonio/render/accel.h"
+#include "gonio/render/light_sampler.h"
 #include "gonio/render/scene.h"
 
 namespace gonio::render {
@@ -42,6 +45,7 @@ struct PathStats {
 class PathTracer {
  public:
   PathTracer(const Scene& scene, const Accel& accel);
+  const LightSampler& light_sampler() const { return light_sampler_; }
 
   // Radiance arriving at the camera along `ray` (one sample of it).
   Color radiance(Ray ray, PixelSampler& sampler, PathStats& stats) const;
@@ -72,8 +76,9 @@ class PathTracer {
 
   const Scene& scene_;
   const Accel& accel_;
-  int sampled_lights_ = 0;  // area lights + the environment when it is not black
-  Float light_select_pdf_ = 0;
+  // Chooses the area light or the environment each next-event estimate samples (the
+  // scene's "light_sampler"); its pmf is the selection's share of the MIS densities.
+  LightSampler light_sampler_;
   // Polarized mode: the untextured materials' polarized models (made once; empty for a
   // textured one) and the camera's polarizer as a Mueller matrix per channel.
   std::vector<std::optional<PolarizedBxDF>> polarized_models_;

@@ -15,6 +15,7 @@
 #include "gonio/math/warp.h"
 #include "gonio/render/sampler.h"
 #include "gonio/render/camera.h"
+#include "gonio/render/light_sampler.h"
 #include "gonio/render/lights.h"
 #include "gonio/render/texture.h"
 #include "gonio/subsurface/diffusion.h"
@@ -78,6 +79,7 @@ struct RenderSettings {
   bool spectral = false;  // hero-wavelength spectral transport (else RGB)
   bool polarized = false;  // Stokes vectors along paths (issue 15), RGB or spectral
   SamplerType sampler = SamplerType::ZSobol;  // sampler.h
+  LightSamplerType light_sampler = LightSamplerType::Bvh;  // light_sampler.h
 };
 
 struct Scene {
