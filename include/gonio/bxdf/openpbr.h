@@ -239,6 +239,7 @@ struct OpenPbrBxDFT {
   CoatAlbedo coat_albedo{};
   Float coat_avg = 0;          // Ē_coat
   U coat_trans{Float(1)};       // sqrt(coat_color): the one-way transmittance at normal incidence
+  U coat_log_trans{Float(0)};   // its logarithm (≥ −10⁴), so that T^k is one exp per channel
   U darkening{Float(1)};        // lerp(1, Δ, C δ)
   // Metal.
   RoughConductorBxDFT<C> metal{};
@@ -301,6 +302,9 @@ struct OpenPbrBxDFT {
                  : m.coat_dist.effectively_smooth() ? average_dielectric_fresnel(m.coat_eta)
                                                     : m.coat_albedo.average(m.coat_dist);
     m.coat_trans = map(p.coat_color, [](Float c) { return std::sqrt(std::max(c, Float(0))); });
+    m.coat_log_trans = map(m.coat_trans, [](Float t) {
+      return t >= 1 ? Float(0) : t > 0 ? std::max(std::log(t), Float(-1e4)) : Float(-1e4);
+    });
     // The base's roughness, roughened by the coat (SPEC-OPB "Roughening").
     const Float rb = p.specular_roughness, rc = p.coat_roughness;
     const Float rough = rb + (std::pow(std::min(Float(1), rb * rb * rb * rb + 2 * rc * rc * rc * rc), Float(0.25)) - rb) * m.coat;
@@ -610,10 +614,14 @@ struct OpenPbrBxDFT {
   Float coat_mu_t(Float mu) const {
     return std::sqrt(std::max(Float(1e-12), 1 - (1 - mu * mu) / (coat_eta * coat_eta)));
   }
+  // T^k per channel, T = sqrt(coat_color) (k ≥ 1: the path length in units of the thickness).
+  U coat_transmittance(Float k) const {
+    return map(coat_log_trans, [k](Float l) { return l >= 0 ? Float(1) : std::exp(k * l); });
+  }
   // coat_color^((1/μt_o + 1/μt_i)/2) = T^(1/μt_o + 1/μt_i), T = sqrt(coat_color).
   U coat_absorption(Float mu_o, Float mu_i) const {
     const Float k = 1 / coat_mu_t(mu_o) + 1 / coat_mu_t(mu_i);
-    return map(coat_trans, [k](Float t) { return t >= 1 ? Float(1) : std::pow(t, k); });
+    return coat_transmittance(k);
   }
   // What reaches the base and comes back, seen from v: α (1 − F E_fz(v)) lerp(1, A (1 − E_c(v)), C) Δ.
   U base_scale(const Layers& v, Float mu_o, Float mu_i) const {
@@ -675,13 +683,19 @@ struct OpenPbrBxDFT {
   // --- evaluation -------------------------------------------------------------------
 
   BSDFEvalT<C> eval(const Vec3& wo, const Vec3& wi, TransportMode mode = TransportMode::Radiance) const {
+    if (wo.z == 0 || wi.z == 0 || opacity <= 0) return {};
+    const Vec3 wo_u{wo.x, wo.y, std::abs(wo.z)};
+    const Layers lo = layers(wo_u);
+    return eval_given(wo, wi, mode, lo, probabilities(wo_u, lo, mode, wo.z < 0));
+  }
+  // eval with wo's layers and lobe probabilities already known (sample() has them).
+  BSDFEvalT<C> eval_given(const Vec3& wo, const Vec3& wi, TransportMode mode, const Layers& lo,
+                          const std::array<Float, openpbr::kLobes>& p) const {
     using namespace openpbr;
     if (wo.z == 0 || wi.z == 0 || opacity <= 0) return {};
     const bool reflection = (wo.z > 0) == (wi.z > 0);
     const Float s = wo.z > 0 ? 1 : -1;  // mirror the pair to wo's side up
     const Vec3 wo_u{wo.x, wo.y, s * wo.z}, wi_u{wi.x, wi.y, s * wi.z};
-    const Layers lo = layers(wo_u);
-    const auto p = probabilities(wo_u, lo, mode, wo.z < 0);
     C f{};
     Float pdf = 0;
     const bool radiance = mode == TransportMode::Radiance;
@@ -766,7 +780,7 @@ struct OpenPbrBxDFT {
     U s = U(opacity * (1 - l.e_fz));
     if (coat > 0) {
       const Float k = 1 / coat_mu_t(std::min(mu, Float(1)));
-      const U a = map(coat_trans, [k](Float t) { return t >= 1 ? Float(1) : std::pow(t, k); });
+      const U a = coat_transmittance(k);
       s = s * ((U(1) - a * (1 - l.e_c)) * (-coat) + U(1)) * darkening;
     }
     return s;
@@ -885,7 +899,7 @@ struct OpenPbrBxDFT {
     if (k != kGlass && (k == kDiffuseT ? !(wi_u.z < 0) : !(wi_u.z > 0))) return std::nullopt;
     const Vec3 wi = up(wi_u);
     if (wi.z == 0) return std::nullopt;
-    const BSDFEvalT<C> e = eval(wo, wi, mode);
+    const BSDFEvalT<C> e = eval_given(wo, wi, mode, lo, p);
     if (!(e.pdf > 0)) return std::nullopt;
     const bool transmit = (wi.z > 0) != (wo.z > 0);
     const Float eta = transmit && !thin ? (wo.z > 0 ? glass.eta : 1 / glass.eta) : Float(1);
