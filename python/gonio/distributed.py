@@ -130,6 +130,20 @@ def _quiet_dask():
     warnings.filterwarnings("ignore", module=r"distributed(\..*)?$")
 
 
+def _keep_malloc_default():
+    """Dask's nanny starts each worker with MALLOC_TRIM_THRESHOLD_=65536 (its
+    distributed.nanny.pre-spawn-environ), which makes glibc return freed memory to the system
+    at once; a renderer that frees and reallocates its buffers then pays for the pages again
+    and again: 40 ms of a 640x360 pass's 113 ms here (docs/distributed.md). The workers this
+    module starts keep glibc's own (adaptive) threshold. Set for this process's Dask config,
+    so that a worker the nanny restarts (after a fault) gets it too."""
+    import dask
+    env = dict(dask.config.get("distributed.nanny.pre-spawn-environ", default={}) or {})
+    if "MALLOC_TRIM_THRESHOLD_" in env:
+        del env["MALLOC_TRIM_THRESHOLD_"]
+        dask.config.set({"distributed.nanny.pre-spawn-environ": env})
+
+
 @contextlib.contextmanager
 def cluster(client=None, scheduler=None, workers=None, connect_timeout=10):
     """A dask.distributed Client: `client` itself; or one connected to `scheduler`
@@ -154,6 +168,7 @@ def cluster(client=None, scheduler=None, workers=None, connect_timeout=10):
     n = workers if workers is not None else (os.cpu_count() or 1)
     if not (isinstance(n, int) and 1 <= n <= 1024):
         raise DistributedError("workers must be an integer from 1 to 1024, got %r" % (n,))
+    _keep_malloc_default()
     lc = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None,
                       silence_logs=logging.CRITICAL)
     c = Client(lc)

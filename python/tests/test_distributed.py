@@ -258,3 +258,14 @@ def test_tabulate_and_measure_tables_equal_single_calls(client, tmp_path):
                          (["tabulate", "{}", "-o", str(tmp_path / "missing")], "missing")):
         r = cli(*args, "--scheduler", client.scheduler.address)
         assert r.returncode != 0 and len(r.stderr.strip().splitlines()) == 1 and needle in r.stderr, r.stderr
+
+
+def test_own_cluster_keeps_glibcs_trim_threshold(monkeypatch):
+    # Dask's nanny would start workers with MALLOC_TRIM_THRESHOLD_=65536, which cost a
+    # 640x360 pass 40 of its 113 ms (docs/distributed.md); the module's own LocalCluster
+    # leaves glibc's default. (A LocalCluster's nannies run in this process and write the
+    # variable into its environment, as the `client` fixture's did: removed for this test.)
+    monkeypatch.delenv("MALLOC_TRIM_THRESHOLD_", raising=False)
+    with gd.cluster(workers=1) as c:
+        seen = set(c.run(lambda: os.environ.get("MALLOC_TRIM_THRESHOLD_")).values())
+    assert seen == {None}
