@@ -198,11 +198,14 @@ inline Glossy glossy(const MicrofacetDistribution& d, const Vec3& wo, const Vec3
 
 // What make() solves by quadrature at kNormNodes cosines μ_j = (j + ½)/kNormNodes, which the
 // spectral and polarized forms of a model take from its RGB form (made from the same
-// parameters) instead of solving again.
+// parameters) instead of solving again: a view of that model's tables (nothing is copied
+// until make() takes what it needs; spectral mode makes a model per shading point).
 constexpr int kNormNodes = 64;
 struct Solved {
-  std::array<Float, kNormNodes> diff_b{}, film_dE{};
-  std::array<Color, kNormNodes> film_dE_rgb{}, diff_b_rgb{};  // per RGB channel, with a film
+  const std::array<Float, kNormNodes>* diff_b = nullptr;
+  const std::array<Float, kNormNodes>* film_dE = nullptr;
+  const std::array<Color, kNormNodes>* film_dE_rgb = nullptr;  // per RGB channel, with a film
+  const std::array<Color, kNormNodes>* diff_b_rgb = nullptr;
 };
 
 // A table at the nodes μ_j = (j + ½)/kNormNodes read at μ, linearly (clamped at the ends).
@@ -268,7 +271,7 @@ struct OpenPbrBxDFT {
   std::array<Float, kNormNodes> film_dE{};
   U film_norm_ratio{Float(1)};  // (1 − Ē_s)/(1 − Ē_c) per channel with a film (make())
   std::array<Color, kNormNodes> film_dE_rgb{}, diff_b_rgb{};
-  openpbr::Solved solved() const { return {diff_b, film_dE, film_dE_rgb, diff_b_rgb}; }
+  openpbr::Solved solved() const { return {&diff_b, &film_dE, &film_dE_rgb, &diff_b_rgb}; }
   // Glass.
   RoughDielectricBxDFT<C> glass{};
   ThinDielectricBxDFT<C> sheet{};
@@ -323,8 +326,8 @@ struct OpenPbrBxDFT {
     // change of E_s, 2 ∫ (E_film(μ) − E(μ)) μ dμ, added by the midpoint rule.
     if (m.film_w > 0 && !m.spec_dist.effectively_smooth()) {
       if (solved) {
-        m.film_dE = solved->film_dE;
-        m.film_dE_rgb = solved->film_dE_rgb;
+        m.film_dE = *solved->film_dE;
+        if constexpr (std::is_same_v<U, Color>) m.film_dE_rgb = *solved->film_dE_rgb;
       } else {
         m.solve_film_albedo();
       }
@@ -377,8 +380,9 @@ struct OpenPbrBxDFT {
       m.difft_rho_ms = half_t * m.sss;
     }
     if (solved) {
-      m.diff_b = solved->diff_b;
-      m.diff_b_rgb = solved->diff_b_rgb;
+      m.diff_b = *solved->diff_b;
+      if constexpr (std::is_same_v<U, Color>)
+        if (m.film_w > 0) m.diff_b_rgb = *solved->diff_b_rgb;
     }
     else if (r > 0) m.solve_diffuse_norm();
     // Glass.
