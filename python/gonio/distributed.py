@@ -306,6 +306,19 @@ def _check_tables(tables):
             raise DistributedError("%s: no such file" % os.fspath(t))
 
 
+def _check_models(models, kwargs):
+    for m in models:
+        gonio._gonio._check_fit_options(m, **kwargs)  # gonio.fit's own checks, in its words
+
+
+def _check_surfaces(surfaces, kwargs):
+    for s in surfaces:
+        gonio._gonio._check_surface(s)  # gonio.measure's parse (and image load), no ray
+    samples = kwargs.get("samples", 1)
+    if not (isinstance(samples, int) and samples >= 1):
+        raise DistributedError("measure: samples must be an integer of at least 1, got %r" % (samples,))
+
+
 def _fit_one(table, model, kwargs):
     return gonio.fit(table, model, **kwargs)
 
@@ -317,6 +330,7 @@ def fit(tables, models, client=None, scheduler=None, workers=None, **kwargs):
     if not hasattr(gonio, "fit"):
         raise DistributedError("this gonio module was built without the fitter")
     _check_tables(tables)
+    _check_models(models, kwargs)
     pairs = [(os.path.abspath(os.fspath(t)), m, kwargs) for t, m in itertools.product(tables, models)]
     return _map(_fit_one, pairs, client, scheduler, workers)
 
@@ -342,6 +356,7 @@ def measure(surfaces, client=None, scheduler=None, workers=None, outputs=None, *
     table path per surface (gonio.measure's output=), on a file system the workers share."""
     kwargs.setdefault("threads", 1)
     surfaces = list(surfaces)
+    _check_surfaces(surfaces, kwargs)
     if outputs is None:
         return _map(_measure_one, [(s, kwargs) for s in surfaces], client, scheduler, workers)
     outputs = [os.path.abspath(os.fspath(o)) for o in outputs]
@@ -478,6 +493,7 @@ def main(argv=None):
             print(a.output)
         elif a.command == "fit":
             _check_tables(a.tables)
+            _check_models(a.model, {"metric": a.metric})
             with cluster(scheduler=a.scheduler, workers=a.workers, connect_timeout=a.timeout) as c:
                 for r_ in fit(a.tables, a.model, client=c, metric=a.metric):
                     print(json.dumps(r_, default=lambda o: o.tolist() if hasattr(o, "tolist") else str(o)))
@@ -492,13 +508,16 @@ def main(argv=None):
             if not os.path.isdir(a.output_dir):
                 raise DistributedError("-o %s: no such directory" % a.output_dir)
             outs = [os.path.join(a.output_dir, "%d.binary" % i) for i in range(len(inputs))]
+            # Every input checked here, before any cluster starts.
             if a.command == "tabulate":
                 for x in inputs:
-                    gonio.Material(x)  # before any cluster starts
+                    gonio.Material(x)
+            elif a.samples < 1:
+                raise DistributedError("--samples must be at least 1, got %d" % a.samples)
+            else:
+                _check_surfaces(inputs, {})
             with cluster(scheduler=a.scheduler, workers=a.workers, connect_timeout=a.timeout) as c:
                 if a.command == "measure":
-                    if a.samples < 1:
-                        raise DistributedError("--samples must be at least 1, got %d" % a.samples)
                     results = measure(inputs, client=c, samples=a.samples, seed=a.seed, outputs=outs)
                 else:
                     results = tabulate(inputs, outs, client=c)

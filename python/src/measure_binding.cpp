@@ -157,6 +157,12 @@ py::dict measure_surface(const py::object& surface_arg, const py::object& gantry
 }  // namespace
 
 void register_measure(py::module_& mod) {
+  // gonio.distributed checks every surface on the client, before any cluster starts: the
+  // same parse (and image load) as measure's, without a ray.
+  mod.def(
+      "_check_surface",
+      [](const py::object& surface) { (void)measure::parse_surface(json_text_of(surface, "surface"), "--surface", ""); },
+      py::arg("surface"));
   mod.def("measure", &measure_surface, py::arg("surface"), py::arg("gantry") = py::none(), py::kw_only(),
           py::arg("output") = "", py::arg("samples") = 10'000'000, py::arg("threads") = 0, py::arg("seed") = 0,
           py::arg("max_bounces") = std::int64_t(measure::Microsurface::kDefaultMaxBounces),

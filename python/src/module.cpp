@@ -767,8 +767,9 @@ void write_image(const std::string& path, const py::array_t<float, py::array::c_
 #endif
 
 #ifdef GONIO_PYTHON_FIT
-py::dict fit(const std::string& data, const std::string& model, const std::string& distribution,
-             const std::string& metric, const py::object& init, int stride) {
+// gonio.fit's arguments other than the table, checked in the CLI's words.
+FitOptions fit_options(const std::string& model, const std::string& distribution, const std::string& metric,
+                       const py::object& init, int stride) {
   FitOptions options;
   options.model = model;
   options.distribution = distribution;
@@ -777,6 +778,12 @@ py::dict fit(const std::string& data, const std::string& model, const std::strin
   options.stride = stride;
   if (!init.is_none()) options.init = parse_json_text(json_text_of(init), "--init");
   check_fit_options(options);
+  return options;
+}
+
+py::dict fit(const std::string& data, const std::string& model, const std::string& distribution,
+             const std::string& metric, const py::object& init, int stride) {
+  const FitOptions options = fit_options(model, distribution, metric, init, stride);
   quiet_solver_log();  // a failed fit is the one exception, not Ceres's log on stderr before it
   FitResult r;
   {
@@ -1008,5 +1015,12 @@ tone-mapped sRGB (exposure in stops; filmic or clamped), by the path's extension
 `gonio fit`: fit an analytic model to the MERL table at path `data`. A dict: material
 (a dict, valid input to Material), error, metric, evaluations, seconds.
 )doc");
+  // gonio.distributed checks every input on the client, before any cluster starts.
+  mod.def(
+      "_check_fit_options",
+      [](const std::string& model, const std::string& distribution, const std::string& metric, const py::object& init,
+         int stride) { fit_options(model, distribution, metric, init, stride); },
+      py::arg("model"), py::kw_only(), py::arg("distribution") = "", py::arg("metric") = "log",
+      py::arg("init") = py::none(), py::arg("stride") = 3);
 #endif
 }

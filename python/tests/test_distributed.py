@@ -174,6 +174,16 @@ def cli(*args):
     (["render", "{scene}", "--spp", "4", "--passes", "2", "-o", "{tmp}/o.exr", "--scheduler", "tcp://127.0.0.1:9",
       "--timeout", "1"],
      "cannot reach the Dask scheduler at tcp://127.0.0.1:9"),
+    # Checked on the client before any cluster starts: with an unreachable scheduler, a
+    # check made after connecting would report the scheduler instead.
+    (["measure", '{{"type": "bogus"}}', "-o", "{tmp}", "--scheduler", "tcp://127.0.0.1:9", "--timeout", "1"],
+     'unknown type "bogus"'),
+    (["measure", '{{"type": "flat", "material": {{"type": "diffuse"}}}}', "-o", "{tmp}", "--samples", "0",
+      "--scheduler", "tcp://127.0.0.1:9", "--timeout", "1"], "--samples must be at least 1"),
+    (["fit", "{tmp}/corrupt.json", "--model", "bogus", "--scheduler", "tcp://127.0.0.1:9", "--timeout", "1"],
+     "unknown model 'bogus'"),
+    (["fit", "{tmp}/corrupt.json", "--model", "plastic", "--metric", "nope", "--scheduler", "tcp://127.0.0.1:9",
+      "--timeout", "1"], "--metric must be ngan or log"),
 ])
 def test_bad_inputs_give_one_line(scene_path, tmp_path, args, needle):
     (tmp_path / "corrupt.json").write_text("{")
@@ -269,3 +279,13 @@ def test_own_cluster_keeps_glibcs_trim_threshold(monkeypatch):
     with gd.cluster(workers=1) as c:
         seen = set(c.run(lambda: os.environ.get("MALLOC_TRIM_THRESHOLD_")).values())
     assert seen == {None}
+
+
+def test_api_checks_inputs_before_connecting():
+    # An unreachable scheduler: an input checked after connecting would report it instead.
+    with pytest.raises(ValueError, match='unknown type "bogus"'):
+        gd.measure([{"type": "flat", "material": {"type": "diffuse"}}, {"type": "bogus"}],
+                   scheduler="tcp://127.0.0.1:9", samples=10)
+    if hasattr(gonio, "fit"):
+        with pytest.raises(ValueError, match="unknown model 'bogus'"):
+            gd.fit([__file__], ["plastic", "bogus"], scheduler="tcp://127.0.0.1:9")
