@@ -31,7 +31,10 @@ const char* sampler_type_name(SamplerType type) {
 PixelSampler::PixelSampler(SamplerType type, std::int64_t samples_per_pixel, std::uint64_t seed)
     : type_(type), seed_(seed) {
   log2_spp_ = ceil_log2(std::uint64_t(std::max<std::int64_t>(samples_per_pixel, 1)));
-  if (type_ == SamplerType::ZSobol) key_ = mix64(seed_ ^ 0x5a0b01ULL);
+  if (type_ == SamplerType::ZSobol) {
+    key_ = mix64(seed_ ^ 0x5a0b01ULL);
+    for (unsigned d = 0; d < kTabulatedDims; ++d) zsobol_dim_hash_[d] = hash_dimension(key_, int(d));
+  }
 }
 
 void PixelSampler::start(int x, int y, std::uint64_t sample) {
@@ -43,6 +46,7 @@ void PixelSampler::start(int x, int y, std::uint64_t sample) {
     case SamplerType::Sobol: index_ = sample, key_ = pixel_key; break;
     case SamplerType::Independent: index_ = sample, key_ = splitmix64(pixel_key ^ mix64(sample)); break;
   }
+  index_reversed_ = reverse_bits32(std::uint32_t(index_));
 }
 
 }  // namespace gonio::render

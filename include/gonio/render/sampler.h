@@ -93,23 +93,36 @@ class PixelSampler {
   // scramble reaches 8 of them with one hash for all bits: docs/benchmarks-history.md.)
   // Bits above the 32 the points use are folded into the seed, so that pixels far apart
   // still differ.
+  // The scramble is reverse(lk(reverse(i))) (owen_scramble); the first reversal is made
+  // once per sample, in start().
   std::uint64_t shuffled_index(std::uint32_t seed) const {
     const std::uint64_t high = index_ >> 32;
     if (high != 0) seed ^= std::uint32_t(mix64(high + seed));
-    return (high << 32) | owen_scramble(std::uint32_t(index_), seed);
+    return (high << 32) | reverse_bits32(sobol_detail::lk_hash(index_reversed_, seed));
   }
 
  private:
   // 64 bits for one dimension of this sample: 32 for the index's shuffle, 32 for the
   // point's scramble (zsobol: from the seed alone, as the index carries the pixel; sobol:
   // from the seed and the pixel; independent: the numbers themselves).
-  std::uint64_t dimension_hash(int dim) const { return mix64(key_ + 0x9e3779b97f4a7c15ULL * std::uint64_t(dim + 1)); }
+  std::uint64_t dimension_hash(int dim) const {
+    if (type_ == SamplerType::ZSobol && unsigned(dim) < kTabulatedDims) return zsobol_dim_hash_[std::size_t(dim)];
+    return hash_dimension(key_, dim);
+  }
+  static std::uint64_t hash_dimension(std::uint64_t key, int dim) {
+    return mix64(key + 0x9e3779b97f4a7c15ULL * std::uint64_t(dim + 1));
+  }
+  // zsobol's key is the seed's alone: its hashes of the first dimensions (16 bounces)
+  // are made once per render.
+  static constexpr unsigned kTabulatedDims = unsigned(dims::bounce(16));
+  std::array<std::uint64_t, kTabulatedDims> zsobol_dim_hash_{};
 
   SamplerType type_;
   int log2_spp_ = 0;
   std::uint64_t seed_ = 0;
   std::uint64_t key_ = 0;    // hashed from (seed) for zsobol, (seed, pixel) for sobol, (seed, pixel, sample) for independent
   std::uint64_t index_ = 0;  // zsobol: morton(x, y)·2^k + i; sobol: i
+  std::uint32_t index_reversed_ = 0;  // the low 32 bits of index_, bit-reversed
   Pcg32 rng_;
 };
 
