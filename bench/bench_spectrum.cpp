@@ -56,6 +56,19 @@ void wavelengths_sample_visible(benchmark::State& state) {
 }
 BENCHMARK(wavelengths_sample_visible);
 
+// The renderer's draw (issue 38): four binary searches in the tabulated CDF.
+void wavelengths_sample_response(benchmark::State& state) {
+  const auto& in = inputs();
+  std::vector<SampledWavelengths> out(kInputs);
+  for (auto _ : state) {
+    for (int i = 0; i < kInputs; ++i) out[size_t(i)] = SampledWavelengths::sample_response(in.u[size_t(i)]);
+    escape(out.data());
+  }
+  state.counters["ns_per_call"] = benchmark::Counter(double(state.iterations()) * kInputs,
+                                                     benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+}
+BENCHMARK(wavelengths_sample_response);
+
 void rgb_to_coefficients(benchmark::State& state) {
   const auto& in = inputs();
   std::vector<SigmoidPolynomial> out(kInputs);

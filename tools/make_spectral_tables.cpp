@@ -349,6 +349,41 @@ int main(int argc, char** argv) {
     write_floats(out, "kCieY", o.y);
     write_floats(out, "kCieZ", o.z);
     std::fprintf(out, "const double kCieYIntegral = %.17g;\n", o.y_integral);
+    {
+      // The spectral renderer's wavelength density (wavelengths.h, "sRGB-response density"):
+      // per 1 nm bin, ‖(r̄, ḡ, b̄)‖^½ of the linear-sRGB colour-matching functions at the
+      // bin's centre (the CIE 1931 CMFs, linearly interpolated, through IEC 61966-2-1's
+      // matrix), normalised: its CDF at the bin edges, in double so that a bin's mass (the
+      // difference of two values near 1) keeps its digits.
+      std::vector<double> cdf(kN, 0.0);
+      double sum = 0;
+      for (int i = 0; i + 1 < kN; ++i) {
+        const auto c = mat_mul(kXyzToLinearSrgb, {(o.x[size_t(i)] + o.x[size_t(i) + 1]) / 2,
+                                                  (o.y[size_t(i)] + o.y[size_t(i) + 1]) / 2,
+                                                  (o.z[size_t(i)] + o.z[size_t(i) + 1]) / 2});
+        sum += std::sqrt(std::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]));
+        cdf[size_t(i) + 1] = sum;
+      }
+      if (!(sum > 0)) throw InputError("the colour-matching functions are zero everywhere");
+      for (auto& v : cdf) v /= sum;
+      cdf.back() = 1;
+      std::fprintf(out, "const double kResponseCdf[] = {");
+      for (size_t i = 0; i < cdf.size(); ++i)
+        std::fprintf(out, "%s%.17g", i == 0 ? "\n  " : (i % 4 ? ", " : ",\n  "), cdf[i]);
+      std::fprintf(out, "\n};\n");
+      // A guide table (Chen & Asau 1974): for each of kResponseGuideSize equal intervals
+      // of u, the bin holding the interval's start, from which a short forward scan finds
+      // the bin of any u in it.
+      const int guide_size = 1024;
+      std::fprintf(out, "const unsigned short kResponseGuide[] = {");
+      int bin = 0;
+      for (int k = 0; k < guide_size; ++k) {
+        const double start = double(k) / guide_size;
+        while (bin < kN - 2 && cdf[size_t(bin) + 1] <= start) ++bin;
+        std::fprintf(out, "%s%d", k == 0 ? "\n  " : (k % 16 ? ", " : ",\n  "), bin);
+      }
+      std::fprintf(out, "\n};\n");
+    }
     const auto d65 = read_csv_file((data / "cie" / "cie_illuminant_d65.csv").string(), 2);
     std::vector<double> d65v;
     for (const auto& r : d65) d65v.push_back(r.values[1]);

@@ -96,7 +96,7 @@ Image render(const Scene& scene_in, const RenderOptions& options, RenderStats* s
                 const auto [jx, jy] = sampler.get2d(dims::kPixel);
                 const Ray ray = scene.camera.generate(Float(x) + jx, Float(y) + jy);
                 if (polarized && spectral) {
-                  SampledWavelengths wl = SampledWavelengths::sample_visible(sampler.get1d(dims::kWavelength));
+                  SampledWavelengths wl = SampledWavelengths::sample_response(sampler.get1d(dims::kWavelength));
                   const auto S = tracer.stokes(ray, wl, sampler, local, scratch);
                   for (size_t k = 0; k < 4; ++k) sum[k] += xyz_to_linear_srgb(to_xyz(S[k], wl));
                 } else if (polarized) {
@@ -106,7 +106,7 @@ Image render(const Scene& scene_in, const RenderOptions& options, RenderStats* s
                   // Hero-wavelength sampling (Wilkie et al. 2014): 4 wavelengths per path,
                   // to CIE XYZ at the film (each divided by its own density), then to
                   // linear sRGB, so that the image is what RGB mode writes.
-                  SampledWavelengths wl = SampledWavelengths::sample_visible(sampler.get1d(dims::kWavelength));
+                  SampledWavelengths wl = SampledWavelengths::sample_response(sampler.get1d(dims::kWavelength));
                   const SampledSpectrum L = tracer.radiance(ray, wl, sampler, local, scratch);
                   sum[0] += xyz_to_linear_srgb(to_xyz(L, wl));
                 } else {

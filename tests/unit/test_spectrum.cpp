@@ -312,13 +312,95 @@ TEST(Wavelengths, FourWavelengthsAreQuarterSpacedInCdfSpace) {
   }
 }
 
-TEST(Wavelengths, EstimatorOfTheYIntegralConverges) {
+// The renderer's sRGB-response density, derived here from its definition: per 1 nm bin,
+// ‖(r̄, ḡ, b̄)‖^½ at the bin's centre, with the XYZ → linear-sRGB matrix of IEC
+// 61966-2-1:1999 §5.2 written out again, normalised over the 470 bins.
+struct ResponseDensity {
+  std::vector<double> pdf, cdf;
+  ResponseDensity() : pdf(470), cdf(471, 0.0) {
+    const double m[3][3] = {{3.2406, -1.5372, -0.4986}, {-0.9689, 1.8758, 0.0415}, {0.0557, -0.2040, 1.0570}};
+    double sum = 0;
+    for (int i = 0; i < 470; ++i) {
+      const XYZ c = cie_xyz_bar(Float(360.5 + i));
+      double n2 = 0;
+      for (const auto& row : m) {
+        const double v = row[0] * c.x + row[1] * c.y + row[2] * c.z;
+        n2 += v * v;
+      }
+      pdf[size_t(i)] = std::pow(n2, 0.25);
+      sum += pdf[size_t(i)];
+    }
+    for (int i = 0; i < 470; ++i) pdf[size_t(i)] /= sum, cdf[size_t(i) + 1] = cdf[size_t(i)] + pdf[size_t(i)];
+  }
+  double at(double nm) const { return pdf[size_t(std::min(int(nm - 360), 469))]; }
+  double cdf_at(double nm) const {
+    const int i = std::min(int(nm - 360), 469);
+    return cdf[size_t(i)] + pdf[size_t(i)] * (nm - 360 - i);
+  }
+};
+
+TEST(Wavelengths, ResponseDensityIsTheDocumentedOne) {
+  const ResponseDensity d;
+  double integral = 0;
+  for (int i = 0; i < 470; ++i) {
+    const double p = response_wavelength_pdf(Float(360.5 + i));
+    integral += p;  // bins of 1 nm
+    EXPECT_NEAR(p, d.pdf[size_t(i)], 2e-5 * d.pdf[size_t(i)]) << 360 + i << " nm";
+  }
+  EXPECT_NEAR(integral, 1.0, 1e-6);
+  EXPECT_EQ(response_wavelength_pdf(359.9f), 0);
+  EXPECT_EQ(response_wavelength_pdf(830.1f), 0);
+  EXPECT_EQ(response_wavelength_pdf(std::nanf("")), 0);
+  // It follows all three channels: the blue (450 nm) and red (610 nm) peaks are sampled at
+  // least half as densely as the green one, unlike the visible density's blue end.
+  EXPECT_GT(response_wavelength_pdf(450) / response_wavelength_pdf(545), 0.5);
+  EXPECT_GT(response_wavelength_pdf(610) / response_wavelength_pdf(545), 0.5);
+}
+
+TEST(Wavelengths, ResponseWavelengthsAreQuarterSpacedInCdfSpace) {
+  const ResponseDensity d;
+  for (const Float u : {0.0f, 0.1f, 0.37f, 0.6f, 0.9999f}) {
+    const auto w = SampledWavelengths::sample_response(u);
+    for (int j = 0; j < 4; ++j) {
+      EXPECT_TRUE(w[j] >= 360 && w[j] <= 830);
+      EXPECT_NEAR(w.pdf(j), d.at(w[j]), 2e-5 * d.at(w[j])) << "u " << u << " j " << j;
+      double expected = u + j / 4.0;
+      expected -= std::floor(expected);
+      EXPECT_NEAR(d.cdf_at(w[j]), expected, 2e-5) << "u " << u << " j " << j;
+    }
+  }
+  for (const Float u : {-1.0f, 1.0f, 7.0f, std::nanf("")}) {
+    const auto w = SampledWavelengths::sample_response(u);
+    for (int j = 0; j < 4; ++j) EXPECT_TRUE(std::isfinite(w[j]) && w.pdf(j) > 0);
+  }
+}
+
+// The inverse CDF everywhere: at the start, middle and end of each of the guide table's
+// 1,024 intervals of u, the drawn λ sits at u of the test's CDF.
+TEST(Wavelengths, ResponseInverseHoldsOverTheWholeRange) {
+  const ResponseDensity d;
+  for (int k = 0; k < 1024; ++k)
+    for (const double f : {0.0, 0.5, 0.999}) {
+      const double u = (k + f) / 1024;
+      Float pdf = 0;
+      const Float lambda = sample_response_wavelength(Float(u), pdf);
+      ASSERT_NEAR(d.cdf_at(lambda), u, 2e-5) << "u " << u;
+      ASSERT_NEAR(pdf, d.at(lambda), 2e-5 * d.at(lambda)) << "u " << u;
+    }
+}
+
+// Both densities' estimators: the visible one (tests, the reference) and the renderer's.
+SampledWavelengths draw(bool response, Float u) {
+  return response ? SampledWavelengths::sample_response(u) : SampledWavelengths::sample_visible(u);
+}
+
+void expect_y_integral_converges(bool response) {
   const auto& r = ref();
   Pcg32 rng(11);
   const int n = 200000;
   double sum = 0, sum2 = 0, sum_t = 0, sum_t2 = 0;
   for (int i = 0; i < n; ++i) {
-    auto w = SampledWavelengths::sample_visible(rng.next_float());
+    auto w = draw(response, rng.next_float());
     double e = 0;
     for (int j = 0; j < 4; ++j) e += cie_xyz_bar(w[j]).y / w.pdf(j) / 4;
     sum += e, sum2 += e * e;
@@ -332,10 +414,14 @@ TEST(Wavelengths, EstimatorOfTheYIntegralConverges) {
   EXPECT_NEAR(mean, r.y_int, 4 * se + 1e-3) << "σ = " << se;
   const double mt = sum_t / n, st = std::sqrt((sum_t2 / n - mt * mt) / n);
   EXPECT_NEAR(mt, 1.0, 4 * st) << "σ = " << st;
-  std::printf("∫ȳ: estimate %.5f ± %.5f, quadrature %.5f; terminated: %.5f ± %.5f\n", mean, se, r.y_int, mt, st);
+  std::printf("%s density: ∫ȳ: estimate %.5f ± %.5f, quadrature %.5f; terminated: %.5f ± %.5f\n",
+              response ? "response" : "visible", mean, se, r.y_int, mt, st);
 }
 
-TEST(Wavelengths, ToXyzConvergesToTheQuadratureOfAReflectanceUnderD65) {
+TEST(Wavelengths, EstimatorOfTheYIntegralConverges) { expect_y_integral_converges(false); }
+TEST(Wavelengths, ResponseEstimatorOfTheYIntegralConverges) { expect_y_integral_converges(true); }
+
+void expect_reflectance_under_d65_converges(bool response) {
   const auto& r = ref();
   const RgbAlbedoSpectrum s(0.8f, 0.3f, 0.1f);
   const auto expected = r.reflectance_xyz([&](double nm) { return s.eval(Float(nm)); });
@@ -343,7 +429,7 @@ TEST(Wavelengths, ToXyzConvergesToTheQuadratureOfAReflectanceUnderD65) {
   const int n = 100000;
   double m[3] = {}, m2[3] = {};
   for (int i = 0; i < n; ++i) {
-    const auto w = SampledWavelengths::sample_visible(rng.next_float());
+    const auto w = draw(response, rng.next_float());
     const XYZ c = to_xyz(s.eval(w) * d65(w), w);
     const double v[3] = {c.x, c.y, c.z};
     for (int k = 0; k < 3; ++k) m[k] += v[k], m2[k] += v[k] * v[k];
@@ -352,6 +438,11 @@ TEST(Wavelengths, ToXyzConvergesToTheQuadratureOfAReflectanceUnderD65) {
     const double mean = m[k] / n, se = std::sqrt((m2[k] / n - mean * mean) / n);
     EXPECT_NEAR(mean, expected[size_t(k)], 4 * se) << k;
   }
+}
+
+TEST(Wavelengths, ToXyzConvergesToTheQuadratureOfAReflectanceUnderD65) { expect_reflectance_under_d65_converges(false); }
+TEST(Wavelengths, ResponseToXyzConvergesToTheQuadratureOfAReflectanceUnderD65) {
+  expect_reflectance_under_d65_converges(true);
 }
 
 // ---------------------------------------------------------------------------------------

@@ -15,6 +15,13 @@ extern const float kCieY[kCieSamples];
 extern const float kCieZ[kCieSamples];
 // ∫ ȳ dλ of the linear interpolant of the table (trapezoid rule), nm.
 extern const double kCieYIntegral;
+// The CDF of the spectral renderer's wavelength density (wavelengths.h), piecewise
+// constant over the 1 nm bins from kCieFirstNm: at the bins' edges, from 0 to 1.
+extern const double kResponseCdf[kCieSamples];
+// For u in [k, k + 1)/kResponseGuideSize, the bin holding k/kResponseGuideSize: where the
+// search for u's bin starts.
+inline constexpr int kResponseGuideSize = 1024;
+extern const unsigned short kResponseGuide[kResponseGuideSize];
 
 // CIE illuminant D65, relative power at kD65FirstNm + 5 k nm (data/cie/).
 inline constexpr int kD65StepNm = 5;

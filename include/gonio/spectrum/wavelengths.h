@@ -3,9 +3,10 @@
 // and Hanika 2014, "Hero Wavelength Spectral Sampling", EGSR), 4 wavelengths per path,
 // importance-sampled over the visible range [kLambdaMin, kLambdaMax].
 //
-// Density (the visible-importance function used by pbrt-v4, after Radziszewski et al.
-// 2009): p(λ) ∝ sech²(a (λ − μ)) with a = 0.0072 /nm, μ = 538 nm, restricted to
-// [360, 830] nm. It follows the luminous sensitivity (ȳ peaks at 555 nm) with heavier
+// Two densities. The renderer draws with the sRGB-response density (below the visible
+// one; issue 38). The visible density is pbrt-v4's visible-importance function (after
+// Radziszewski et al. 2009), kept as the reference it is measured against:
+// p(λ) ∝ sech²(a (λ − μ)) with a = 0.0072 /nm, μ = 538 nm, restricted to [360, 830] nm. It follows the luminous sensitivity (ȳ peaks at 555 nm) with heavier
 // tails than ȳ, so that blue and red are still sampled. Its CDF is closed-form:
 //   P(λ) = (tanh(a (λ − μ)) − t0) / (t1 − t0),  t0 = tanh(a (360 − μ)), t1 = tanh(a (830 − μ))
 //   p(λ) = a sech²(a (λ − μ)) / (t1 − t0)
@@ -18,6 +19,7 @@
 #include <array>
 #include <cmath>
 
+#include "gonio/spectrum/data_tables.h"
 #include "gonio/spectrum/sampled_spectrum.h"
 
 namespace gonio {
@@ -55,6 +57,37 @@ inline Float sample_visible_wavelength(Float u) {
   return std::clamp(kMu + std::atanh(t) / kA, kLambdaMin, kLambdaMax);
 }
 
+// The renderer's density (issue 38): per 1 nm bin, p ∝ ‖(r̄, ḡ, b̄)‖^½, the linear-sRGB
+// colour-matching functions (CIE 1931 through the IEC 61966-2-1 matrix) at the bin's
+// centre; tabulated at build time (tools/make_spectral_tables.cpp, kResponseCdf). The
+// film's three channels are estimated from every wavelength, so a density that follows
+// all three — the blue and red ends included, where z̄ and x̄'s lobes are and the visible
+// density above thins out — gives less colour noise. The exponent ½ is measured, not
+// derived: with the four rotations and a low-discrepancy u the wavelengths are already
+// stratified, and a flatter density than the one-sample optimum (exponent 1, for a flat
+// spectrum) did better on every scene tried (docs/benchmarks.md, "Spectral noise").
+// Every bin has a positive density, so every wavelength a CMF sees can be drawn.
+inline Float response_wavelength_pdf(Float lambda) {
+  using namespace spectral_data;
+  if (!(lambda >= kLambdaMin && lambda <= kLambdaMax)) return 0;
+  const int i = std::min(int(lambda - kLambdaMin), kCieSamples - 2);
+  return Float(kResponseCdf[i + 1] - kResponseCdf[i]);  // bins are 1 nm wide
+}
+
+// P⁻¹(u) for u in [0, 1): the bin from the guide table and a forward scan (one step or
+// none in most of the range), uniform within it; pdf receives p(λ).
+inline Float sample_response_wavelength(Float u, Float& pdf) {
+  using namespace spectral_data;
+  const double v = std::clamp(double(u), 0.0, 1.0);
+  // The last edge ≤ v, among the first kCieSamples − 1 (so that v = 1 lands in the last bin).
+  int i = kResponseGuide[std::min(int(v * kResponseGuideSize), kResponseGuideSize - 1)];
+  while (i < kCieSamples - 2 && kResponseCdf[i + 1] <= v) ++i;
+  const double mass = kResponseCdf[i + 1] - kResponseCdf[i];
+  pdf = Float(mass);
+  const double t = mass > 0 ? std::clamp((v - kResponseCdf[i]) / mass, 0.0, 1.0) : 0.5;
+  return std::min(Float(kLambdaMin + i + t), Float(kLambdaMin + i + 1));
+}
+
 class SampledWavelengths {
  public:
   // Hero-wavelength sampling: λ_j = P⁻¹(frac(u + j/4)), pdf_j = p(λ_j). u in [0, 1).
@@ -71,6 +104,17 @@ class SampledWavelengths {
       const Float t = std::clamp(kT0 + uj * kSpan, kT0, kT1);
       w.lambda_[size_t(j)] = std::clamp(kMu + Float(0.5) / kA * std::log((1 + t) / (1 - t)), kLambdaMin, kLambdaMax);
       w.pdf_[size_t(j)] = kA * (1 - t * t) / kSpan;
+    }
+    return w;
+  }
+  // The same rotations with the sRGB-response density above: the renderer's draw.
+  static SampledWavelengths sample_response(Float u) {
+    SampledWavelengths w;
+    if (!(u >= 0 && u < 1)) u = u >= 1 ? kOneMinusEpsilon : Float(0);
+    for (int j = 0; j < kSpectrumSamples; ++j) {
+      Float uj = u + Float(j) / kSpectrumSamples;
+      if (uj >= 1) uj -= 1;
+      w.lambda_[size_t(j)] = sample_response_wavelength(uj, w.pdf_[size_t(j)]);
     }
     return w;
   }
