@@ -77,6 +77,19 @@ ojson describe_blend(const std::vector<double>& v, const ojson& fx) {
                                         {"fresnel", "schlick"}, {"f0", rgb(v, 4)}, {"alpha", v[7]}}})}};
 }
 
+// OpenPBR Surface (issue 35): the base and its specular layer, the parameters a measured
+// opaque material decides; the coat, fuzz, film, transmission and subsurface stay at
+// their defaults (off). specular_ior and base_diffuse_roughness are fixed choices.
+ojson describe_openpbr(const std::vector<double>& v, const ojson& fx) {
+  return {{"type", "openpbr"},
+          {"base_color", rgb(v, 0)},
+          {"base_metalness", v[3]},
+          {"specular_color", rgb(v, 4)},
+          {"specular_roughness", v[7]},
+          {"specular_ior", fx["specular_ior"]},
+          {"base_diffuse_roughness", fx["base_diffuse_roughness"]}};
+}
+
 [[noreturn]] void bad_init(const std::string& what) { throw InputError("--init: " + what); }
 
 std::vector<double> init_colour(const json& j, const char* key) {
@@ -125,8 +138,8 @@ bool microfacet(const std::string& name) { return name == "roughconductor" || na
 }  // namespace
 
 const std::vector<std::string>& fit_model_list() {
-  static const std::vector<std::string> names = {"roughconductor", "plastic",   "blinnphong", "phong",
-                                                 "ward",           "ashikhminshirley", "orennayar", "blend"};
+  static const std::vector<std::string> names = {"roughconductor", "plastic",   "blinnphong", "phong",  "ward",
+                                                 "ashikhminshirley", "orennayar", "blend",    "openpbr"};
   return names;
 }
 
@@ -235,6 +248,22 @@ FitModel make_fit_model(const std::string& name, const std::string& distribution
     m.describe = describe_orennayar;
     if (init.contains("reflectance")) given("reflectance", init_colour(init, "reflectance"));
     if (init.contains("sigma")) given("sigma", {init_number(init, "sigma")});
+  } else if (name == "openpbr") {
+    check_keys(init, name,
+               {"base_color", "base_metalness", "specular_color", "specular_roughness", "specular_ior",
+                "base_diffuse_roughness"},
+               "");
+    m.fixed["specular_ior"] = init.contains("specular_ior") ? init_number(init, "specular_ior") : 1.5;
+    m.fixed["base_diffuse_roughness"] =
+        init.contains("base_diffuse_roughness") ? init_number(init, "base_diffuse_roughness") : 0.0;
+    // Roughness r is α = r² (SPEC-OPB): the starts are the other models' α starts' roots.
+    m.slots = {colour_unit("base_color", 0.5), {"base_metalness", false, Map::Logit, 0, 1, {0.5}},
+               colour_unit("specular_color", 0.9), {"specular_roughness", false, Map::Log, 1e-3, 1, {0.22, 0.45, 0.7}}};
+    m.describe = describe_openpbr;
+    for (const char* c : {"base_color", "specular_color"})
+      if (init.contains(c)) given(c, init_colour(init, c));
+    for (const char* x : {"base_metalness", "specular_roughness"})
+      if (init.contains(x)) given(x, {init_number(init, x)});
   } else {  // blend of diffuse + roughconductor (Schlick)
     check_keys(init, name, {"weight", "bsdfs"}, "");
     json diffuse = json::object(), conductor = json::object();

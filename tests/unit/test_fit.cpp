@@ -4,6 +4,7 @@
 // written again from the paper's definitions (bin centres from SPEC §2, directions from
 // Rusinkiewicz's angles, weights from the Jacobian) without the library's metric code.
 
+#include <array>
 #include <cmath>
 #include <random>
 #include <string>
@@ -248,6 +249,39 @@ TEST(Fit, EntryWeightsIntegrateToTheMeasureOfTwoHemispheres) {
       }
   sum *= 4 * 2 * kPiD * dtheta * dtheta * 2;
   EXPECT_NEAR(sum, 4 * kPiD * kPiD, 0.01 * 4 * kPiD * kPiD);
+}
+
+// OpenPBR's fit model (issue 35): a table of a rough tinted metal and one of a dielectric
+// over a coloured base give back their parameters.
+TEST(Fit, OpenPbrTablesGiveBackTheirParameters) {
+  {
+    const MerlTable t = make_table(
+        R"({"type":"openpbr","base_metalness":1,"base_color":[0.9,0.6,0.3],"specular_color":[1,0.9,0.8],"specular_roughness":0.4})");
+    FitOptions o = options("openpbr");
+    o.init = json::parse(R"({"specular_roughness":0.25})");  // one start (the multi-start's cost ×3)
+    const FitResult r = fit_merl(t, o);
+    const json& m = r.material;
+    EXPECT_NEAR(m.at("base_metalness").get<double>(), 1, 0.02) << m.dump();
+    EXPECT_NEAR(m.at("specular_roughness").get<double>(), 0.4, 0.01 * 0.4) << m.dump();
+    // F0 within 0.03: a channel's F0 and its F82 tint trade against each other where the
+    // table has few grazing entries (the tint itself is poorly determined, so not checked).
+    const std::array<double, 3> colour{0.9, 0.6, 0.3};
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(m.at("base_color")[c].get<double>(), colour[size_t(c)], 0.03) << m.dump();
+  }
+  {
+    const MerlTable t = make_table(
+        R"({"type":"openpbr","base_color":[0.2,0.5,0.7],"specular_roughness":0.3,"base_diffuse_roughness":0.5})");
+    FitOptions o = options("openpbr");
+    // base_diffuse_roughness is a fixed choice, not fitted; one start, as above.
+    o.init = json::parse(R"({"base_diffuse_roughness":0.5,"specular_roughness":0.5})");
+    const FitResult r = fit_merl(t, o);
+    const json& m = r.material;
+    EXPECT_EQ(m.at("base_diffuse_roughness").get<double>(), 0.5);
+    EXPECT_NEAR(m.at("base_metalness").get<double>(), 0, 0.02) << m.dump();
+    EXPECT_NEAR(m.at("specular_roughness").get<double>(), 0.3, 0.02 * 0.3) << m.dump();
+    const std::array<double, 3> colour{0.2, 0.5, 0.7};
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(m.at("base_color")[c].get<double>(), colour[size_t(c)], 0.03) << m.dump();
+  }
 }
 
 TEST(Fit, EveryModelGivesAValidMaterialAndAFiniteError) {
