@@ -15,6 +15,7 @@
 #include "gonio/render/subsurface_probe.h"
 #include "gonio/render/subsurface_walk.h"
 #include "gonio/subsurface/diffusion.h"
+#include "gonio/subsurface/guided_walk.h"
 #include "gonio/subsurface/random_walk.h"
 #include "gonio/subsurface/sw_bxdf.h"
 
@@ -381,8 +382,14 @@ typename Shading::Radiance PathTracer::trace(Ray ray, PixelSampler& sampler, Pat
           const SceneBoundary boundary(accel_, stats.rays);
           WalkStats ws;
           ++stats.walks;
+          // Guided towards the entry point's surface (Dwivedi sampling, guided_walk.h),
+          // mixed with the classic walk by MIS; guide = 0 is the classic walk alone.
+          const Float guide = material.subsurface->guide;
           const bool reached =
-              walk_to_boundary(material.subsurface->medium, boundary, start, wi_world, beta, sampler.rng(), walked, &ws);
+              guide > 0 ? walk_to_boundary_guided(material.subsurface->medium, boundary, WalkGuide{hit.ng, guide}, start,
+                                                  wi_world, beta, sampler.rng(), walked, &ws)
+                        : walk_to_boundary(material.subsurface->medium, boundary, start, wi_world, beta, sampler.rng(),
+                                           walked, &ws);
           stats.walk_steps += ws.steps;
           if (!reached || !(beta.max_component() > 0)) break;
           have_walked = true;
