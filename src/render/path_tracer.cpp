@@ -382,14 +382,13 @@ typename Shading::Radiance PathTracer::trace(Ray ray, PixelSampler& sampler, Pat
           const SceneBoundary boundary(accel_, stats.rays);
           WalkStats ws;
           ++stats.walks;
-          // Guided towards the entry point's surface (Dwivedi sampling, guided_walk.h),
-          // mixed with the classic walk by MIS; guide = 0 is the classic walk alone.
-          const Float guide = material.subsurface->guide;
+          // guided_walk.h: the channel chosen once per walk and weighted over the whole
+          // path (spectral MIS), the classic walk mixed with Dwivedi sampling towards
+          // the entry point's surface with probability `guide` per event.
           const bool reached =
-              guide > 0 ? walk_to_boundary_guided(material.subsurface->medium, boundary, WalkGuide{hit.ng, guide}, start,
-                                                  wi_world, beta, sampler.rng(), walked, &ws)
-                        : walk_to_boundary(material.subsurface->medium, boundary, start, wi_world, beta, sampler.rng(),
-                                           walked, &ws);
+              walk_to_boundary_guided(material.subsurface->medium, boundary,
+                                      WalkGuide{hit.ng, material.subsurface->guide}, start, wi_world, beta,
+                                      sampler.rng(), walked, &ws);
           stats.walk_steps += ws.steps;
           if (!reached || !(beta.max_component() > 0)) break;
           have_walked = true;

@@ -19,17 +19,18 @@
 // scheme", CGF 35(4), §3, which also notes that the guided walk alone has unbounded
 // weights for paths running parallel to the surface — hence the mixture below).
 //
-// One-sample MIS (Veach 1997, §9.2.4, balance heuristic): at every event a channel c is
-// picked with probability p_c = β_c / Σβ (the spectral MIS of random_walk.h) and then the
-// guided technique with probability q, the classic one (HG direction, σt_c distance) with
-// 1 − q. The direction and the distance are drawn together, so the pdf of a segment
-// (ω, t) ending in a scattering event is
-//   P = Σ_k p_k [(1 − q) f_p(ω) σt_k e^{−σt_k t} + q D_k(ω) σt'_k e^{−σt'_k t}],
-// with f_p the phase function and D_k(ω) = p_{κ_k}(μ) / 2π; the path's weight in channel
-// j is then multiplied by f_p(ω) σs_j e^{−σt_j t} / P. A segment reaching the boundary at
-// t_b has the survival probabilities e^{−σ t_b} instead of the densities σ e^{−σ t}, and
-// the integrand f_p(ω) e^{−σt_j t_b}. The first segment's direction is given (the
-// refraction into the medium): both techniques share it, and only its distance is mixed.
+// One-sample MIS (Veach 1997, §9.2.4, balance heuristic) twice over. Techniques: at
+// every event the guided one with probability q, the classic one (HG direction, σt_c
+// distance) with 1 − q; the direction and the distance are drawn together, so channel
+// k's pdf of a segment (ω, t) ending in a scattering event is
+//   P_k = (1 − q) f_p(ω) σt_k e^{−σt_k t} + q D_k(ω) σt'_k e^{−σt'_k t},
+// f_p the phase function and D_k(ω) = p_{κ_k}(μ) / 2π; a segment reaching the boundary
+// at t_b has the survival probabilities e^{−σ t_b} instead of the densities σ e^{−σ t}.
+// The integrand in channel j is f_p(ω) σs_j e^{−σt_j t} (f_p(ω) e^{−σt_j t_b} at the
+// boundary). Channels: one channel c samples the whole walk, and the weights are the
+// balance heuristic over the channels' whole-path pdfs (below). The first segment's
+// direction is given (the refraction into the medium): both techniques share it, and
+// only its distance is mixed.
 // With ϖ = 1 (κ = 0) the guided technique is the classic isotropic one.
 //
 // Generic in the colour type C; no allocation, no virtual call.
@@ -88,9 +89,10 @@ inline double hg_sampled_pdf(Float cos_theta, Float g) {
   return std::abs(g) < kHgIsotropicBelow ? double(kInv4Pi) : double(hg_phase(cos_theta, g));
 }
 
-// As walk_to_boundary (random_walk.h), with the guided technique mixed in as described
-// above. guide.probability = 0 samples as the classic walk (but draws one more random
-// number per event).
+// As walk_to_boundary (random_walk.h) — same arguments, results and Russian roulette —
+// with the guided technique and the path-level channel MIS described above.
+// guide.probability = 0 samples directions and distances as the classic walk (one
+// channel per walk).
 template <typename C, typename Boundary>
 bool walk_to_boundary_guided(const MediumT<C>& medium, const Boundary& boundary, const WalkGuide& guide, Vec3 p,
                              Vec3 d, C& beta, Pcg32& rng, typename Boundary::Hit& hit, WalkStats* stats = nullptr,
@@ -100,24 +102,37 @@ bool walk_to_boundary_guided(const MediumT<C>& medium, const Boundary& boundary,
   const double q = std::clamp(double(guide.probability), 0.0, 1.0);
   const Vec3 n = normalize(guide.normal);
   const Frame frame = Frame::from_normal(n);
-  double kappa[N];
+  double kappa[N], dwivedi_norm[N];
   for (int c = 0; c < N; ++c) {
     const double albedo = sigma_t[c] > 0 ? double(medium.sigma_s[c]) / double(sigma_t[c]) : 0.0;
     kappa[c] = dwivedi_kappa(albedo);
+    dwivedi_norm[c] = dwivedi_pdf_mu(0, kappa[c]);  // κ / (2 atanh κ): p(μ) = this / (1 − κμ)
   }
+  // Path-level spectral MIS: the channel whose σt (and κ) samples the whole walk is chosen
+  // once, with p_c = β_c / Σβ at the entry, and the walk's weight in channel j is the
+  // balance heuristic over the channels' whole-path pdfs P_k (Veach 1997 §9.2; the
+  // "hero wavelength" of Wilkie et al. 2014 applied to the walk's channels):
+  //   β_j ← β_j F_j / Σ_k p_k P_k,
+  // F_j the path's integrand in channel j. Kept as W_j = F_j / P_c and R_k = P_k / P_c
+  // (R_c = 1), so that β_j = β_j W_j Σβ / Σ_k β_k R_k ≤ β_j W_j / p_c: no channel's weight
+  // exceeds 1/p_c times its own analog weight, however long the path. (Choosing the
+  // channel anew at every event and weighting each event alone — random_walk.h — lets the
+  // ratio of two channels' weights wander as a product of hundreds of factors: the
+  // coloured speckle of marble, docs/subsurface.md.)
+  double b0[N], total = 0;
+  for (int c = 0; c < N; ++c) total += (b0[c] = double(std::max(beta[c], Float(0))));
+  if (!(total > 0) || !std::isfinite(total)) return false;
+  const double pick = double(rng.next_float()) * total;
+  int ch = N - 1;
+  double acc = 0;
+  for (int c = 0; c < N; ++c) {
+    acc += b0[c];
+    if (pick < acc) { ch = c; break; }
+  }
+  double W[N], R[N];
+  for (int c = 0; c < N; ++c) W[c] = R[c] = 1;
   bool given = true;  // the first direction is the caller's
   for (std::uint32_t step = 0; step <= max_steps; ++step) {
-    // The channel, with probability ∝ β_c; then the technique.
-    double total = 0;  // in double, so that equal factors give a weight of exactly 1
-    for (int c = 0; c < N; ++c) total += double(std::max(beta[c], Float(0)));
-    if (!(total > 0) || !std::isfinite(total)) return false;
-    const double pick = double(rng.next_float()) * total;
-    int ch = N - 1;
-    double acc = 0;
-    for (int c = 0; c < N; ++c) {
-      acc += double(std::max(beta[c], Float(0)));
-      if (pick < acc) { ch = c; break; }
-    }
     const bool guided = rng.next_float() < q;
     const Vec3 d_prev = d;
     if (!given) {
@@ -137,27 +152,36 @@ bool walk_to_boundary_guided(const MediumT<C>& medium, const Boundary& boundary,
     const double t = sigma_ch > 0 ? -std::log1p(-double(u)) / sigma_ch : std::numeric_limits<double>::infinity();
 
     // Direction densities: the phase function (the integrand's and the classic pdf) and
-    // each channel's Dwivedi pdf; 1 for the given first direction.
+    // the Dwivedi pdf; 1 for the given first direction.
     const double phase = given ? 1.0 : hg_sampled_pdf(dot(d_prev, d), medium.g);
-    double dir_guided[N];
-    for (int k = 0; k < N; ++k) dir_guided[k] = given ? 1.0 : dwivedi_pdf_mu(mu, kappa[k]) * double(kInv2Pi);
 
     const bool found = boundary.nearest(p, d, hit);
     const bool to_boundary = found && double(hit.t) <= t;
     const double s = to_boundary ? double(hit.t) : t;
     if (!to_boundary && !std::isfinite(t)) return false;
     if (!to_boundary && step == max_steps) return false;
-    double denom = 0, f[N];
+    double pdf[N], f[N];
     for (int k = 0; k < N; ++k) {
       const double st = sigma_t[k], sg = st * (1 - kappa[k] * mu);
       const double tr = std::exp(-st * s), tr_g = std::exp(-sg * s);
-      const double pk = (1 - q) * phase * (to_boundary ? tr : st * tr) + q * dir_guided[k] * (to_boundary ? tr_g : sg * tr_g);
-      denom += double(std::max(beta[k], Float(0))) * pk;
+      const double dir_g = given ? 1.0 : dwivedi_norm[k] / (1 - kappa[k] * mu) * double(kInv2Pi);
+      pdf[k] = (1 - q) * phase * (to_boundary ? tr : st * tr) + q * dir_g * (to_boundary ? tr_g : sg * tr_g);
       f[k] = phase * (to_boundary ? tr : double(medium.sigma_s[k]) * tr);
     }
-    if (!(denom > 0)) return false;
-    const double inv = total / denom;
-    for (int k = 0; k < N; ++k) beta[k] = Float(double(beta[k]) * f[k] * inv);
+    if (!(pdf[ch] > 0)) return false;
+    double rmax = 0;
+    for (int k = 0; k < N; ++k) {
+      R[k] *= pdf[k] / pdf[ch];
+      W[k] *= f[k] / pdf[ch];
+      rmax = std::max(rmax, R[k]);
+    }
+    if (rmax > 1e150) {  // a common factor of W and R cancels: keep them in range
+      for (int k = 0; k < N; ++k) R[k] /= rmax, W[k] /= rmax;
+    }
+    double denom = 0;
+    for (int k = 0; k < N; ++k) denom += b0[k] * R[k];
+    if (!(denom > 0) || !std::isfinite(denom)) return false;
+    for (int k = 0; k < N; ++k) beta[k] = Float(b0[k] * W[k] * total / denom);
     given = false;
     if (to_boundary) {
       if (d_out) *d_out = d;
@@ -166,12 +190,12 @@ bool walk_to_boundary_guided(const MediumT<C>& medium, const Boundary& boundary,
     p = p + d * Float(t);
     if (stats) ++stats->steps;
 
-    // Russian roulette as in random_walk.h.
+    // Russian roulette as in random_walk.h, on the path's current weight.
     const Float m = beta.max_component();
     if (!(m > 0) || !std::isfinite(m)) return false;
     if (m < 1) {
       if (rng.next_float() >= m) return false;
-      beta *= 1 / m;
+      for (int k = 0; k < N; ++k) W[k] /= double(m);
     }
   }
   return false;
