@@ -9,11 +9,16 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <string>
 #include <vector>
+
+#include <nlohmann/json.hpp>
 
 #include "../test_common.h"
 #include "gonio/subsurface/guided_walk.h"
+#include "gonio/error.h"
 #include "gonio/subsurface/random_walk.h"
+#include "gonio/subsurface/subsurface.h"
 #include "test_scale.h"
 
 namespace gonio {
@@ -204,6 +209,22 @@ TEST(GuidedWalk, ConservativeWeightsStayExactlyOne) {
     GuideSlab::Hit hit;
     ASSERT_TRUE(walk_to_boundary_guided(m, slab, guide, Vec3{0, 0, -1}, Vec3{0, 0, -1}, beta, rng, hit)) << i;
     ASSERT_EQ(beta, Color(1)) << "path " << i;
+  }
+}
+
+// The material's "guide": 0.5 by default, [0, 1], one error line naming the field.
+TEST(GuidedWalk, GuideFieldIsReadAndChecked) {
+  const auto parse = [](const char* text) { return subsurface_from_json(nlohmann::json::parse(text)); };
+  EXPECT_EQ(parse(R"({"type":"subsurface","sigma_s":1,"sigma_a":0})").guide, 0.5f);
+  EXPECT_EQ(parse(R"({"type":"subsurface","sigma_s":1,"sigma_a":0,"guide":0})").guide, 0.0f);
+  for (const char* bad : {R"({"type":"subsurface","sigma_s":1,"sigma_a":0,"guide":1.5})",
+                          R"({"type":"subsurface","sigma_s":1,"sigma_a":0,"guide":-0.1})"}) {
+    try {
+      parse(bad);
+      ADD_FAILURE() << bad;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("guide"), std::string::npos) << e.what();
+    }
   }
 }
 
