@@ -719,6 +719,7 @@ Subsurface parse_subsurface(Params& p, bool invert) {
   if (!(std::abs(Float(g)) < 1)) p.fail("g must be > -1 and < 1, got " + format_number(g) + " (it rounds to +-1 as a float)");
   s.medium.g = Float(g);
   s.method = p.choice("method") == "diffusion" ? SubsurfaceMethod::Diffusion : SubsurfaceMethod::RandomWalk;
+  s.guide = Float(p.number("guide"));
 
   if (has_sigma_s) {
     s.medium.sigma_s = p.color("sigma_s");

@@ -171,6 +171,9 @@ constexpr ParamSpec kSubsurface[] = {
     {"scale", K::Number, "1", open_closed(0, 1e9), "", "", false, "Scene units per mm, for medium."},
     {"method", K::Choice, "\"randomwalk\"", {}, "", "randomwalk|diffusion", false,
      "How the renderer and gonio subsurface treat the medium: the exact random walk, or a diffusion profile."},
+    {"guide", K::Number, "0.5", closed(0, 1), "", "", false,
+     "Renderer's random walk: the probability of Dwivedi sampling towards the entry point's surface at each event, "
+     "mixed by MIS with the classic walk (0: the classic walk's sampling)."},
 };
 
 // The thin sheet (its index: a dielectric's, read the same way).

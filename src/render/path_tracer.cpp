@@ -15,6 +15,7 @@
 #include "gonio/render/subsurface_probe.h"
 #include "gonio/render/subsurface_walk.h"
 #include "gonio/subsurface/diffusion.h"
+#include "gonio/subsurface/guided_walk.h"
 #include "gonio/subsurface/random_walk.h"
 #include "gonio/subsurface/sw_bxdf.h"
 
@@ -381,8 +382,13 @@ typename Shading::Radiance PathTracer::trace(Ray ray, PixelSampler& sampler, Pat
           const SceneBoundary boundary(accel_, stats.rays);
           WalkStats ws;
           ++stats.walks;
+          // guided_walk.h: the channel chosen once per walk and weighted over the whole
+          // path (spectral MIS), the classic walk mixed with Dwivedi sampling towards
+          // the entry point's surface with probability `guide` per event.
           const bool reached =
-              walk_to_boundary(material.subsurface->medium, boundary, start, wi_world, beta, sampler.rng(), walked, &ws);
+              walk_to_boundary_guided(material.subsurface->medium, boundary,
+                                      WalkGuide{hit.ng, material.subsurface->guide}, start, wi_world, beta,
+                                      sampler.rng(), walked, &ws);
           stats.walk_steps += ws.steps;
           if (!reached || !(beta.max_component() > 0)) break;
           have_walked = true;

@@ -24,6 +24,9 @@ struct Subsurface {
   BxDF boundary;       // `dielectric` (smooth) or `roughdielectric` with `eta`
   Medium medium;       // in 1 / scene unit, after `albedo`/`mfp` or `medium`/`scale`
   SubsurfaceMethod method = SubsurfaceMethod::RandomWalk;
+  // The renderer's walk: the probability of the Dwivedi-guided technique per event
+  // (guided_walk.h); 0 is the classic walk of random_walk.h.
+  Float guide = 0.5f;
 };
 
 // Reads a material description whose "type" is "subsurface" (SPEC §2) — every form of
