@@ -174,16 +174,6 @@ def cli(*args):
     (["render", "{scene}", "--spp", "4", "--passes", "2", "-o", "{tmp}/o.exr", "--scheduler", "tcp://127.0.0.1:9",
       "--timeout", "1"],
      "cannot reach the Dask scheduler at tcp://127.0.0.1:9"),
-    # Checked on the client before any cluster starts: with an unreachable scheduler, a
-    # check made after connecting would report the scheduler instead.
-    (["measure", '{{"type": "bogus"}}', "-o", "{tmp}", "--scheduler", "tcp://127.0.0.1:9", "--timeout", "1"],
-     'unknown type "bogus"'),
-    (["measure", '{{"type": "flat", "material": {{"type": "diffuse"}}}}', "-o", "{tmp}", "--samples", "0",
-      "--scheduler", "tcp://127.0.0.1:9", "--timeout", "1"], "--samples must be at least 1"),
-    (["fit", "{tmp}/corrupt.json", "--model", "bogus", "--scheduler", "tcp://127.0.0.1:9", "--timeout", "1"],
-     "unknown model 'bogus'"),
-    (["fit", "{tmp}/corrupt.json", "--model", "plastic", "--metric", "nope", "--scheduler", "tcp://127.0.0.1:9",
-      "--timeout", "1"], "--metric must be ngan or log"),
 ])
 def test_bad_inputs_give_one_line(scene_path, tmp_path, args, needle):
     (tmp_path / "corrupt.json").write_text("{")
@@ -194,6 +184,24 @@ def test_bad_inputs_give_one_line(scene_path, tmp_path, args, needle):
     assert len(lines) == 1, r.stderr
     assert needle in lines[0] and lines[0].startswith("gonio.distributed: ")
     assert not os.path.exists(tmp_path / "o.exr")
+
+
+# Checked on the client before any cluster starts: with an unreachable scheduler, a check
+# made after connecting would report the scheduler instead. main() in this process (the
+# subprocess cases above check the exit path; these need no interpreter of their own).
+@pytest.mark.parametrize("args, needle", [
+    (["measure", '{"type": "bogus"}', "-o", "{tmp}"], 'unknown type "bogus"'),
+    (["measure", '{"type": "flat", "material": {"type": "diffuse"}}', "-o", "{tmp}", "--samples", "0"],
+     "--samples must be at least 1"),
+    (["fit", "{tmp}/t.binary", "--model", "bogus"], "unknown model 'bogus'"),
+    (["fit", "{tmp}/t.binary", "--model", "plastic", "--metric", "nope"], "--metric must be ngan or log"),
+])
+def test_cli_checks_inputs_before_connecting(tmp_path, capsys, args, needle):
+    (tmp_path / "t.binary").write_bytes(b"")
+    argv = [a.replace("{tmp}", str(tmp_path)) for a in args] + ["--scheduler", "tcp://127.0.0.1:9", "--timeout", "1"]
+    assert gd.main(argv) == 1
+    lines = capsys.readouterr().err.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("gonio.distributed: ") and needle in lines[0], lines
 
 
 def test_corrupt_scene_is_named(tmp_path):

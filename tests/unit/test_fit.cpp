@@ -258,6 +258,7 @@ TEST(Fit, OpenPbrTablesGiveBackTheirParameters) {
     const MerlTable t = make_table(
         R"({"type":"openpbr","base_metalness":1,"base_color":[0.9,0.6,0.3],"specular_color":[1,0.9,0.8],"specular_roughness":0.4})");
     FitOptions o = options("openpbr");
+    o.stride = 10;  // the sanitizers' subsample: an OpenPBR evaluation costs several other models'
     o.init = json::parse(R"({"specular_roughness":0.25})");  // one start (the multi-start's cost ×3)
     const FitResult r = fit_merl(t, o);
     const json& m = r.material;
@@ -272,6 +273,7 @@ TEST(Fit, OpenPbrTablesGiveBackTheirParameters) {
     const MerlTable t = make_table(
         R"({"type":"openpbr","base_color":[0.2,0.5,0.7],"specular_roughness":0.3,"base_diffuse_roughness":0.5})");
     FitOptions o = options("openpbr");
+    o.stride = 10;
     // base_diffuse_roughness is a fixed choice, not fitted; one start, as above.
     o.init = json::parse(R"({"base_diffuse_roughness":0.5,"specular_roughness":0.5})");
     const FitResult r = fit_merl(t, o);
