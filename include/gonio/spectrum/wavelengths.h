@@ -6,8 +6,9 @@
 // Two densities. The renderer draws with the sRGB-response density (below the visible
 // one; issue 38). The visible density is pbrt-v4's visible-importance function (after
 // Radziszewski et al. 2009), kept as the reference it is measured against:
-// p(λ) ∝ sech²(a (λ − μ)) with a = 0.0072 /nm, μ = 538 nm, restricted to [360, 830] nm. It follows the luminous sensitivity (ȳ peaks at 555 nm) with heavier
-// tails than ȳ, so that blue and red are still sampled. Its CDF is closed-form:
+// p(λ) ∝ sech²(a (λ − μ)) with a = 0.0072 /nm, μ = 538 nm, restricted to [360, 830] nm.
+// It follows the luminous sensitivity (ȳ peaks at 555 nm) with heavier tails than ȳ, so
+// that blue and red are still sampled. Its CDF is closed-form:
 //   P(λ) = (tanh(a (λ − μ)) − t0) / (t1 − t0),  t0 = tanh(a (360 − μ)), t1 = tanh(a (830 − μ))
 //   p(λ) = a sech²(a (λ − μ)) / (t1 − t0)
 //   P⁻¹(u) = μ + atanh(t0 + u (t1 − t0)) / a
