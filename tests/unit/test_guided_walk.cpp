@@ -19,34 +19,11 @@
 #include "gonio/error.h"
 #include "gonio/subsurface/random_walk.h"
 #include "gonio/subsurface/subsurface.h"
+#include "chandrasekhar_h.h"
 #include "test_scale.h"
 
 namespace gonio {
 namespace {
-
-// H(μ) for isotropic scattering of albedo ϖ (Chandrasekhar 1960, ch. V:
-// H(μ) = 1 + (ϖ/2) μ H(μ) ∫₀¹ H(μ′)/(μ + μ′) dμ′), by fixed-point iteration on
-// Gauss–Legendre nodes.
-double guided_h(double albedo, double mu) {
-  std::vector<double> x, w;
-  gauss_legendre(24, 0, 1, x, w);
-  std::vector<double> h(x.size(), 1.0), next(x.size());
-  const auto integral = [&](double m) {
-    double s = 0;
-    for (size_t j = 0; j < x.size(); ++j) s += w[j] * h[j] / (m + x[j]);
-    return s;
-  };
-  for (int it = 0; it < 40000; ++it) {
-    double change = 0;
-    for (size_t i = 0; i < x.size(); ++i) {
-      next[i] = 1 / (1 - albedo / 2 * x[i] * integral(x[i]));
-      change = std::max(change, std::abs(next[i] - h[i]));
-    }
-    h.swap(next);
-    if (change < 1e-14) break;
-  }
-  return 1 / (1 - albedo / 2 * mu * integral(mu));
-}
 
 // The medium −depth ≤ z ≤ 0 between two index-matched planes.
 struct GuideSlab {
@@ -155,7 +132,7 @@ TEST(GuidedWalk, IndexMatchedHalfSpaceMatchesHFunction) {
   for (const double q : {0.5, 0.25, 1.0}) {
     const MeanSe r = slab_estimate(m, 1e30f, Vec3{0, 0, -1}, q, true, test::scaled(200000, 20000), 31);
     for (int c = 0; c < 3; ++c) {
-      const double expected = 1 - guided_h(albedo[c], 1.0) * std::sqrt(1 - albedo[c]);
+      const double expected = 1 - test::chandrasekhar_h(albedo[c], 1.0) * std::sqrt(1 - albedo[c]);
       EXPECT_GT(r.se[c], 0);
       EXPECT_NEAR(r.mean[c], expected, 4 * r.se[c]) << "albedo " << albedo[c] << " q " << q;
     }

@@ -91,46 +91,28 @@ inline Float sample_response_wavelength(Float u, Float& pdf) {
 
 class SampledWavelengths {
  public:
-  // Hero-wavelength sampling: λ_j = P⁻¹(frac(u + j/4)), pdf_j = p(λ_j). u in [0, 1).
+  // Hero-wavelength sampling: λ_j = P⁻¹(frac(u + j/4)), pdf_j = p(λ_j), u in [0, 1), with
+  // the visible density (a reference for tests and benchmarks).
   static SampledWavelengths sample_visible(Float u) {
-    SampledWavelengths w;
-    if (!(u >= 0 && u < 1)) u = u >= 1 ? kOneMinusEpsilon : Float(0);  // NaN -> 0
-    using namespace visible_density;
-    for (int j = 0; j < kSpectrumSamples; ++j) {
-      Float uj = u + Float(j) / kSpectrumSamples;
-      if (uj >= 1) uj -= 1;
+    return rotated(u, [](Float uj, Float& pdf) {
+      using namespace visible_density;
       // t = tanh(a (λ − μ)) = t0 + u (t1 − t0); then λ = μ + atanh(t)/a with
       // atanh(t) = ½ log((1 + t)/(1 − t)), and p(λ) = a sech² / span = a (1 − t²) / span:
       // one log per wavelength, no cosh.
       const Float t = std::clamp(kT0 + uj * kSpan, kT0, kT1);
-      w.lambda_[size_t(j)] = std::clamp(kMu + Float(0.5) / kA * std::log((1 + t) / (1 - t)), kLambdaMin, kLambdaMax);
-      w.pdf_[size_t(j)] = kA * (1 - t * t) / kSpan;
-    }
-    return w;
+      pdf = kA * (1 - t * t) / kSpan;
+      return std::clamp(kMu + Float(0.5) / kA * std::log((1 + t) / (1 - t)), kLambdaMin, kLambdaMax);
+    });
   }
   // The same rotations with the sRGB-response density above: the renderer's draw.
-  static SampledWavelengths sample_response(Float u) {
-    SampledWavelengths w;
-    if (!(u >= 0 && u < 1)) u = u >= 1 ? kOneMinusEpsilon : Float(0);
-    for (int j = 0; j < kSpectrumSamples; ++j) {
-      Float uj = u + Float(j) / kSpectrumSamples;
-      if (uj >= 1) uj -= 1;
-      w.lambda_[size_t(j)] = sample_response_wavelength(uj, w.pdf_[size_t(j)]);
-    }
-    return w;
-  }
+  static SampledWavelengths sample_response(Float u) { return rotated(u, sample_response_wavelength); }
   // Uniform over [kLambdaMin, kLambdaMax] with the same rotation (a reference to compare
   // the importance density with): λ_j = 360 + 470 frac(u + j/4), pdf 1/470.
   static SampledWavelengths sample_uniform(Float u) {
-    SampledWavelengths w;
-    if (!(u >= 0 && u < 1)) u = u >= 1 ? kOneMinusEpsilon : Float(0);
-    for (int j = 0; j < kSpectrumSamples; ++j) {
-      Float uj = u + Float(j) / kSpectrumSamples;
-      if (uj >= 1) uj -= 1;
-      w.lambda_[size_t(j)] = std::min(kLambdaMin + uj * (kLambdaMax - kLambdaMin), kLambdaMax);
-      w.pdf_[size_t(j)] = 1 / (kLambdaMax - kLambdaMin);
-    }
-    return w;
+    return rotated(u, [](Float uj, Float& pdf) {
+      pdf = 1 / (kLambdaMax - kLambdaMin);
+      return std::min(kLambdaMin + uj * (kLambdaMax - kLambdaMin), kLambdaMax);
+    });
   }
 
   // All 4 slots at one wavelength with density 1: a model evaluated at λ (`gonio eval
@@ -164,6 +146,20 @@ class SampledWavelengths {
   }
 
  private:
+  // The rotations in CDF space: λ_j = inverse(frac(u + j/4)), which also sets pdf_j. A u
+  // outside [0, 1) is clamped (NaN → 0).
+  template <typename Inverse>
+  static SampledWavelengths rotated(Float u, Inverse&& inverse) {
+    SampledWavelengths w;
+    if (!(u >= 0 && u < 1)) u = u >= 1 ? kOneMinusEpsilon : Float(0);
+    for (int j = 0; j < kSpectrumSamples; ++j) {
+      Float uj = u + Float(j) / kSpectrumSamples;
+      if (uj >= 1) uj -= 1;
+      w.lambda_[size_t(j)] = inverse(uj, w.pdf_[size_t(j)]);
+    }
+    return w;
+  }
+
   std::array<Float, kSpectrumSamples> lambda_{};
   std::array<Float, kSpectrumSamples> pdf_{};
 };
