@@ -16,6 +16,7 @@
 #include "gonio/render/subsurface_walk.h"
 #include "gonio/subsurface/diffusion.h"
 #include "gonio/subsurface/guided_walk.h"
+#include "gonio/subsurface/openpbr_interior.h"
 #include "gonio/subsurface/random_walk.h"
 #include "gonio/subsurface/sw_bxdf.h"
 
@@ -60,8 +61,22 @@ struct ScalarTransport {
 // forms).
 struct RgbShading : ScalarTransport<Color> {
   using C = Color;
+  using U = Color;
   std::optional<BxDF> textured;  // the model at a textured shading point
-  const BxDF& bxdf(const Material& m, const Vec2& uv) { return m.at(uv, textured); }
+  // Whether media are walked (RGB; not as the base of polarized shading): then a material
+  // with a volume form (Material::subsurface) shades with its boundary.
+  bool walks = true;
+  // `inside`: wo is behind the geometric normal (Material::inside).
+  const BxDF& bxdf(const Material& m, const Vec2& uv, bool inside) {
+    if (inside && m.inside && (walks || !m.subsurface_bsdf_fallback)) return *m.inside;
+    if (walks && m.subsurface) return m.subsurface->boundary;
+    return m.at(uv, textured);
+  }
+  // An emitting surface's radiance, given in linear sRGB (surface_emission below).
+  Color surface(const Color& rgb) const { return rgb; }
+  // σa of an absorbing interior (Material::absorption).
+  Color absorption(const Material& m) const { return *m.absorption; }
+  static void attenuate(Color& beta, const Color& sigma_a, Float t) { beta *= map(sigma_a, [t](Float s) { return std::exp(-s * t); }); }
   Color point(const PointLight& l) const { return l.intensity; }
   Color area(const AreaLight&, const Color& rgb) const { return rgb; }
   Color environment(const Environment&, const Vec3&, const Color& rgb) const { return rgb; }
@@ -69,17 +84,30 @@ struct RgbShading : ScalarTransport<Color> {
 
 struct SpectralShading : ScalarTransport<SampledSpectrum> {
   using C = SampledSpectrum;
+  using U = SampledSpectrum;
   SampledWavelengths& w;
   SpectralScratch& scratch;
   std::optional<BxDF> textured;
   SpectralBxDF model;
   // The previous vertex's model is no longer needed when the next one is made, so the
   // scratch space of blends is reused.
-  const SpectralBxDF& bxdf(const Material& m, const Vec2& uv) {
+  const SpectralBxDF& bxdf(const Material& m, const Vec2& uv, bool inside) {
     scratch.reset();
-    model = to_spectral(m.at(uv, textured), m.spectra, w, scratch, m.textured_colours);
+    // A volume form is RGB-only: its inside model only with an absorbing interior.
+    const bool in = inside && m.inside && !m.subsurface_bsdf_fallback;
+    model = to_spectral(in ? *m.inside : m.at(uv, textured), m.spectra, w, scratch, m.textured_colours);
     return model;
   }
+  // Upsampled as an illuminant, as a light given in RGB is (lights.h).
+  C surface(const Color& rgb) const { return rgb_illuminant(rgb, w); }
+  // σa(λ) = −ln T(λ)/d from the upsampled transmission_color T (openpbr_interior.h).
+  C absorption(const Material& m) const {
+    const SampledSpectrum t = m.absorption_colour->eval(w);
+    C sigma;
+    for (int i = 0; i < C::size(); ++i) sigma[i] = openpbr::extinction_from_colour(t[i], m.absorption_depth);
+    return sigma;
+  }
+  static void attenuate(C& beta, const C& sigma_a, Float t) { beta *= map(sigma_a, [t](Float s) { return std::exp(-s * t); }); }
   C point(const PointLight& l) const { return emission_spectrum(l.spectrum, l.intensity, w); }
   C area(const AreaLight& l, const Color&) const { return area_light_spectrum(l, w); }
   C environment(const Environment& e, const Vec3& dir, const Color&) const { return e.radiance(dir, w); }
@@ -107,15 +135,24 @@ struct PolarizedShading {
   std::optional<PolarizedBxDFT<U>> model;
   Vec3 s_seg{1, 0, 0};
 
-  const PolarizedBxDFT<U>& bxdf(const Material& m, const Vec2& uv) {
+  const PolarizedBxDFT<U>& bxdf(const Material& m, const Vec2& uv, bool inside) {
+    const bool in = inside && m.inside && !m.subsurface_bsdf_fallback;
     if constexpr (std::is_same_v<U, Color>) {
       const size_t i = static_cast<size_t>(&m - cached_base);
-      if (m.textures.empty() && cached && (*cached)[i]) return *(*cached)[i];
+      if (!in && m.textures.empty() && cached && (*cached)[i]) return *(*cached)[i];
     }
-    return model.emplace(base.bxdf(m, uv));
+    return model.emplace(base.bxdf(m, uv, in));
   }
   const Material* cached_base = nullptr;  // &scene.materials[0], for the cache's index
 
+  U surface(const Color& rgb) const { return base.surface(rgb); }
+  U absorption(const Material& m) const { return base.absorption(m); }
+  // Absorption does not polarize: every entry of the Mueller matrix scales alike.
+  static void attenuate(C& beta, const U& sigma_a, Float t) {
+    const U k = map(sigma_a, [t](Float s) { return std::exp(-s * t); });
+    for (int r = 0; r < 4; ++r)
+      for (int c = 0; c < 4; ++c) beta(r, c) = beta(r, c) * k;
+  }
   U point(const PointLight& l) const { return base.point(l); }
   U area(const AreaLight& l, const Color& rgb) const { return base.area(l, rgb); }
   U environment(const Environment& e, const Vec3& d, const Color& rgb) const { return base.environment(e, d, rgb); }
@@ -172,6 +209,16 @@ Float scene_radius(const Scene& scene) {
   return std::isfinite(r) && r > 0 ? r : Float(1);
 }
 
+// The radiance an emitting `openpbr` surface sends towards w, n its geometric normal (the
+// emitting side; both sides when thin-walled). Black for every other material.
+Color surface_emission(const Material& m, const Vec3& n, const Vec3& w) {
+  if (!m.emits) return Color(0);
+  Float mu = dot(n, w);
+  if (m.emits_both_sides) mu = std::abs(mu);
+  const auto* model = std::get_if<OpenPbrBxDF>(&m.bxdf.models());
+  return model && mu > 0 ? model->emission(mu) : Color(0);
+}
+
 }  // namespace
 
 PathTracer::PathTracer(const Scene& scene, const Accel& accel)
@@ -183,15 +230,17 @@ PathTracer::PathTracer(const Scene& scene, const Accel& accel)
   // done yet, and rendering them grey or wrong would not say so.
   if (scene.settings.spectral)
     for (const Material& m : scene.materials)
-      if (m.subsurface)
+      if (m.subsurface && !m.subsurface_bsdf_fallback)
         throw InputError("spectral rendering: material" + (m.name.empty() ? std::string() : " \"" + m.name + "\"") +
-                         " is a subsurface material, which renders in RGB only (its medium is not carried per "
+                         " has a scattering medium (a subsurface material, or an openpbr one with transmission_depth and "
+                         "transmission_scatter), which renders in RGB only (its medium is not carried per "
                          "wavelength yet); render without --spectral and \"spectral\": true");
   if (scene.settings.polarized) {
     for (const Material& m : scene.materials)
-      if (m.subsurface)
+      if (m.subsurface && !m.subsurface_bsdf_fallback)
         throw InputError("polarized rendering: material" + (m.name.empty() ? std::string() : " \"" + m.name + "\"") +
-                         " is a subsurface material, whose medium is not carried with Stokes vectors yet; render "
+                         " has a scattering medium (a subsurface material, or an openpbr one with transmission_depth and "
+                         "transmission_scatter), which is not carried with Stokes vectors yet; render "
                          "without --polarized and \"polarized\": true");
     polarized_models_.reserve(scene.materials.size());
     for (const Material& m : scene.materials)
@@ -241,8 +290,21 @@ typename Shading::C PathTracer::direct_light(const SurfaceHit& hit, const Frame&
   const int pick = choice.light;
   const auto [u1, u2] = sampler.get2d(dims::bounce(depth) + dims::kLightPosition);
   const bool env = pick == light_sampler_.environment_index();
-  const LightSample ls = env ? scene_.environment.sample(u1, u2)
-                             : sample_area_light(scene_.area_lights[static_cast<size_t>(pick)], hit.p, u1, u2);
+  LightSample ls = env ? scene_.environment.sample(u1, u2)
+                       : sample_area_light(scene_.area_lights[static_cast<size_t>(pick)], hit.p, u1, u2);
+  // An emitting surface (an openpbr sphere or quad): what leaves it towards hit.p. A point
+  // on it sees none of its own (convex) surface.
+  // (A scene built in code may leave area_light_material empty: plain lights.)
+  const int emitter = env || size_t(pick) >= scene_.area_light_material.size()
+                          ? -1
+                          : scene_.area_light_material[static_cast<size_t>(pick)];
+  if (emitter >= 0) {
+    if (pick == hit.area_light || !(ls.pdf > 0)) return sum;
+    const AreaLight& light = scene_.area_lights[static_cast<size_t>(pick)];
+    const auto* quad = std::get_if<QuadLight>(&light);
+    const Vec3 n = quad ? quad->normal() : normalize(hit.p + ls.wi * ls.distance - std::get<SphereLight>(light).center);
+    ls.radiance = surface_emission(scene_.materials[static_cast<size_t>(emitter)], n, -ls.wi);
+  }
   if (!(ls.pdf > 0) || ls.radiance.is_black()) return sum;
   const Vec3 wi = normalize(frame.to_local(ls.wi));
   if (!sides_agree(wo_world, ls.wi, hit.ng, wo, wi)) return sum;
@@ -250,8 +312,9 @@ typename Shading::C PathTracer::direct_light(const SurfaceHit& hit, const Frame&
   if (e.f.is_black() || occluded(hit.p, hit.ng, ls.wi, ls.distance, stats)) return sum;
   const Float light_pdf = choice.pmf * ls.pdf;
   const Float w = power_heuristic(light_pdf, e.pdf);
-  const auto Le = env ? shading.environment(scene_.environment, ls.wi, ls.radiance)
-                   : shading.area(scene_.area_lights[static_cast<size_t>(pick)], ls.radiance);
+  const auto Le = env            ? shading.environment(scene_.environment, ls.wi, ls.radiance)
+                  : emitter >= 0 ? shading.surface(ls.radiance)
+                                 : shading.area(scene_.area_lights[static_cast<size_t>(pick)], ls.radiance);
   sum += e.f * Le * (std::abs(wi.z) * w / light_pdf);
   return sum;
 }
@@ -270,6 +333,7 @@ SampledSpectrum PathTracer::radiance(Ray ray, SampledWavelengths& w, PixelSample
 std::array<Color, 4> PathTracer::stokes(Ray ray, PixelSampler& sampler, PathStats& stats) const {
   PolarizedShading<RgbShading> shading{{}, scene_.camera.image_x(), scene_.camera.polarizer_deg ? &polarizer_rgb_ : nullptr,
                                        &polarized_models_, {}, {}, scene_.materials.data()};
+  shading.base.walks = false;  // media are not carried with Stokes vectors: BSDF forms
   return trace(ray, sampler, stats, shading);
 }
 
@@ -300,6 +364,9 @@ typename Shading::Radiance PathTracer::trace(Ray ray, PixelSampler& sampler, Pat
   // The boundary point a random walk reached: the next vertex, found without a ray.
   SceneBoundary::Hit walked;
   bool have_walked = false;
+  // The absorbing interior (an openpbr material's, Material::absorption) the current ray
+  // travels through, or null.
+  const Material* absorber = nullptr;
   for (int depth = 0;; ++depth) {
     SurfaceHit hit;
     Vec3 wo_world;
@@ -311,7 +378,15 @@ typename Shading::Radiance PathTracer::trace(Ray ray, PixelSampler& sampler, Pat
       wo_world = -walked.d;
     } else {
       ++stats.rays;
-      if (!accel_.intersect(ray, hit)) {
+      const bool found = accel_.intersect(ray, hit);
+      if (absorber) {
+        // Beer–Lambert over the segment; a ray leaving an open absorbing shape meets no end
+        // of it (an infinite path length).
+        if (!found) break;
+        shading.attenuate(beta, shading.absorption(*absorber), hit.t);
+        absorber = nullptr;
+      }
+      if (!found) {
         if (!scene_.environment.is_black()) {
           const Color rgb = scene_.environment.radiance(ray.d);
           const Float w = specular ? 1 : power_heuristic(prev_pdf, light_sampler_.pmf(prev_p, prev_n, light_sampler_.environment_index()) *
@@ -320,25 +395,32 @@ typename Shading::Radiance PathTracer::trace(Ray ray, PixelSampler& sampler, Pat
         }
         break;
       }
+      const Material& surface = scene_.materials[static_cast<size_t>(hit.material)];
       if (hit.area_light >= 0) {
-        // Emitters are black bodies apart from their emission: the path ends here.
+        // A light of the scene's "lights" (a black body apart from its emission: the path
+        // ends here) or an emitting openpbr surface, which also reflects.
         const AreaLight& light = scene_.area_lights[static_cast<size_t>(hit.area_light)];
         const auto* quad = std::get_if<QuadLight>(&light);
         const Vec3 n = quad ? quad->normal() : hit.ng;
-        const Color rgb = area_light_radiance(light, n, -ray.d);
+        const bool own = surface.emits;
+        const Color rgb = own ? surface_emission(surface, n, -ray.d) : area_light_radiance(light, n, -ray.d);
         if (!rgb.is_black()) {
           const Float w = specular ? 1 : power_heuristic(prev_pdf, light_sampler_.pmf(prev_p, prev_n, hit.area_light) *
                                                                             area_light_pdf(light, prev_p, hit.p, n));
-          shading.add(L, beta, shading.area(light, rgb), w);
+          shading.add(L, beta, own ? shading.surface(rgb) : shading.area(light, rgb), w);
         }
-        break;
+        if (surface.black_body) break;
+      } else if (surface.emits) {
+        // An emitting mesh: no light samples it, so what a path finds counts in full.
+        const Color rgb = surface_emission(surface, hit.ng, -ray.d);
+        if (!rgb.is_black()) shading.add(L, beta, shading.surface(rgb), 1);
       }
       wo_world = -ray.d;
     }
     if (depth >= max_depth) break;
 
     const Material& material = scene_.materials[static_cast<size_t>(hit.material)];
-    const auto& bxdf = shading.bxdf(material, hit.uv);
+    const auto& bxdf = shading.bxdf(material, hit.uv, dot(wo_world, hit.ng) < 0);
     // Where the shading and geometric normals disagree about the side of wo, shading
     // with the interpolated normal would give black or leak: fall back to the geometric.
     const bool consistent = dot(wo_world, hit.ns) * dot(wo_world, hit.ng) > 0;
@@ -373,7 +455,7 @@ typename Shading::Radiance PathTracer::trace(Ray ray, PixelSampler& sampler, Pat
     // Into the medium of a subsurface material: the geometric normal points out of the
     // shape (spheres; meshes wound or turned so at load), so wi is inside when it is on
     // the normal's back side — after a refraction from outside or a reflection inside.
-    if (material.subsurface && dot(wi_world, hit.ng) < 0) {
+    if (material.subsurface && std::is_same_v<C, Color> && dot(wi_world, hit.ng) < 0) {
       if constexpr (std::is_same_v<C, Color>) {
         if (material.subsurface->method == SubsurfaceMethod::RandomWalk) {
           // Start just inside the surface, so that the walk's first query does not find
@@ -432,6 +514,9 @@ typename Shading::Radiance PathTracer::trace(Ray ray, PixelSampler& sampler, Pat
         break;  // unreachable: the constructor rejects spectral and polarized subsurface scenes
       }
     }
+    // Into an absorbing interior: the geometric normal points out of the shape (as for the
+    // subsurface media above).
+    if (material.absorption && dot(wi_world, hit.ng) < 0) absorber = &material;
     ray = Ray{offset_ray_origin(hit.p, hit.ng, wi_world), wi_world};
   }
   // A path with a NaN anywhere contributes nothing rather than poisoning the pixel.

@@ -23,6 +23,7 @@
 #include "gonio/render/mesh_loader.h"
 #include "gonio/render/subsurface_walk.h"
 #include "gonio/subsurface/diffusion.h"
+#include "gonio/subsurface/openpbr_interior.h"
 #include "gonio/render/texture.h"
 #include "gonio/spectrum/spectrum_json.h"
 #include "gonio/spectrum/spectrum_to_rgb.h"
@@ -187,9 +188,52 @@ struct Loader {
       scene.materials.push_back(std::move(m));
     } else {
       MaterialWithSpectra parsed = material_with_spectra_from_json(desc.value(), desc.where(), base_dir);
-      scene.materials.push_back({name, std::move(parsed.bxdf), {}, std::move(parsed.spectra), 0, {}, {}, {}});
+      Material m;
+      m.name = name;
+      m.bxdf = std::move(parsed.bxdf);
+      m.spectra = std::move(parsed.spectra);
+      scene.materials.push_back(std::move(m));
     }
+    openpbr_surface(scene.materials.back(), desc);
     return static_cast<int>(scene.materials.size()) - 1;
+  }
+
+  // What an `openpbr` material adds to the scene beyond its BSDF (docs/openpbr.md,
+  // "Rendering"): its emission, and the medium inside its shape when it transmits with a
+  // transmission_depth — absorbing only (Beer–Lambert along each segment, in every colour
+  // mode), or scattering (the random walk of a `subsurface` medium, with its limits: RGB,
+  // closed shapes).
+  void openpbr_surface(Material& m, const Node& desc) {
+    const auto* model = std::get_if<OpenPbrBxDF>(&m.bxdf.models());
+    if (!model) return;
+    const OpenPbrParams<Color>& p = model->params;
+    m.emits = p.emission_luminance > 0 && !p.emission_color.is_black() && p.geometry_opacity > 0;
+    m.emits_both_sides = p.geometry_thin_walled;
+    if (p.subsurface_weight > 0 && !p.geometry_thin_walled && m.textures.empty()) {
+      subsurface_volume(m, *model, desc);
+      return;
+    }
+    const auto medium = openpbr::transmission_medium(p);
+    if (!medium) return;
+    m.inside = inside_model(*model);
+    if (medium->sigma_s.is_black()) {
+      m.absorption = medium->sigma_a;
+      m.absorption_depth = p.transmission_depth;
+      try {
+        m.absorption_colour.emplace(std::clamp(p.transmission_color[0], Float(0), Float(1)),
+                                    std::clamp(p.transmission_color[1], Float(0), Float(1)),
+                                    std::clamp(p.transmission_color[2], Float(0), Float(1)));
+      } catch (const InputError& e) {
+        desc.fail(std::string("openpbr: transmission_color: ") + e.what());
+      }
+      return;
+    }
+    Subsurface s;
+    s.eta = model->relative_eta();
+    s.boundary = m.bxdf;
+    s.medium = *medium;
+    s.method = SubsurfaceMethod::RandomWalk;
+    m.subsurface = s;
   }
 
   // --- Textures (docs/scene-format.md, "Textures") ---------------------------------
@@ -427,7 +471,9 @@ struct Loader {
     // The largest values: a rough conductor then keeps its multiple-scattering lobe
     // unless every roughness is smooth (with_params).
     MaterialWithSpectra parsed = material_with_spectra_from_json(corner[1], desc.where(), base_dir);
-    Material m{"", std::move(parsed.bxdf), {}, std::move(parsed.spectra), 0, {}, {}, {}};
+    Material m;
+    m.bxdf = std::move(parsed.bxdf);
+    m.spectra = std::move(parsed.spectra);
     for (const Slot& s : slots) {
       m.textures.push_back({s.param, s.texture});
       if (int(s.param) < kColourParams) m.textured_colours |= TexturedColours(1) << unsigned(s.param);
@@ -524,12 +570,16 @@ struct Loader {
       s.center = n.required("center").vec3();
       s.radius = static_cast<Float>(n.required("radius").number(0, 1e30, true));
       s.material = material_of(n);
+      if (scene.materials[static_cast<size_t>(s.material)].emits) s.area_light = emitting_shape(SphereLight{s.center, s.radius, {}, {}}, s.material);
       scene.spheres.push_back(s);
     } else if (type == "quad") {
       n.object({"type", "corner", "edge1", "edge2", "material"});
       Vec3 c, e1, e2;
       quad_geometry(n, c, e1, e2);
-      add_quad_mesh(c, e1, e2, material_of(n), -1);
+      const int material = material_of(n);
+      const Material& mat = scene.materials[static_cast<size_t>(material)];
+      add_quad_mesh(c, e1, e2, material,
+                    mat.emits ? emitting_shape(QuadLight{c, e1, e2, {}, mat.emits_both_sides, {}}, material) : -1);
       check_walkable(n, scene.meshes.back(), "a quad");
     } else if (type == "mesh") {
       n.object({"type", "file", "material", "translate", "scale", "rotate"});
@@ -601,6 +651,7 @@ struct Loader {
       q.radiance = n.required("radiance").color(base_dir, &q.spectrum);
       if (n.has("two_sided")) q.two_sided = n.at("two_sided").boolean();
       scene.area_lights.emplace_back(q);
+      scene.area_light_material.push_back(-1);
       add_quad_mesh(q.corner, q.edge1, q.edge2, emitter_material(), static_cast<int>(scene.area_lights.size()) - 1);
     } else if (type == "sphere") {
       n.object({"type", "center", "radius", "radiance"});
@@ -609,17 +660,86 @@ struct Loader {
       s.radius = static_cast<Float>(n.required("radius").number(0, 1e30, true));
       s.radiance = n.required("radiance").color(base_dir, &s.spectrum);
       scene.area_lights.emplace_back(s);
+      scene.area_light_material.push_back(-1);
       scene.spheres.push_back({s.center, s.radius, emitter_material(), static_cast<int>(scene.area_lights.size()) - 1});
     } else {
       n.at("type").fail("unknown light type \"" + type + "\" (known: point, quad, sphere)");
     }
   }
 
+  // An emitting `openpbr` sphere or quad is also an area light, so that next-event
+  // estimation samples it; its radiance is the largest it emits (normal exitance, no coat or
+  // fuzz loss): light_power's estimate for light selection. The path tracer asks the
+  // material for what leaves towards each direction. (A mesh emits only where paths hit it.)
+  int emitting_shape(AreaLight light, int material) {
+    const auto& model = std::get<OpenPbrBxDF>(scene.materials[static_cast<size_t>(material)].bxdf.models());
+    const Color peak = model.params.emission_color * model.params.emission_luminance;
+    std::visit([&](auto& l) { l.radiance = peak; }, light);
+    scene.area_lights.push_back(light);
+    scene.area_light_material.push_back(material);
+    return static_cast<int>(scene.area_lights.size()) - 1;
+  }
+
+  // SPEC-OPB "Subsurface": the subsurface slab is the specular layer's dielectric interface
+  // over a scattering volume, mixed into the opaque base with weight S. For the RGB path
+  // tracer the material becomes that: its subsurface share of the base turns into
+  // transmission through the interface (transmission_weight T + (1 − T) S, subsurface 0),
+  // and the shape fills with gonio's `subsurface` medium of albedo subsurface_color and mean
+  // free path subsurface_radius × subsurface_radius_scale (μt = 1/r, as the spec has it),
+  // whose single-scattering albedo is inverted against that boundary (albedo_inversion.h),
+  // and g = subsurface_scatter_anisotropy. It is walked (random_walk.h). Spectral and
+  // polarized renders keep the BSDF's subsurface lobe (bxdf/openpbr.h), which `bxdf` still is.
+  // The surface seen from the medium inside it. The mixture's weights (metalness,
+  // transmission, subsurface, opacity) are shares of the surface seen from outside: light
+  // inside the medium is under the transmitting interface only, which it meets whole.
+  static OpenPbrBxDF inside_model(const OpenPbrBxDF& model) {
+    OpenPbrParams<Color> q = model.params;
+    q.transmission_weight = 1;
+    q.base_metalness = 0;
+    q.subsurface_weight = 0;
+    q.geometry_opacity = 1;
+    return OpenPbrBxDF::make(q, model.film);
+  }
+
+  void subsurface_volume(Material& m, const OpenPbrBxDF& model, const Node& desc) {
+    const OpenPbrParams<Color>& p = model.params;
+    OpenPbrParams<Color> q = p;
+    q.transmission_weight = p.transmission_weight + (1 - p.transmission_weight) * p.subsurface_weight;
+    q.subsurface_weight = 0;
+    const OpenPbrBxDF boundary = OpenPbrBxDF::make(q, model.film);
+    json medium = {{"type", "subsurface"}, {"eta", std::clamp(boundary.relative_eta(), Float(0.25), Float(4))}};
+    json albedo = json::array(), mfp = json::array();
+    for (int c = 0; c < Color::size(); ++c) {
+      albedo.push_back(std::clamp(p.subsurface_color[c], Float(0), Float(0.999)));
+      mfp.push_back(std::max(p.subsurface_radius * p.subsurface_radius_scale[c], Float(1e-6)));
+    }
+    medium["albedo"] = albedo;
+    medium["mfp"] = mfp;
+    medium["g"] = std::clamp(p.subsurface_scatter_anisotropy, Float(-0.99), Float(0.99));
+    const MicrofacetDistribution& d = boundary.glass.distribution;
+    if (!d.effectively_smooth()) medium["alpha"] = std::sqrt(d.alpha_x * d.alpha_y);
+    Subsurface s = subsurface_from_json(medium, desc.where() + " (its subsurface medium)", base_dir);
+    // The inversion takes albedos below 1; a white channel is ϖ = 1 exactly: no absorption.
+    for (int c = 0; c < Color::size(); ++c)
+      if (p.subsurface_color[c] >= 1) {
+        s.medium.sigma_s[c] = s.medium.sigma_t()[c];
+        s.medium.sigma_a[c] = 0;
+      }
+    s.boundary = boundary;
+    m.subsurface = s;
+    m.subsurface_bsdf_fallback = true;
+    m.inside = inside_model(model);
+  }
+
   // Emitters absorb everything they do not emit; they still need a material slot.
   int emitter_material() {
     for (size_t i = 0; i < scene.materials.size(); ++i)
       if (scene.materials[i].name == "<emitter>") return static_cast<int>(i);
-    scene.materials.push_back({"<emitter>", DiffuseBxDF{Color(0)}, {}, {}, 0, {}, {}, {}});
+    Material m;
+    m.name = "<emitter>";
+    m.bxdf = DiffuseBxDF{Color(0)};
+    m.black_body = true;
+    scene.materials.push_back(std::move(m));
     return static_cast<int>(scene.materials.size()) - 1;
   }
 

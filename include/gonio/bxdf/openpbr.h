@@ -424,6 +424,22 @@ struct OpenPbrBxDFT {
   }
 
   BxDFFlags flags() const { return flags_; }
+  // The emitted radiance leaving the surface at cosine mu (> 0) of the outward normal,
+  // emission_luminance × emission_color in gonio's radiance units (no factor 683). SPEC-OPB
+  // "Emission": the emitting layer lies under the coat and the fuzz, which absorb and
+  // reflect part of it on its way out — the same one-way transmission through fuzz and coat
+  // (layer albedos 1 − F E_fuzz(μ), coat absorption T^(1/μt), 1 − E_coat(μ)) as the light a
+  // transmitting base sends out (through_layers), without the coat's darkening, which is
+  // light reflected back into the base; and of the whole, the opacity α. The layers' albedos
+  // are taken at azimuth 0 (exact for an isotropic coat).
+  U emission(Float mu) const {
+    const Float m = std::clamp(mu, Float(0), Float(1));
+    if (!(m > 0) || !(params.emission_luminance > 0)) return U(0);
+    const Layers l = layers({std::sqrt(std::max(Float(0), 1 - m * m)), 0, m});
+    U s = U(opacity * (1 - l.e_fz));
+    if (coat > 0) s = s * ((U(1) - coat_transmittance(1 / coat_mu_t(m)) * (1 - l.e_c)) * (-coat) + U(1));
+    return s * params.emission_color * params.emission_luminance;
+  }
   Float relative_eta() const { return trans > 0 && !thin && metal_w < 1 && opacity > 0 ? glass.eta : Float(1); }
   bool is_isotropic() const {
     return spec_dist.is_isotropic() && (coat <= 0 || coat_dist.is_isotropic());

@@ -18,6 +18,7 @@
 #include "gonio/render/light_sampler.h"
 #include "gonio/render/lights.h"
 #include "gonio/render/texture.h"
+#include "gonio/spectrum/rgb_to_spectrum.h"
 #include "gonio/subsurface/diffusion.h"
 #include "gonio/subsurface/subsurface.h"
 #include "gonio/subsurface/sw_bxdf.h"
@@ -40,6 +41,26 @@ struct Material {
   std::optional<Subsurface> subsurface;
   std::shared_ptr<const DiffusionProfile> profile;
   SwBxDF exit_lobe;  // the diffusion method's Sw (its Fresnel moment is a quadrature: made once)
+  // `openpbr` (issue 35, docs/openpbr.md "Rendering"): whether the surface emits
+  // (emission_luminance > 0; OpenPbrBxDFT::emission gives its radiance), from the side its
+  // geometric normal points to, or both sides when thin-walled.
+  bool emits = false, emits_both_sides = false;
+  // `openpbr` with transmission_depth > 0 and no scattering: the absorption coefficient of
+  // the medium filling the shape (subsurface/openpbr_interior.h), applied as exp(−σa t) to
+  // light crossing it; the colour it came from, for spectral mode. (With scattering the
+  // medium is `subsurface`'s and is walked.)
+  std::optional<Color> absorption;
+  std::optional<RgbAlbedoSpectrum> absorption_colour;
+  Float absorption_depth = 1;
+  // `openpbr` with a medium inside its shape: the model for a vertex whose wo is inside
+  // (behind the geometric normal): the transmitting interface alone (scene_loader.cpp,
+  // inside_model). Unset: `bxdf` from both sides.
+  std::optional<BxDF> inside;
+  // `subsurface` is an openpbr material's volume form (scene_loader.cpp, subsurface_volume):
+  // RGB renders walk it; spectral and polarized ones shade `bxdf`, its BSDF form, instead.
+  bool subsurface_bsdf_fallback = false;
+  // Light shapes' material: absorbs everything, so a path ends where it hits one.
+  bool black_body = false;
 
   // The model at texture coordinates `uv`: `bxdf` itself for a uniform material (no
   // copy), else `bxdf` with the textured parameters looked up, built in `scratch`.
@@ -90,6 +111,9 @@ struct Scene {
   std::vector<Sphere> spheres;
   std::vector<PointLight> point_lights;
   std::vector<AreaLight> area_lights;
+  // Per area light, the material whose emission it is (an emitting `openpbr` sphere or
+  // quad, which also reflects), or -1 for a light of the scene's "lights".
+  std::vector<int> area_light_material;
   Environment environment;
 };
 
