@@ -5,6 +5,7 @@
 #include <type_traits>
 #include <variant>
 
+#include "gonio/bxdf/openpbr_dispersion.h"
 #include "gonio/spectrum/rgb_to_spectrum.h"
 #include "gonio/spectrum/spectrum_to_rgb.h"
 
@@ -241,6 +242,13 @@ struct Converter {
     s.emission_color = up(p.emission_color);
     s.geometry_opacity = p.geometry_opacity;
     s.geometry_thin_walled = p.geometry_thin_walled;
+    // Dispersion (openpbr_dispersion.h): the interface's index at the hero wavelength, and
+    // the path goes on with the hero only (as a dispersive dielectric does, above). The
+    // quadratures kept from the RGB model are η_d's.
+    if (const auto eta = openpbr::dispersed_ior(p, w[0])) {
+      s.specular_ior = *eta;
+      w.terminate_secondary();
+    }
     const openpbr::Solved solved = m.solved();
     return OpenPbrBxDFT<SS>::make(s, film(m.film), &solved);
   }
