@@ -263,7 +263,9 @@ struct EonBxDFT {
     if (flip) wo.z = -wo.z;
     const Float pu = uniform_share(wo.z);
     Vec3 wi;
-    if (u_lobe < pu) {
+    if (roughness <= 0) {
+      wi = square_to_cosine_hemisphere(u1, u2);  // the CLTC at roughness 0 (mixture_pdf)
+    } else if (u_lobe < pu) {
       wi = square_to_uniform_hemisphere(u1, u2);
     } else {
       const eon::Frame frame(wo);
@@ -302,6 +304,9 @@ struct EonBxDFT {
   }
   // wo and wi on the upper side; pu = uniform_share(wo.z).
   Float mixture_pdf(const Vec3& wo, const Vec3& wi, Float pu) const {
+    // At roughness 0 the LTC is the identity and nothing is clipped (a = c = 1, b = d = 0):
+    // the cosine density, without the LTC's terms (openpbr's default base is there).
+    if (roughness <= 0) return wi.z * kInvPi;
     const eon::Frame frame(wo);
     const Float pc = eon::cltc_pdf(eon::ltc_terms(wo.z, roughness), frame.to_local(wi));
     return pu * kInv2Pi + (1 - pu) * pc;
