@@ -373,6 +373,7 @@ struct Loader {
         v.fail("cannot be a texture" + (keys.empty() ? " (" + type + " has no parameter that can)"
                                                       : " (" + type + "'s parameters that can: " + keys + ")"));
       }
+      if (const auto why = varying_param_refused(d, it.key())) v.fail("cannot be a texture here: " + *why);
       if (whole) {
         slots.push_back(texture_slot(v, it.key(), -1, *param));
       } else {

@@ -71,6 +71,7 @@
 #include <string_view>
 
 #include "gonio/bxdf/contract.h"
+#include "gonio/bxdf/openpbr_params.h"
 #include "gonio/bxdf/eon.h"
 #include "gonio/bxdf/roughconductor.h"
 #include "gonio/bxdf/roughdielectric.h"
@@ -86,44 +87,6 @@
 #include "gonio/polarization/interface.h"
 
 namespace gonio {
-
-// Every OpenPBR Surface 1.1 parameter (SPEC-OPB "Parameter reference"), OpenPBR's own units
-// (thin_film_thickness in µm), plus gonio's rotations (fractions of a turn). U: Color or
-// SampledSpectrum. Parameters a BSDF does not use (emission, the interior media,
-// dispersion, subsurface radii) are kept so that the material round-trips.
-template <typename U>
-struct OpenPbrParams {
-  Float base_weight = 1;
-  U base_color{Float(0.8)};
-  Float base_metalness = 0, base_diffuse_roughness = 0;
-  Float specular_weight = 1;
-  U specular_color{Float(1)};
-  Float specular_roughness = Float(0.3), specular_roughness_anisotropy = 0, specular_ior = Float(1.5);
-  Float specular_rotation = 0;
-  Float transmission_weight = 0;
-  U transmission_color{Float(1)};
-  Float transmission_depth = 0;
-  U transmission_scatter{Float(0)};
-  Float transmission_scatter_anisotropy = 0, transmission_dispersion_scale = 0,
-        transmission_dispersion_abbe_number = 20;
-  Float subsurface_weight = 0;
-  U subsurface_color{Float(0.8)};
-  Float subsurface_radius = 1;
-  U subsurface_radius_scale{Float(1)};
-  Float subsurface_scatter_anisotropy = 0;
-  Float coat_weight = 0;
-  U coat_color{Float(1)};
-  Float coat_roughness = 0, coat_roughness_anisotropy = 0, coat_ior = Float(1.6), coat_darkening = 1;
-  Float coat_rotation = 0;
-  Float fuzz_weight = 0;
-  U fuzz_color{Float(1)};
-  Float fuzz_roughness = Float(0.5);
-  Float thin_film_weight = 0, thin_film_thickness = Float(0.5), thin_film_ior = Float(1.4);
-  Float emission_luminance = 0;
-  U emission_color{Float(1)};
-  Float geometry_opacity = 1;
-  bool geometry_thin_walled = false;
-};
 
 namespace openpbr {
 
