@@ -148,6 +148,29 @@ TEST(OpenPbrTextures, TranslucentBaseIsTheUniformMaterialInEachSquare) {
                1.3, 1.8);
 }
 
+// A textured film thickness: where it is the loaded material's (the largest value) the
+// film's RGB table is kept and the model is the uniform one; elsewhere the film is the
+// Airy sum (its own tests: test_thin_film.cpp) at the channels' wavelengths, 650, 550 and
+// 450 nm, of that thickness on the specular layer's index (docs/scene-format.md).
+TEST(OpenPbrTextures, TexturedFilmThicknessReadsTheFilmAtTheChannelsWavelengths) {
+  const std::string uniform = R"({"type": "openpbr", "coat_weight": 0.4, "thin_film_weight": 0.5})";
+  nlohmann::json textured = nlohmann::json::parse(uniform);
+  textured["thin_film_thickness"] = {{"checker", {0.3, 0.6}}, {"uv_scale", 2}};
+  const Material m = scene_material(textured.dump());
+  std::optional<BxDF> scratch;
+  expect_same_rgb(m.at({0.7f, 0.2f}, scratch), uniform_with(uniform, "thin_film_thickness", 0.6));
+  const auto& model = std::get<OpenPbrBxDF>(m.at({0.2f, 0.3f}, scratch).models());
+  EXPECT_EQ(model.film.thickness, 300.0f);
+  EXPECT_EQ(model.film.table, nullptr);
+  EXPECT_EQ(model.film_w, 0.5f);
+  const double lambda[3] = {650, 550, 450};
+  for (double c : {1.0, 0.6, 0.2}) {
+    const Color r = model.film.reflectance(Float(c), Color(model.spec_eta), Color(0));
+    for (int ch = 0; ch < 3; ++ch)
+      EXPECT_NEAR(r[ch], airy_film<double>(c, 1.4, 300, model.spec_eta, 0, lambda[ch]).R(), 1e-6) << c << " " << ch;
+  }
+}
+
 std::string texture_load_error(const std::string& material) {
   try {
     scene_material(material);

@@ -54,9 +54,10 @@ struct OpenPbrParams {
 // One colour or number parameter of OpenPbrParams<U> (geometry_thin_walled, a flag, is not
 // one): exactly one of `number` and `colour` is set. What a change of it touches in
 // OpenPbrBxDFT::make(), for with_params (material.h):
-//  * `solved`: the quadratures make() solves by its 64-node rules (the diffuse's
-//    normalisation b(μ): the specular layer's E_s(μ) through its index, roughness and film,
-//    and EON's kernel through base_diffuse_roughness; the film's change of E_s);
+//  * `solved`: what make() solves by quadrature (openpbr::Solved): the diffuse's
+//    normalisation b(μ) (the specular layer's E_s(μ) through its index, roughness and film,
+//    and EON's kernel through base_diffuse_roughness), the film's change of E_s, the coat's
+//    and the specular layer's average albedos, the glass's compensation lobe;
 //  * `film`: RGB mode's film reflectance table (the film on the specular layer's index);
 //  * `medium`: the glass's index, modulated_ior(specular_ior, specular_weight), which bounds
 //    the medium behind a non-thin translucent base.
@@ -99,7 +100,7 @@ inline constexpr auto kOpenPbrFields = [] {
       F{"coat_weight", &P::coat_weight, nullptr, true, true},
       F{"coat_color", nullptr, &P::coat_color},
       F{"coat_roughness", &P::coat_roughness, nullptr, true},
-      F{"coat_roughness_anisotropy", &P::coat_roughness_anisotropy},
+      F{"coat_roughness_anisotropy", &P::coat_roughness_anisotropy, nullptr, true},
       F{"coat_ior", &P::coat_ior, nullptr, true, true},
       F{"coat_darkening", &P::coat_darkening},
       F{"coat_rotation", &P::coat_rotation},
