@@ -171,6 +171,36 @@ TEST(OpenPbrTextures, TexturedFilmThicknessReadsTheFilmAtTheChannelsWavelengths)
   }
 }
 
+// A render: a plane whose base_color is a checker of squares several pixels wide renders,
+// pixel by pixel, exactly as the plane of the one colour or of the other (the same model at
+// each hit, the same random numbers); only pixels across an edge are neither.
+TEST(OpenPbrTextures, CheckerPlaneRendersAsTheUniformPlanesInEachSquare) {
+  auto scene = [](const std::string& base_color) {
+    return R"({"camera": {"position": [0, 3, 0], "look_at": [0, 0, 0], "up": [0, 0, -1], "fov": 40, "width": 48, "height": 48},
+      "render": {"spp": 4, "seed": 3},
+      "shapes": [{"type": "quad", "corner": [-5, 0, -5], "edge1": [0, 0, 10], "edge2": [10, 0, 0],
+        "material": {"type": "openpbr", "base_diffuse_roughness": 0.5, "coat_weight": 0.5, "coat_roughness": 0.2,
+                     "base_color": )" +
+           base_color + R"(}}],
+      "lights": [{"type": "point", "position": [0.4, 1.5, -0.3], "intensity": 5}],
+      "environment": {"radiance": [0.2, 0.3, 0.4]}})";
+  };
+  const Image textured = render_text(scene(R"({"checker": [[0.8, 0.2, 0.1], [0.1, 0.4, 0.9]], "uv_scale": 10})"));
+  const Image a = render_text(scene("[0.8, 0.2, 0.1]")), b = render_text(scene("[0.1, 0.4, 0.9]"));
+  int as_a = 0, as_b = 0, neither = 0;
+  for (int y = 0; y < textured.height(); ++y)
+    for (int x = 0; x < textured.width(); ++x) {
+      const Color t = textured.at(x, y);
+      if (t == a.at(x, y)) ++as_a;
+      else if (t == b.at(x, y)) ++as_b;
+      else ++neither;
+    }
+  // 2.2 squares across the view of 48 pixels: about 2 × 48 × 4 pixels on edges.
+  EXPECT_GT(as_a, 800);
+  EXPECT_GT(as_b, 800);
+  EXPECT_LT(neither, 48 * 48 / 4);
+}
+
 std::string texture_load_error(const std::string& material) {
   try {
     scene_material(material);
