@@ -783,6 +783,7 @@ ThinFilmT<Color> openpbr_film(const OpenPbrParams<Color>& o, bool table) {
 // (defaults, ranges). OpenPBR's units: thin_film_thickness in µm, the film table in nm.
 BxDF make_openpbr(Params& p) {
   OpenPbrParams<Color> o;
+  // The table's keys are string literals, so key.data() is a C string.
   for (const auto& f : kOpenPbrFields<Color>) {
     if (f.number) o.*f.number = Float(p.number(f.key.data()));
     else o.*f.colour = p.color(f.key.data());
