@@ -761,61 +761,35 @@ BxDF parse_description(const json& description, const std::string& where, int bl
                        const std::string& base_dir);
 
 
-// openpbr (issue 35; SPEC §2): every OpenPBR Surface 1.1 parameter, read from the registry
-// (defaults, ranges). OpenPBR's units: thin_film_thickness in µm, the film table in nm.
-BxDF make_openpbr(Params& p) {
-  OpenPbrParams<Color> o;
-  const auto num = [&](const char* key) { return Float(p.number(key)); };
-  o.base_weight = num("base_weight");
-  o.base_color = p.color("base_color");
-  o.base_metalness = num("base_metalness");
-  o.base_diffuse_roughness = num("base_diffuse_roughness");
-  o.specular_weight = num("specular_weight");
-  o.specular_color = p.color("specular_color");
-  o.specular_roughness = num("specular_roughness");
-  o.specular_roughness_anisotropy = num("specular_roughness_anisotropy");
-  o.specular_ior = num("specular_ior");
-  o.specular_rotation = num("specular_rotation");
-  o.transmission_weight = num("transmission_weight");
-  o.transmission_color = p.color("transmission_color");
-  o.transmission_depth = num("transmission_depth");
-  o.transmission_scatter = p.color("transmission_scatter");
-  o.transmission_scatter_anisotropy = num("transmission_scatter_anisotropy");
-  o.transmission_dispersion_scale = num("transmission_dispersion_scale");
-  o.transmission_dispersion_abbe_number = num("transmission_dispersion_abbe_number");
-  o.subsurface_weight = num("subsurface_weight");
-  o.subsurface_color = p.color("subsurface_color");
-  o.subsurface_radius = num("subsurface_radius");
-  o.subsurface_radius_scale = p.color("subsurface_radius_scale");
-  o.subsurface_scatter_anisotropy = num("subsurface_scatter_anisotropy");
-  o.coat_weight = num("coat_weight");
-  o.coat_color = p.color("coat_color");
-  o.coat_roughness = num("coat_roughness");
-  o.coat_roughness_anisotropy = num("coat_roughness_anisotropy");
-  o.coat_ior = num("coat_ior");
-  o.coat_darkening = num("coat_darkening");
-  o.coat_rotation = num("coat_rotation");
-  o.fuzz_weight = num("fuzz_weight");
-  o.fuzz_color = p.color("fuzz_color");
-  o.fuzz_roughness = num("fuzz_roughness");
-  o.thin_film_weight = num("thin_film_weight");
-  o.thin_film_thickness = num("thin_film_thickness");
-  o.thin_film_ior = num("thin_film_ior");
-  o.emission_luminance = num("emission_luminance");
-  o.emission_color = p.color("emission_color");
-  o.geometry_opacity = num("geometry_opacity");
-  o.geometry_thin_walled = p.boolean("geometry_thin_walled");
+// openpbr's film on the specular layer's reflecting index (µm → nm), none without weight
+// or thickness. `table`: with RGB mode's table of its reflectance (thin_film.h), made at
+// parse time; without, the model reads the Airy sum at the channels' wavelengths, which
+// allocates nothing (with_params, for a textured film or index under it).
+ThinFilmT<Color> openpbr_film(const OpenPbrParams<Color>& o, bool table) {
   ThinFilmT<Color> film;
-  if (o.thin_film_weight > 0 && o.thin_film_thickness > 0) {
-    // The film on the specular layer's reflecting index (µm → nm).
-    film.lambda = thin_film_rgb_lambda();
-    film.thickness = o.thin_film_thickness * 1000;
-    film.eta = o.thin_film_ior;
+  if (!(o.thin_film_weight > 0 && o.thin_film_thickness > 0)) return film;
+  film.lambda = thin_film_rgb_lambda();
+  film.thickness = o.thin_film_thickness * 1000;
+  film.eta = o.thin_film_ior;
+  if (table) {
     const double substrate = openpbr::specular_layer_eta(o.specular_ior, o.coat_ior, o.coat_weight, o.specular_weight);
     film.table = make_thin_film_rgb_table(film.thickness, film.eta,
                                           [substrate](double) { return std::pair<double, double>(substrate, 0); });
   }
-  return OpenPbrBxDF::make(o, film);
+  return film;
+}
+
+// openpbr (issue 35; SPEC §2): every OpenPBR Surface 1.1 parameter, read from the registry
+// (defaults, ranges). OpenPBR's units: thin_film_thickness in µm, the film table in nm.
+BxDF make_openpbr(Params& p) {
+  OpenPbrParams<Color> o;
+  // The table's keys are string literals, so key.data() is a C string.
+  for (const auto& f : kOpenPbrFields<Color>) {
+    if (f.number) o.*f.number = Float(p.number(f.key.data()));
+    else o.*f.colour = p.color(f.key.data());
+  }
+  o.geometry_thin_walled = p.boolean("geometry_thin_walled");
+  return OpenPbrBxDF::make(o, openpbr_film(o, true));
 }
 
 // The constructor of each type of the registry but blend (which needs its place and depth).
@@ -1169,11 +1143,58 @@ void finish(RoughConductorBxDF& m, const Changed& c) {
   m.multiscatter = MultiscatterLobe::make(m.distribution, c.fresnel ? conductor_average_fresnel(m.fresnel) : m.multiscatter->f_avg);
 }
 
+// openpbr: the model made again from its parameters with the new values (make() derives
+// everything else from them). Its quadratures (the diffuse's normalisation, the film's
+// change of E_s: tens of thousands of operations) are `model`'s while none of their inputs
+// changed; RGB mode's film table is kept while the film and the index under it are the
+// same, else the film is read at the channels' wavelengths (openpbr_film: no allocation).
+OpenPbrBxDF with_openpbr_params(const OpenPbrBxDF& model, std::span<const ParamValue> values) noexcept {
+  OpenPbrParams<Color> p = model.params;
+  for (const ParamValue& v : values) {
+    const size_t i = size_t(v.param) - size_t(MP::OpenPbrFirst);
+    if (v.param < MP::OpenPbrFirst || i >= kOpenPbrFieldCount) continue;
+    const auto& f = kOpenPbrFields<Color>[i];
+    if (f.number) p.*f.number = v.value[0];
+    else p.*f.colour = v.value;
+  }
+  bool same_solved = true, same_film = true;
+  for (const auto& f : kOpenPbrFields<Color>) {
+    // Every input of the quadratures and of the film table is a number.
+    if (!f.number || p.*f.number == model.params.*f.number) continue;
+    same_solved = same_solved && !f.solved;
+    same_film = same_film && !f.film;
+  }
+  ThinFilmT<Color> film = openpbr_film(p, false);
+  if (same_film && film.active() && model.film.active()) film.table = model.film.table;
+  const openpbr::Solved solved = model.solved();
+  return OpenPbrBxDF::make(p, std::move(film), same_solved ? &solved : nullptr);
+}
+
 }  // namespace
 
-const MaterialParamInfo& material_param_info(MaterialParam p) { return kParamInfo[static_cast<size_t>(p)]; }
+const MaterialParamInfo& material_param_info(MaterialParam p) {
+  const size_t i = static_cast<size_t>(p);
+  if (i < std::size(kParamInfo)) return kParamInfo[i];
+  // openpbr's, from its field table; each probe is the parameter's default, which its
+  // range accepts whatever the others (make_openpbr checks no combination).
+  static const auto openpbr = [] {
+    const OpenPbrParams<Color> d;
+    std::array<MaterialParamInfo, kOpenPbrFieldCount> info{};
+    for (size_t k = 0; k < kOpenPbrFieldCount; ++k) {
+      const auto& f = kOpenPbrFields<Color>[k];
+      info[k] = {f.key, f.number != nullptr, double(f.number ? d.*f.number : (d.*f.colour)[0])};
+    }
+    return info;
+  }();
+  return openpbr[std::min(i - std::size(kParamInfo), kOpenPbrFieldCount - 1)];
+}
 
 std::optional<MaterialParam> varying_param(std::string_view type, std::string_view key) {
+  if (type == OpenPbrBxDF::kName) {
+    for (size_t i = 0; i < kOpenPbrFieldCount; ++i)
+      if (kOpenPbrFields<Color>[i].key == key) return MaterialParam(size_t(MP::OpenPbrFirst) + i);
+    return std::nullopt;
+  }
   for (const auto& v : kVarying)
     if (v.type == type && material_param_info(v.param).key == key) return v.param;
   return std::nullopt;
@@ -1181,17 +1202,47 @@ std::optional<MaterialParam> varying_param(std::string_view type, std::string_vi
 
 std::string varying_param_keys(std::string_view type) {
   std::string keys;
+  const auto add = [&keys](std::string_view key) { keys += (keys.empty() ? "" : ", ") + std::string(key); };
+  if (type == OpenPbrBxDF::kName)
+    for (const auto& f : kOpenPbrFields<Color>) add(f.key);
   for (const auto& v : kVarying)
-    if (v.type == type) keys += (keys.empty() ? "" : ", ") + std::string(material_param_info(v.param).key);
+    if (v.type == type) add(material_param_info(v.param).key);
   return keys;
+}
+
+std::optional<std::string> varying_param_refused(const json& description, std::string_view key) {
+  const auto type = description.find("type");
+  if (type == description.end() || !type->is_string() || type->get<std::string>() != OpenPbrBxDF::kName)
+    return std::nullopt;
+  const auto param = varying_param(OpenPbrBxDF::kName, key);
+  if (!param) return std::nullopt;
+  // The interior `gonio render` fills a translucent shape with (docs/openpbr.md,
+  // "Rendering"): one medium per shape, from the transmission's colour at its depth.
+  const auto depth = description.find("transmission_depth");
+  const bool has_depth = depth != description.end() && !(depth->is_number() && depth->get<double>() == 0);
+  const bool interior = key == "transmission_depth" || key == "transmission_scatter" ||
+                        key == "transmission_scatter_anisotropy" || (key == "transmission_color" && has_depth);
+  if (!interior && !kOpenPbrFields<Color>[size_t(*param) - size_t(MP::OpenPbrFirst)].medium) return std::nullopt;
+  const auto thin = description.find("geometry_thin_walled");
+  if (thin != description.end() && thin->is_boolean() && thin->get<bool>()) return std::nullopt;
+  const auto trans = description.find("transmission_weight");
+  if (trans == description.end() || (trans->is_number() && trans->get<double>() == 0)) return std::nullopt;
+  if (interior)
+    return std::string(key) + " sets the medium that fills the translucent shape, which is one medium: it may be a "
+           "texture only where transmission_weight is 0 or geometry_thin_walled is true" +
+           (key == "transmission_color" ? " (or transmission_depth is 0: a tint at the surface)" : "");
+  return std::string(key) + " sets the index of the medium behind the translucent base, which must be one index: "
+         "it may be a texture only where transmission_weight is 0 or geometry_thin_walled is true";
 }
 
 BxDF with_params(const BxDF& model, std::span<const ParamValue> values) noexcept {
   return std::visit(
       [&](const auto& base) -> BxDF {
         using M = std::decay_t<decltype(base)>;
-        if constexpr (std::is_same_v<M, BlendBxDF> || std::is_same_v<M, UserBxDF> || std::is_same_v<M, MeasuredBxDF> ||
-                      std::is_same_v<M, LayeredBxDF> || std::is_same_v<M, OpenPbrBxDF>) {
+        if constexpr (std::is_same_v<M, OpenPbrBxDF>) {
+          return with_openpbr_params(base, values);
+        } else if constexpr (std::is_same_v<M, BlendBxDF> || std::is_same_v<M, UserBxDF> ||
+                             std::is_same_v<M, MeasuredBxDF> || std::is_same_v<M, LayeredBxDF>) {
           return base;  // nothing of theirs varies
         } else {
           M m = base;

@@ -197,50 +197,19 @@ struct Converter {
     return s;
   }
   // openpbr: its colours upsampled at the path's wavelengths (a spectrum given for one was
-  // reduced to RGB at parse time), the model made again for them, the film exact per
+  // reduced to RGB at parse time; a textured one is the texture's RGB at this point, which
+  // with_params put in `params`), the model made again for them, the film exact per
   // wavelength.
   SpectralBxDF operator()(const OpenPbrBxDF& m) const {
     const auto up = [&](const Color& c) { return upsample_colour(MP::Reflectance, c, w); };
     const OpenPbrParams<Color>& p = m.params;
     OpenPbrParams<SS> s;
-    s.base_weight = p.base_weight;
-    s.base_color = up(p.base_color);
-    s.base_metalness = p.base_metalness;
-    s.base_diffuse_roughness = p.base_diffuse_roughness;
-    s.specular_weight = p.specular_weight;
-    s.specular_color = up(p.specular_color);
-    s.specular_roughness = p.specular_roughness;
-    s.specular_roughness_anisotropy = p.specular_roughness_anisotropy;
-    s.specular_ior = p.specular_ior;
-    s.specular_rotation = p.specular_rotation;
-    s.transmission_weight = p.transmission_weight;
-    s.transmission_color = up(p.transmission_color);
-    s.transmission_depth = p.transmission_depth;
-    s.transmission_scatter = up(p.transmission_scatter);
-    s.transmission_scatter_anisotropy = p.transmission_scatter_anisotropy;
-    s.transmission_dispersion_scale = p.transmission_dispersion_scale;
-    s.transmission_dispersion_abbe_number = p.transmission_dispersion_abbe_number;
-    s.subsurface_weight = p.subsurface_weight;
-    s.subsurface_color = up(p.subsurface_color);
-    s.subsurface_radius = p.subsurface_radius;
-    s.subsurface_radius_scale = up(p.subsurface_radius_scale);
-    s.subsurface_scatter_anisotropy = p.subsurface_scatter_anisotropy;
-    s.coat_weight = p.coat_weight;
-    s.coat_color = up(p.coat_color);
-    s.coat_roughness = p.coat_roughness;
-    s.coat_roughness_anisotropy = p.coat_roughness_anisotropy;
-    s.coat_ior = p.coat_ior;
-    s.coat_darkening = p.coat_darkening;
-    s.coat_rotation = p.coat_rotation;
-    s.fuzz_weight = p.fuzz_weight;
-    s.fuzz_color = up(p.fuzz_color);
-    s.fuzz_roughness = p.fuzz_roughness;
-    s.thin_film_weight = p.thin_film_weight;
-    s.thin_film_thickness = p.thin_film_thickness;
-    s.thin_film_ior = p.thin_film_ior;
-    s.emission_luminance = p.emission_luminance;
-    s.emission_color = up(p.emission_color);
-    s.geometry_opacity = p.geometry_opacity;
+    for (size_t i = 0; i < kOpenPbrFieldCount; ++i) {
+      const auto& from = kOpenPbrFields<Color>[i];
+      const auto& to = kOpenPbrFields<SS>[i];
+      if (from.number) s.*to.number = p.*from.number;
+      else s.*to.colour = up(p.*from.colour);
+    }
     s.geometry_thin_walled = p.geometry_thin_walled;
     // Dispersion (openpbr_dispersion.h): the interface's index at the hero wavelength, and
     // the path goes on with the hero only (as a dispersive dielectric does, above). The

@@ -6,6 +6,7 @@
 // and ranges come from the registry in material_types.h (also the source of `gonio
 // materials` and docs/materials.md).
 
+#include <cstddef>
 #include <cstdint>
 #include <optional>
 #include <span>
@@ -16,6 +17,7 @@
 #include <nlohmann/json_fwd.hpp>
 
 #include "gonio/bxdf.h"
+#include "gonio/bxdf/openpbr_params.h"
 #include "gonio/error.h"
 
 namespace gonio {
@@ -53,7 +55,11 @@ enum class MaterialParam : std::uint8_t {
   Alpha,            // both alpha_x and alpha_y (an isotropic roughness)
   AlphaX, AlphaY,   // the entries of "alpha": [alpha_x, alpha_y]
   Sigma, Exponent, Nu, Nv,
+  // openpbr's colour and number parameters: OpenPbrFirst + i is kOpenPbrFields[i]
+  // (bxdf/openpbr_params.h), so that their list is not written here again.
+  OpenPbrFirst,
 };
+inline constexpr std::size_t kMaterialParamCount = std::size_t(MaterialParam::OpenPbrFirst) + kOpenPbrFieldCount;
 
 struct MaterialParamInfo {
   std::string_view key;  // the JSON key of SPEC §2 ("alpha" for Alpha, AlphaX and AlphaY)
@@ -68,6 +74,12 @@ const MaterialParamInfo& material_param_info(MaterialParam p);
 std::optional<MaterialParam> varying_param(std::string_view type, std::string_view key);
 // The keys of `type` that may vary, for messages ("alpha, eta, k, f0").
 std::string varying_param_keys(std::string_view type);
+// Why `key`, which varying_param names, may not vary in this `description` (nullopt: it
+// may). openpbr's specular_ior and specular_weight set the index of the glass behind a
+// translucent base: an index that changed along a surface would not bound one medium
+// (dielectric's rule), so they may not vary where transmission_weight is not 0 and the
+// material is not thin-walled (a thin sheet bounds no medium).
+std::optional<std::string> varying_param_refused(const nlohmann::json& description, std::string_view key);
 
 // A value in the units of SPEC §2 (sigma in degrees); a scalar parameter reads channel 0.
 struct ParamValue {
@@ -77,7 +89,8 @@ struct ParamValue {
 
 // `model` with the given parameters replaced and what depends on them recomputed (a
 // conductor's F0 from eta and k; the multiple-scattering lobe of a rough conductor, kept
-// when `model` has one and the new roughness is not smooth). Parameters the model does
+// when `model` has one and the new roughness is not smooth; an openpbr model made again
+// from its parameters, its quadratures reused when none of their inputs changed). Parameters the model does
 // not have are ignored. No allocation and no exception, for use at every shading point
 // of a textured surface; the values must lie in the ranges material_from_json accepts.
 BxDF with_params(const BxDF& model, std::span<const ParamValue> values) noexcept;

@@ -211,12 +211,15 @@ Float scene_radius(const Scene& scene) {
 
 // The radiance an emitting `openpbr` surface sends towards w, n its geometric normal (the
 // emitting side; both sides when thin-walled). Black for every other material.
-Color surface_emission(const Material& m, const Vec3& n, const Vec3& w) {
+// A textured material's at the hit's texture coordinates uv.
+Color surface_emission(const Material& m, const Vec3& n, const Vec3& w, const Vec2& uv = {}) {
   if (!m.emits) return Color(0);
   Float mu = dot(n, w);
   if (m.emits_both_sides) mu = std::abs(mu);
-  const auto* model = std::get_if<OpenPbrBxDF>(&m.bxdf.models());
-  return model && mu > 0 ? model->emission(mu) : Color(0);
+  if (!(mu > 0)) return Color(0);
+  std::optional<BxDF> scratch;
+  const auto* model = std::get_if<OpenPbrBxDF>(&m.at(uv, scratch).models());
+  return model ? model->emission(mu) : Color(0);
 }
 
 }  // namespace
@@ -403,7 +406,7 @@ typename Shading::Radiance PathTracer::trace(Ray ray, PixelSampler& sampler, Pat
         const auto* quad = std::get_if<QuadLight>(&light);
         const Vec3 n = quad ? quad->normal() : hit.ng;
         const bool own = surface.emits;
-        const Color rgb = own ? surface_emission(surface, n, -ray.d) : area_light_radiance(light, n, -ray.d);
+        const Color rgb = own ? surface_emission(surface, n, -ray.d, hit.uv) : area_light_radiance(light, n, -ray.d);
         if (!rgb.is_black()) {
           const Float w = specular ? 1 : power_heuristic(prev_pdf, light_sampler_.pmf(prev_p, prev_n, hit.area_light) *
                                                                             area_light_pdf(light, prev_p, hit.p, n));
@@ -412,7 +415,7 @@ typename Shading::Radiance PathTracer::trace(Ray ray, PixelSampler& sampler, Pat
         if (surface.black_body) break;
       } else if (surface.emits) {
         // An emitting mesh: no light samples it, so what a path finds counts in full.
-        const Color rgb = surface_emission(surface, hit.ng, -ray.d);
+        const Color rgb = surface_emission(surface, hit.ng, -ray.d, hit.uv);
         if (!rgb.is_black()) shading.add(L, beta, shading.surface(rgb), 1);
       }
       wo_world = -ray.d;

@@ -417,6 +417,7 @@ struct Loader {
         v.fail("cannot be a texture" + (keys.empty() ? " (" + type + " has no parameter that can)"
                                                       : " (" + type + "'s parameters that can: " + keys + ")"));
       }
+      if (const auto why = varying_param_refused(d, it.key())) v.fail("cannot be a texture here: " + *why);
       if (whole) {
         slots.push_back(texture_slot(v, it.key(), -1, *param));
       } else {
@@ -570,7 +571,8 @@ struct Loader {
       s.center = n.required("center").vec3();
       s.radius = static_cast<Float>(n.required("radius").number(0, 1e30, true));
       s.material = material_of(n);
-      if (scene.materials[static_cast<size_t>(s.material)].emits) s.area_light = emitting_shape(SphereLight{s.center, s.radius, {}, {}}, s.material);
+      if (sampled_emitter(scene.materials[static_cast<size_t>(s.material)]))
+        s.area_light = emitting_shape(SphereLight{s.center, s.radius, {}, {}}, s.material);
       scene.spheres.push_back(s);
     } else if (type == "quad") {
       n.object({"type", "corner", "edge1", "edge2", "material"});
@@ -579,7 +581,7 @@ struct Loader {
       const int material = material_of(n);
       const Material& mat = scene.materials[static_cast<size_t>(material)];
       add_quad_mesh(c, e1, e2, material,
-                    mat.emits ? emitting_shape(QuadLight{c, e1, e2, {}, mat.emits_both_sides, {}}, material) : -1);
+                    sampled_emitter(mat) ? emitting_shape(QuadLight{c, e1, e2, {}, mat.emits_both_sides, {}}, material) : -1);
       check_walkable(n, scene.meshes.back(), "a quad");
     } else if (type == "mesh") {
       n.object({"type", "file", "material", "translate", "scale", "rotate"});
@@ -670,7 +672,12 @@ struct Loader {
   // An emitting `openpbr` sphere or quad is also an area light, so that next-event
   // estimation samples it; its radiance is the largest it emits (normal exitance, no coat or
   // fuzz loss): light_power's estimate for light selection. The path tracer asks the
-  // material for what leaves towards each direction. (A mesh emits only where paths hit it.)
+  // material for what leaves towards each direction. (A mesh, or a textured material,
+  // emits only where paths hit it.)
+  // A textured material's emission varies over the surface, which a light's uniform
+  // radiance cannot say: it is found by paths only (with the textured model), as a mesh's.
+  static bool sampled_emitter(const Material& m) { return m.emits && m.textures.empty(); }
+
   int emitting_shape(AreaLight light, int material) {
     const auto& model = std::get<OpenPbrBxDF>(scene.materials[static_cast<size_t>(material)].bxdf.models());
     const Color peak = model.params.emission_color * model.params.emission_luminance;

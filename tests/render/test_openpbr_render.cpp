@@ -196,6 +196,34 @@ TEST(OpenPbrRender, SubsurfaceVolumeFurnace) {
   EXPECT_FALSE(scene.materials[0].subsurface->medium.sigma_a.is_black());
 }
 
+// A textured emission (a checker of emission_luminance 0 and 4 on a quad seen head-on): the
+// quad is not a sampled light then (its radiance varies), and paths that meet it read the
+// texture: each quarter of the image shows its square's value, 0 or 4, in a checker.
+TEST(OpenPbrRender, TexturedEmissionIsReadWherePathsMeetIt) {
+  const Image img = render_text(R"({"camera": {"position": [0, 0, 5], "look_at": [0, 0, 0], "fov": 20, "width": 8,
+      "height": 8}, "render": {"spp": 4},
+    "shapes": [{"type": "quad", "corner": [-1, -1, 0], "edge1": [2, 0, 0], "edge2": [0, 2, 0], "material": {"type": "openpbr",
+      "base_weight": 0, "specular_weight": 0, "emission_luminance": {"checker": [0, 4], "uv_scale": 2}}}]})");
+  const double tl = block_mean(img, 1, 1, 2, 0), tr = block_mean(img, 5, 1, 2, 0);
+  const double bl = block_mean(img, 1, 5, 2, 0), br = block_mean(img, 5, 5, 2, 0);
+  EXPECT_NEAR(tl, br, 1e-6);
+  EXPECT_NEAR(tr, bl, 1e-6);
+  EXPECT_NEAR(std::min(tl, tr), 0, 1e-6);
+  EXPECT_NEAR(std::max(tl, tr), 4, 1e-5);
+}
+
+// The medium filling a translucent shape is one medium: its parameters may not vary.
+TEST(OpenPbrRender, TexturedInteriorIsRefused) {
+  try {
+    (void)parse_scene(R"({"shapes": [{"type": "sphere", "center": [0, 0, 0], "radius": 1, "material": {"type": "openpbr",
+      "transmission_weight": 1, "transmission_color": 0.5, "transmission_depth": {"checker": [0.5, 1]}}}]})",
+                      "s.json", "");
+    FAIL() << "a textured transmission_depth was accepted";
+  } catch (const std::exception& e) {
+    EXPECT_NE(std::string(e.what()).find("one medium"), std::string::npos) << e.what();
+  }
+}
+
 // A scattering interior is walked like a `subsurface` medium, whose limits it shares: a
 // spectral render is refused with a line that says why.
 TEST(OpenPbrRender, ScatteringInteriorIsRgbOnly) {

@@ -76,6 +76,10 @@ TEST(TexturesCli, BadTextureInputIsOneLineAndExit2) {
        {"/shapes/0/material/reflectance/uv_scale/1"}},
       {"material error besides the texture", R"({"type": "roughconductor", "alpha": {"checker": [0.1, 0.2]}})",
        {"/shapes/0/material", "missing parameter"}},
+      {"openpbr colour texel out of range", R"({"type": "openpbr", "base_color": {"texture": "bright.exr"}})",
+       {"/shapes/0/material/base_color", "bright.exr", "texel (1, 0)", "openpbr: base_color must be in [0, 1]"}},
+      {"openpbr glass index", R"({"type": "openpbr", "transmission_weight": 1, "specular_ior": {"checker": [1.3, 1.5]}})",
+       {"/shapes/0/material/specular_ior", "cannot be a texture here", "transmission_weight"}},
       {"blend", R"({"type": "blend", "weight": 0.5, "bsdfs": [{"type": "diffuse"}, {"type": "diffuse", "reflectance": {"checker": [0.1, 0.2]}}]})",
        {"/shapes/0/material/bsdfs/1/reflectance", "blend", "not supported"}},
   };

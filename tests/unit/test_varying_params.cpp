@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 #include <vector>
@@ -12,6 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "gonio/material.h"
+#include "gonio/material_types.h"
 
 namespace gonio {
 namespace {
@@ -55,6 +57,28 @@ void expect_same_model(const BxDF& a, const BxDF& b) {
   }
 }
 
+MaterialParam opb(const char* key) { return varying_param("openpbr", key).value(); }
+
+// Each case: with_params of the model before is the model parsed with the new value.
+void expect_each_case(const std::vector<VaryCase>& cases) {
+  for (const auto& c : cases) {
+    SCOPED_TRACE(std::string(c.description) + " with " + c.key + " = " + c.value.dump());
+    const json before = json::parse(c.description);
+    json after = before;
+    if (c.entry < 0) after[c.key] = c.value;
+    else after[c.key][static_cast<size_t>(c.entry)] = c.value;
+    ASSERT_EQ(varying_param(before["type"].get<std::string>(), c.key),
+              c.entry < 0 ? c.param : MaterialParam::Alpha);
+    const ParamValue v{c.param, to_color(c.value)};
+    expect_same_model(with_params(material_from_json(before), {&v, 1}), material_from_json(after));
+    // The probe passes the parser on its own.
+    json probe = before;
+    if (c.entry < 0) probe[c.key] = material_param_info(c.param).probe;
+    else probe[c.key][static_cast<size_t>(c.entry)] = material_param_info(c.param).probe;
+    EXPECT_NO_THROW(material_from_json(probe));
+  }
+}
+
 TEST(VaryingParams, WithParamsEqualsParsingTheNewValue) {
   using MP = MaterialParam;
   const std::vector<VaryCase> cases = {
@@ -92,22 +116,29 @@ TEST(VaryingParams, WithParamsEqualsParsingTheNewValue) {
       {R"({"type":"plastic","reflectance":0.3,"alpha":0.2})", "alpha", -1, MP::Alpha, 0.5},
       {R"({"type":"sheen","color":0.3,"roughness":0.4})", "color", -1, MP::SheenColor, {0.9, 0.5, 0.1}},
   };
-  for (const auto& c : cases) {
-    SCOPED_TRACE(std::string(c.description) + " with " + c.key + " = " + c.value.dump());
-    const json before = json::parse(c.description);
-    json after = before;
-    if (c.entry < 0) after[c.key] = c.value;
-    else after[c.key][static_cast<size_t>(c.entry)] = c.value;
-    ASSERT_EQ(varying_param(before["type"].get<std::string>(), c.key),
-              c.entry < 0 ? c.param : MaterialParam::Alpha);
-    const ParamValue v{c.param, to_color(c.value)};
-    expect_same_model(with_params(material_from_json(before), {&v, 1}), material_from_json(after));
-    // The probe passes the parser on its own.
-    json probe = before;
-    if (c.entry < 0) probe[c.key] = material_param_info(c.param).probe;
-    else probe[c.key][static_cast<size_t>(c.entry)] = material_param_info(c.param).probe;
-    EXPECT_NO_THROW(material_from_json(probe));
-  }
+  expect_each_case(cases);
+}
+
+// openpbr, made again from its parameters: colours, and inputs of its quadratures (an EON
+// base's normalisation; with a film, the film's albedo change, its table kept since the
+// index under it is unchanged).
+TEST(VaryingParams, OpenPbrWithParamsEqualsParsingTheNewValue) {
+  constexpr const char* kOpb =
+      R"({"type":"openpbr","base_diffuse_roughness":0.6,"coat_weight":0.5,"coat_roughness":0.1,"subsurface_weight":0.3,)"
+      R"("fuzz_weight":0.2,"specular_roughness":0.2})";
+  constexpr const char* kFilm =
+      R"({"type":"openpbr","base_diffuse_roughness":0.6,"thin_film_weight":0.4,"thin_film_thickness":0.3})";
+  expect_each_case({
+      {kOpb, "specular_color", -1, opb("specular_color"), {0.9, 0.7, 0.5}},
+      {kOpb, "subsurface_color", -1, opb("subsurface_color"), {0.1, 0.7, 0.5}},
+      {kOpb, "specular_roughness", -1, opb("specular_roughness"), 0.7},
+      {kOpb, "coat_roughness", -1, opb("coat_roughness"), 0.5},
+      {kOpb, "coat_ior", -1, opb("coat_ior"), 1.3},
+      {kOpb, "base_diffuse_roughness", -1, opb("base_diffuse_roughness"), 0.1},
+      {kOpb, "fuzz_roughness", -1, opb("fuzz_roughness"), 0.1},
+      {kFilm, "specular_roughness", -1, opb("specular_roughness"), 0.6},
+      {kFilm, "thin_film_weight", -1, opb("thin_film_weight"), 0.9},
+  });
 }
 
 TEST(VaryingParams, OnlyModelParametersMayVary) {
@@ -121,14 +152,49 @@ TEST(VaryingParams, OnlyModelParametersMayVary) {
   EXPECT_FALSE(varying_param("nosuchtype", "alpha"));
   EXPECT_EQ(varying_param_keys("phong"), "kd, ks, exponent");
   EXPECT_EQ(varying_param_keys("dielectric"), "");
-  // Every type but dielectric, blend, layered, measured, subsurface (a medium, whose
-  // boundary's index may not vary for the reason dielectric's may not) and openpbr (its
-  // textures are stage 2 of issue 35) has something that may vary.
+  // Every type but dielectric, blend, layered, measured and subsurface (a medium, whose
+  // boundary's index may not vary for the reason dielectric's may not) has something that
+  // may vary.
   for (auto type : material_type_names())
     EXPECT_EQ(varying_param_keys(type).empty(),
               type == "dielectric" || type == "blend" || type == "layered" || type == "measured" ||
-                  type == "subsurface" || type == "thindielectric" || type == "openpbr")
+                  type == "subsurface" || type == "thindielectric")
         << type;
+}
+
+// openpbr: every number and colour of the registry (material_types.cpp, the table `gonio
+// materials` shows) may vary, each as its own parameter of the right kind, and nothing else
+// (geometry_thin_walled, a flag).
+TEST(VaryingParams, EveryOpenPbrNumberAndColourMayVary) {
+  const MaterialTypeSpec* t = find_material_type("openpbr");
+  ASSERT_NE(t, nullptr);
+  std::vector<MaterialParam> seen;
+  for (const ParamSpec& p : t->params) {
+    SCOPED_TRACE(p.name);
+    const auto v = varying_param("openpbr", p.name);
+    if (p.kind != ParamKind::Number && p.kind != ParamKind::Colour) {
+      EXPECT_FALSE(v);
+      continue;
+    }
+    ASSERT_TRUE(v);
+    EXPECT_EQ(material_param_info(*v).key, p.name);
+    EXPECT_EQ(material_param_info(*v).scalar, p.kind == ParamKind::Number);
+    EXPECT_TRUE(p.range.contains(material_param_info(*v).probe));
+    EXPECT_EQ(std::count(seen.begin(), seen.end(), *v), 0);
+    seen.push_back(*v);
+  }
+  EXPECT_EQ(seen.size(), kMaterialParamCount - size_t(MaterialParam::OpenPbrFirst));
+  EXPECT_FALSE(varying_param("openpbr", "geometry_thin_walled"));
+  // The medium's index: not behind a translucent base, unless thin-walled.
+  const json glass = {{"type", "openpbr"}, {"transmission_weight", 0.5}};
+  EXPECT_TRUE(varying_param_refused(glass, "specular_ior"));
+  EXPECT_TRUE(varying_param_refused(glass, "specular_weight"));
+  EXPECT_FALSE(varying_param_refused(glass, "coat_ior"));
+  json thin = glass;
+  thin["geometry_thin_walled"] = true;
+  EXPECT_FALSE(varying_param_refused(thin, "specular_ior"));
+  EXPECT_FALSE(varying_param_refused(json{{"type", "openpbr"}}, "specular_ior"));
+  EXPECT_FALSE(varying_param_refused(json{{"type", "roughconductor"}}, "alpha"));
 }
 
 }  // namespace

@@ -71,6 +71,7 @@
 #include <string_view>
 
 #include "gonio/bxdf/contract.h"
+#include "gonio/bxdf/openpbr_params.h"
 #include "gonio/bxdf/eon.h"
 #include "gonio/bxdf/roughconductor.h"
 #include "gonio/bxdf/roughdielectric.h"
@@ -86,44 +87,6 @@
 #include "gonio/polarization/interface.h"
 
 namespace gonio {
-
-// Every OpenPBR Surface 1.1 parameter (SPEC-OPB "Parameter reference"), OpenPBR's own units
-// (thin_film_thickness in µm), plus gonio's rotations (fractions of a turn). U: Color or
-// SampledSpectrum. Parameters a BSDF does not use (emission, the interior media,
-// dispersion, subsurface radii) are kept so that the material round-trips.
-template <typename U>
-struct OpenPbrParams {
-  Float base_weight = 1;
-  U base_color{Float(0.8)};
-  Float base_metalness = 0, base_diffuse_roughness = 0;
-  Float specular_weight = 1;
-  U specular_color{Float(1)};
-  Float specular_roughness = Float(0.3), specular_roughness_anisotropy = 0, specular_ior = Float(1.5);
-  Float specular_rotation = 0;
-  Float transmission_weight = 0;
-  U transmission_color{Float(1)};
-  Float transmission_depth = 0;
-  U transmission_scatter{Float(0)};
-  Float transmission_scatter_anisotropy = 0, transmission_dispersion_scale = 0,
-        transmission_dispersion_abbe_number = 20;
-  Float subsurface_weight = 0;
-  U subsurface_color{Float(0.8)};
-  Float subsurface_radius = 1;
-  U subsurface_radius_scale{Float(1)};
-  Float subsurface_scatter_anisotropy = 0;
-  Float coat_weight = 0;
-  U coat_color{Float(1)};
-  Float coat_roughness = 0, coat_roughness_anisotropy = 0, coat_ior = Float(1.6), coat_darkening = 1;
-  Float coat_rotation = 0;
-  Float fuzz_weight = 0;
-  U fuzz_color{Float(1)};
-  Float fuzz_roughness = Float(0.5);
-  Float thin_film_weight = 0, thin_film_thickness = Float(0.5), thin_film_ior = Float(1.4);
-  Float emission_luminance = 0;
-  U emission_color{Float(1)};
-  Float geometry_opacity = 1;
-  bool geometry_thin_walled = false;
-};
 
 namespace openpbr {
 
@@ -201,11 +164,16 @@ inline Glossy glossy(const MicrofacetDistribution& d, const Vec3& wo, const Vec3
 // parameters) instead of solving again: a view of that model's tables (nothing is copied
 // until make() takes what it needs; spectral mode makes a model per shading point).
 constexpr int kNormNodes = 64;
+// Also the averages that make() integrates (2048 panels each, some 13 µs): the coat's and
+// the bare specular layer's Ē, and the glass's compensation lobe.
 struct Solved {
   const std::array<Float, kNormNodes>* diff_b = nullptr;
   const std::array<Float, kNormNodes>* film_dE = nullptr;
   const std::array<Color, kNormNodes>* film_dE_rgb = nullptr;  // per RGB channel, with a film
   const std::array<Color, kNormNodes>* diff_b_rgb = nullptr;
+  const Float* coat_avg = nullptr;
+  const Float* spec_avg_bare = nullptr;
+  const std::optional<DielectricMultiscatterLobe>* glass_ms = nullptr;
 };
 
 // A table at the nodes μ_j = (j + ½)/kNormNodes read at μ, linearly (clamped at the ends).
@@ -271,7 +239,10 @@ struct OpenPbrBxDFT {
   std::array<Float, kNormNodes> film_dE{};
   U film_norm_ratio{Float(1)};  // (1 − Ē_s)/(1 − Ē_c) per channel with a film (make())
   std::array<Color, kNormNodes> film_dE_rgb{}, diff_b_rgb{};
-  openpbr::Solved solved() const { return {&diff_b, &film_dE, &film_dE_rgb, &diff_b_rgb}; }
+  Float spec_avg_bare = 0;       // Ē_s without the film
+  openpbr::Solved solved() const {
+    return {&diff_b, &film_dE, &film_dE_rgb, &diff_b_rgb, &coat_avg, &spec_avg_bare, &glass.multiscatter};
+  }
   // Glass.
   RoughDielectricBxDFT<C> glass{};
   ThinDielectricBxDFT<C> sheet{};
@@ -301,9 +272,13 @@ struct OpenPbrBxDFT {
     m.coat_eta = tirfix(p.coat_ior);
     m.coat_albedo = CoatAlbedo::make(MicrofacetType::GGX, m.coat_eta);
     if (!m.coat_dist.effectively_smooth()) m.coat_albedo.prepare_roughness(m.coat_dist.alpha_x);
-    m.coat_avg = m.coat_eta == 1 ? Float(0)
-                 : m.coat_dist.effectively_smooth() ? average_dielectric_fresnel(m.coat_eta)
-                                                    : m.coat_albedo.average(m.coat_dist);
+    // Ē_coat only under a coat (its darkening and lobe scale by coat_weight).
+    if (!(m.coat > 0)) m.coat_avg = 0;
+    else if (solved) m.coat_avg = *solved->coat_avg;
+    else
+      m.coat_avg = m.coat_eta == 1 ? Float(0)
+                   : m.coat_dist.effectively_smooth() ? average_dielectric_fresnel(m.coat_eta)
+                                                      : m.coat_albedo.average(m.coat_dist);
     m.coat_trans = map(p.coat_color, [](Float c) { return std::sqrt(std::max(c, Float(0))); });
     m.coat_log_trans = map(m.coat_trans, [](Float t) {
       return t >= 1 ? Float(0) : t > 0 ? std::max(std::log(t), Float(-1e4)) : Float(-1e4);
@@ -318,9 +293,12 @@ struct OpenPbrBxDFT {
     if (!m.spec_dist.effectively_smooth()) m.spec_albedo.prepare_roughness(m.spec_dist.alpha_x);
     m.film_w = film_on_spec.active() ? p.thin_film_weight : Float(0);
     m.film = film_on_spec;
-    m.spec_avg = m.spec_eta == 1 ? Float(0)
-                 : m.spec_dist.effectively_smooth() ? average_dielectric_fresnel(m.spec_eta)
-                                                    : m.spec_albedo.average(m.spec_dist);
+    if (solved) m.spec_avg_bare = *solved->spec_avg_bare;
+    else
+      m.spec_avg_bare = m.spec_eta == 1 ? Float(0)
+                        : m.spec_dist.effectively_smooth() ? average_dielectric_fresnel(m.spec_eta)
+                                                           : m.spec_albedo.average(m.spec_dist);
+    m.spec_avg = m.spec_avg_bare;
     // Ē_s must be the cosine-weighted mean of the E_s(μ) that eval uses, film included, or
     // the diffuse under a film gains (an anti-reflection film) or loses energy: the film's
     // change of E_s, 2 ∫ (E_film(μ) − E(μ)) μ dμ, added by the midpoint rule.
@@ -388,9 +366,13 @@ struct OpenPbrBxDFT {
     // Glass.
     m.glass.distribution = m.spec_dist;
     m.glass.eta = modulated_ior(p.specular_ior, p.specular_weight);
-    if (!m.glass.specular() && m.glass.distribution.is_isotropic() && m.glass.eta >= Float(0.25) &&
-        m.glass.eta <= Float(4))
-      m.glass.multiscatter = DielectricMultiscatterLobe::make(m.glass.distribution, m.glass.eta);
+    // The glass's compensation only where there is a glass (transmission_weight > 0, not
+    // thin-walled); `solved`'s when it has one (its inputs, the distribution and the
+    // index, are the same there).
+    if (m.trans > 0 && !m.thin && !m.glass.specular() && m.glass.distribution.is_isotropic() &&
+        m.glass.eta >= Float(0.25) && m.glass.eta <= Float(4))
+      m.glass.multiscatter = solved && *solved->glass_ms ? *solved->glass_ms
+                                                         : DielectricMultiscatterLobe::make(m.glass.distribution, m.glass.eta);
     m.sheet.eta = m.spec_eta;
     m.sheet_film.eta = m.spec_eta;
     m.sheet_film.film = film_on_spec;

@@ -66,7 +66,7 @@ struct Material {
   // copy), else `bxdf` with the textured parameters looked up, built in `scratch`.
   const BxDF& at(const Vec2& uv, std::optional<BxDF>& scratch) const {
     if (textures.empty()) return bxdf;
-    std::array<ParamValue, size_t(MaterialParam::Nv) + 1> values;
+    std::array<ParamValue, kMaterialParamCount> values;
     size_t n = 0;
     for (const ParamTexture& t : textures) values[n++] = {t.param, t.texture.eval(uv)};
     return scratch.emplace(with_params(bxdf, {values.data(), n}));
