@@ -483,6 +483,17 @@ TEST(Validate, Delta_ACorrectUserDielectricPasses) {
   EXPECT_TRUE(inverted.pass) << inverted.detail;
 }
 
+// A cut-out (openpbr's geometry_opacity) over a refracting glass has two delta
+// transmissions: the hole's, straight on with index 1, and the glass's refraction with
+// its declared index. The hole's direction is not the glass's Snell refraction; its weight
+// is in the delta reference (1 − α), which the mean weight is still held to.
+TEST(Validate, Delta_ACutOutOverAGlassPasses) {
+  const BxDF m = parse_material(
+      R"({"type":"openpbr","geometry_opacity":0.4,"transmission_weight":1,"specular_roughness":0,"specular_ior":1.5})");
+  const auto r = check_consistency(m, options());
+  EXPECT_TRUE(r.pass) << r.detail;
+}
+
 TEST(Validate, Delta_CatchesADielectricWithoutTheRadianceFactor) {
   const auto r = check_consistency(make_user_bxdf<DielectricWithoutRadianceScale>(), options());
   EXPECT_FALSE(r.pass) << r.detail;
