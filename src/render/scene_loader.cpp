@@ -698,13 +698,18 @@ struct Loader {
   // polarized renders keep the BSDF's subsurface lobe (bxdf/openpbr.h), which `bxdf` still is.
   // The surface seen from the medium inside it. The mixture's weights (metalness,
   // transmission, subsurface, opacity) are shares of the surface seen from outside: light
-  // inside the medium is under the transmitting interface only, which it meets whole.
+  // inside the medium is under the transmitting interface only, which it meets whole. The
+  // coat and the fuzz lie outside that interface: light inside meets the bare interface
+  // (their lobes would reflect it back as if from outside: a coated glass returned up to
+  // twice the light at grazing, docs/openpbr.md).
   static OpenPbrBxDF inside_model(const OpenPbrBxDF& model) {
     OpenPbrParams<Color> q = model.params;
     q.transmission_weight = 1;
     q.base_metalness = 0;
     q.subsurface_weight = 0;
     q.geometry_opacity = 1;
+    q.coat_weight = 0;
+    q.fuzz_weight = 0;
     return OpenPbrBxDF::make(q, model.film);
   }
 

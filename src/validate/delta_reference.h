@@ -117,7 +117,7 @@ inline DeltaReference conductor_reference(const Vec3& wo, const ConductorFresnel
 // tables, Δ = lerp(1, (1 − K)/(1 − E_b K), C δ)) the smooth coat's F, a smooth metal's
 // ξ F82, a smooth specular layer's tinted F (or its film's), and the glass's (tinted
 // reflection F from outside, (1 − F) times the mode's scaling through the layers at the
-// outside direction, bare from inside) or the thin sheet's.
+// outside direction, bare from inside, where it is the only lobe) or the thin sheet's.
 inline DeltaReference openpbr_reference(const OpenPbrBxDF& m, const Vec3& wo, TransportMode mode) {
   DeltaReference r;
   if (wo.z == 0) return r;
@@ -191,14 +191,17 @@ inline DeltaReference openpbr_reference(const OpenPbrBxDF& m, const Vec3& wo, Tr
   // own Airy sum over the film's substrate table.
   const double film_w = p.thin_film_thickness > 0 ? double(p.thin_film_weight) : 0.0;
   const bool outside = wo.z > 0;
+  // From inside a transmitting shape (wo below, not thin-walled) light meets the glass's
+  // bare interface only: the layers and the opaque parts are outside it.
+  const bool bare_inside = !outside && T > 0 && M < 1 && !p.geometry_thin_walled;
   for (int c = 0; c < kColorChannels; ++c) {
     double refl = 0;
     // The layers and the opaque parts (two-sided: mirrored for wo below).
-    if (C > 0 && coat_smooth && eta_c != 1)
+    if (!bare_inside && C > 0 && coat_smooth && eta_c != 1)
       refl += alpha * (1 - p.fuzz_weight * double(sheen_albedo(up.z, std::max(p.fuzz_roughness, Float(0.01))))) * C *
               reference_fresnel_dielectric(mu, eta_c);
     const double base = layer(up, mu, mu, c);
-    if (spec_smooth) {
+    if (spec_smooth && !bare_inside) {
       refl += base * M * xi_m *
               reference_fresnel_f82(mu, std::clamp(double(p.base_color[c] * p.base_weight), 0.0, 1.0),
                                     std::clamp(double(p.specular_color[c]), 0.0, 1.0));

@@ -11,8 +11,12 @@ namespace gonio {
 using namespace validation;
 
 namespace {
-// ∫ f(wo, wi) |cos θi| dωi in radiance mode: exact where the model has a closed form, else
-// the mean weight of n radiance-mode samples.
+// ∫ f(wo, wi) (n_wi/n_wo)² |cos θi| dωi in radiance mode: exact where the model has a
+// closed form, else the mean weight of n radiance-mode samples. Radiance crossing an
+// interface is scaled by (n_wo/n_wi)² (lecture §5.3: what is conserved is L/n², the basic
+// radiance, Veach 1997 §5.2), so a refraction from inside legitimately returns more than
+// the light it received; the bound ≤ 1 holds for the basic radiance: a transmitted
+// sample's weight times eta² (BSDFSample::eta = n_wi/n_wo, transmission_scale's inverse).
 AlbedoEstimate radiance_albedo(const BxDF& bxdf, const Vec3& wo, std::uint64_t n, std::uint64_t seed) {
   AlbedoEstimate e;
   if (const auto exact = bxdf.exact_albedo(wo, TransportMode::Radiance)) {
@@ -25,9 +29,11 @@ AlbedoEstimate radiance_albedo(const BxDF& bxdf, const Vec3& wo, std::uint64_t n
   for (std::uint64_t i = 0; i < n; ++i) {
     const auto s = bxdf.sample(wo, rng.next_float(), rng.next_float(), rng.next_float(), TransportMode::Radiance);
     if (!s) continue;
+    const double k = s->lobe == Lobe::Transmission ? double(s->eta) * double(s->eta) : 1.0;
     for (int c = 0; c < kColorChannels; ++c) {
-      sum[c] += s->weight[c];
-      sum2[c] += double(s->weight[c]) * s->weight[c];
+      const double w = double(s->weight[c]) * k;
+      sum[c] += w;
+      sum2[c] += w * w;
     }
   }
   for (int c = 0; c < kColorChannels; ++c) {

@@ -566,6 +566,44 @@ TEST(OpenPbrSampling, PdfIntegratesToNonDeltaShare) {
 }
 
 // No NaN or Inf anywhere: extremes of every parameter, grazing and normal directions.
+// From inside a transmitting shape light meets the glass's bare interface: the coat, the
+// fuzz and the opaque base are outside it. So the reflection seen from inside is the same
+// with or without them (a rough coat and fuzz added, and a metal / diffuse share that only
+// scales the glass's share), and a sample from inside draws the glass or nothing. Before
+// 2026-12-05 the outside lobes were mirrored to the inside and a coated glass returned up
+// to twice the light arriving at grazing (`gonio check`'s energy: 1.995).
+TEST(OpenPbrInside, OnlyTheBareGlassReflectsFromInside) {
+  // The coat roughens the interface under it (SPEC-OPB "Roughening": r' = (r⁴ + 2 r_c⁴)^¼ at
+  // coat_weight 1), so the bare glass to compare with has that roughness.
+  const double r_coated = std::pow(std::pow(0.4, 4) + 2 * std::pow(0.3, 4), 0.25);
+  const BxDF bare = parse_material(R"({"type":"openpbr","transmission_weight":1,"specular_roughness":)" +
+                                   std::to_string(r_coated) + "}");
+  const BxDF bare_04 = parse_material(R"({"type":"openpbr","transmission_weight":1,"specular_roughness":0.4})");
+  const BxDF dressed = parse_material(
+      R"({"type":"openpbr","transmission_weight":1,"specular_roughness":0.4,"coat_weight":1,"coat_roughness":0.3,
+          "fuzz_weight":1,"fuzz_roughness":0.5})");
+  for (const double theta_o : {10.0, 40.0, 70.0, 89.0})
+    for (const double theta_i : {5.0, 30.0, 60.0, 85.0}) {
+      const double to = theta_o * kPiD / 180, ti = theta_i * kPiD / 180;
+      const Vec3 wo{Float(std::sin(to)), 0, Float(-std::cos(to))};
+      const Vec3 wi{Float(-std::sin(ti) * 0.6), Float(std::sin(ti) * 0.8), Float(-std::cos(ti))};
+      const Color a = bare.f(wo, wi), b = dressed.f(wo, wi);
+      for (int c = 0; c < 3; ++c) EXPECT_NEAR(b[c], a[c], 1e-5 * (1 + a[c])) << theta_o << " " << theta_i;
+    }
+  // A quarter of the surface is glass (metalness 0.5, transmission 0.5): from inside, the
+  // glass alone, its reflection scaled by that share.
+  const BxDF mixed = parse_material(
+      R"({"type":"openpbr","transmission_weight":0.5,"base_metalness":0.5,"specular_roughness":0.4,"coat_weight":1})");
+  const Vec3 wo{Float(std::sin(1.2)), 0, Float(-std::cos(1.2))}, wi{Float(-std::sin(0.5)), 0, Float(-std::cos(0.5))};
+  EXPECT_NEAR(mixed.f(wo, wi)[0], 0.25 * bare_04.f(wo, wi)[0], 1e-5);
+  for (int i = 0; i < 64; ++i) {
+    const auto s = dressed.sample(wo, (i + 0.5f) / 64, 0.3f, 0.7f);
+    if (s && s->lobe == Lobe::Reflection) {
+      EXPECT_LT(s->wi.z, 0) << i;
+    }
+  }
+}
+
 TEST(OpenPbrFinite, Extremes) {
   std::vector<P> set;
   {

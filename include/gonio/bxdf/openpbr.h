@@ -671,6 +671,9 @@ struct OpenPbrBxDFT {
     // From inside (wo.z < 0 before the mirroring, non-thin) the glass is bare: its share is
     // not reduced by the outside layers' albedo at wo.
     if (trans > 0) p[kGlass] = (inside && !thin ? opacity * (1 - metal_w) : diel) * trans;
+    // And it is all there is from inside a transmitting shape: fuzz, coat and the opaque
+    // base lie outside the interface (bare_inside).
+    if (inside && bare_inside_any()) p[kFuzz] = p[kCoat] = p[kMetal] = p[kSpec] = p[kDiffuse] = p[kDiffuseT] = 0;
     Float sum = 0;
     for (Float v : p) sum += v;
     if (!(sum > 0)) {
@@ -681,6 +684,10 @@ struct OpenPbrBxDFT {
     for (Float& v : p) v /= sum;
     return p;
   }
+
+  // Whether a wo below the surface is inside a medium: the glass refracts into the shape
+  // (transmission, not thin-walled, some dielectric share).
+  bool bare_inside_any() const { return trans > 0 && !thin && metal_w < 1; }
 
   // --- evaluation -------------------------------------------------------------------
 
@@ -701,6 +708,13 @@ struct OpenPbrBxDFT {
     C f{};
     Float pdf = 0;
     const bool radiance = mode == TransportMode::Radiance;
+    // Light inside a transmitting shape (wo below, not thin-walled) meets the glass's bare
+    // interface only: the other lobes are on the outside, and mirroring them to wo's side
+    // reflected it back (a coated glass returned up to twice the light at grazing).
+    if (reflection && wo.z < 0 && bare_inside_any()) {
+      const BSDFEvalT<C> e = glass.eval(spec_rot.in(wo), spec_rot.in(wi), mode);
+      return {e.f * ((1 - metal_w) * opacity * trans), p[kGlass] * e.pdf};
+    }
     if (reflection) {
       const Layers lv = radiance ? lo : layers(wi_u);  // the view direction's layers
       // Fuzz.
