@@ -1,6 +1,7 @@
 // Every material type against reference values computed by a separate implementation
 // written from the papers (tests/reference/models_reference.py, data written by
-// tests/reference/make_reference_data.py; rough plastic by plastic_reference.py). Every
+// tests/reference/make_reference_data.py; rough plastic by plastic_reference.py; openpbr's
+// reductions to standalone lobes by openpbr_reference.py). Every
 // tests/reference/data/*.jsonl is read; each line is one record:
 //
 //   eval    {"material":{...},"mode":"radiance"|"importance","wo":[x,y,z],"wi":[x,y,z],
@@ -222,10 +223,6 @@ TEST(ReferenceValues, EveryMaterialTypeHasRecords) {
     // that it evaluates and samples exactly as the dielectric or roughdielectric with the
     // same parameters, whose records are here.
     if (type == "subsurface") continue;
-    // openpbr (issue 35, stage 1) has no record of the Python reference yet: its proof is
-    // tests/unit/test_openpbr.cpp (furnace by the test's own quadrature, closed-form
-    // reductions) and gonio check; the reference records are an open point of the issue.
-    if (type == "openpbr") continue;
     EXPECT_TRUE(covered.count(std::string(type))) << "material type \"" << type
                                                   << "\" has no record in " << data_dir();
   }
