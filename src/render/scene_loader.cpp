@@ -209,7 +209,9 @@ struct Loader {
     const OpenPbrParams<Color>& p = model->params;
     m.emits = p.emission_luminance > 0 && !p.emission_color.is_black() && p.geometry_opacity > 0;
     m.emits_both_sides = p.geometry_thin_walled;
-    if (p.subsurface_weight > 0 && !p.geometry_thin_walled && m.textures.empty()) {
+    // (No volume where no light can enter it: an all-metal base, or a surface that is all hole.)
+    if (p.subsurface_weight > 0 && !p.geometry_thin_walled && m.textures.empty() && p.base_metalness < 1 &&
+        p.geometry_opacity > 0) {
       subsurface_volume(m, *model, desc);
       return;
     }

@@ -19,6 +19,16 @@ inline Image render_text(const std::string& json, int threads = 0) {
   return render(scene, options);
 }
 
+// The form factor from a point to a rectangle 2a × 2b parallel to its plane at height h,
+// centred above it (Howell, "A Catalog of Radiation Heat Transfer Configuration Factors",
+// C-11, summed over the four corner rectangles a × b).
+inline double centred_rectangle_form_factor(double a, double b, double h) {
+  const double X = a / h, Y = b / h;
+  return 4 / (2 * kPiD) *
+         (X / std::sqrt(1 + X * X) * std::atan(Y / std::sqrt(1 + X * X)) +
+          Y / std::sqrt(1 + Y * Y) * std::atan(X / std::sqrt(1 + Y * Y)));
+}
+
 // Mean of one channel over a block of pixels, in double.
 inline double block_mean(const Image& img, int x0, int y0, int size, int channel) {
   double s = 0;

@@ -40,16 +40,13 @@ TEST(OpenPbrRender, EmittingSphereLightsAPlaneAsASphereLight) {
 }
 
 // An emitting rectangle (facing down) over a Lambertian plane: L_out = ρ L F, F the form
-// factor from a point under the centre of an a × b rectangle at height h to it (Howell,
-// factor B-3; the four-corner sum). As a quad shape it is a light that next-event estimation
+// factor from a point under the centre of a 2a × 2b rectangle at height h to it (Howell,
+// C-11; render_test_util.h). As a quad shape it is a light that next-event estimation
 // samples; as the same quad in an OBJ mesh it is not (meshes emit where paths hit them), and
 // only BSDF samples find it: both must give the same image.
 TEST(OpenPbrRender, EmittingQuadAndMeshLightAPlaneByTheFormFactor) {
   const double a = 0.6, b = 0.9, h = 1.0, L = 3, rho = 0.5;
-  const double X = a / h, Y = b / h;
-  const double F = 4 / (2 * kPiD) *
-                   (X / std::sqrt(1 + X * X) * std::atan(Y / std::sqrt(1 + X * X)) +
-                    Y / std::sqrt(1 + Y * Y) * std::atan(X / std::sqrt(1 + Y * Y)));
+  const double F = centred_rectangle_form_factor(a, b, h);
   const std::string emitter =
       R"({"type": "openpbr", "base_weight": 0, "specular_weight": 0, "emission_luminance": 3, "emission_color": 1})";
   const gonio::test::ScratchDir dir("gonio_opb_render");

@@ -136,10 +136,7 @@ TEST(Render, PointLightOverDiffusePlaneMatchesClosedForm) {
 //   F = 1/(2π) [X/√(1+X²) atan(Y/√(1+X²)) + Y/√(1+Y²) atan(X/√(1+Y²))], X = a/h, Y = b/h.
 TEST(Render, RectangleLightOverDiffusePlaneMatchesFormFactor) {
   const double a = 0.6, b = 0.9, h = 1.0, L = 3, rho = 0.5;
-  const double X = a / h, Y = b / h;
-  const double F = 4 / (2 * kPiD) *
-                   (X / std::sqrt(1 + X * X) * std::atan(Y / std::sqrt(1 + X * X)) +
-                    Y / std::sqrt(1 + Y * Y) * std::atan(X / std::sqrt(1 + Y * Y)));
+  const double F = centred_rectangle_form_factor(a, b, h);
   const Image img = render_text("{" + camera_down(16, 0.5) + R"(, "render": {"spp": 1024},
     "shapes": [{"type": "quad", "corner": [-5, 0, -5], "edge1": [0, 0, 10], "edge2": [10, 0, 0], "material": {"type": "diffuse", "reflectance": 0.5}}],
     "lights": [{"type": "quad", "corner": [-0.6, 1, -0.9], "edge1": [1.2, 0, 0], "edge2": [0, 0, 1.8], "radiance": 3}]})");
