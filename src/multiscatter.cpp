@@ -227,22 +227,9 @@ void CoatAlbedo::prepare_roughness(Float alpha) {
   tr = r.tr;
 }
 
-Float CoatAlbedo::E(Float alpha, Float mu) const {
-  const auto& table = type == MicrofacetType::GGX ? kGgxCoatAlbedo : kBeckmannCoatAlbedo;
-  const CoatRow r = coat_row(*this, alpha);
-  // Columns are uniform in s = μ^(1/4); the interpolation is linear in μ between them.
-  const Float m = std::clamp(mu, Float(0), Float(1));
-  const Float fs = std::sqrt(std::sqrt(m)) * Float(kCoatCosineSize - 1);
-  const int m0 = std::min(int(fs), kCoatCosineSize - 2);
-  const Float mu0 = Float(coat_table_mu_node(m0)), mu1 = Float(coat_table_mu_node(m0 + 1));
-  const Float tm = std::clamp((m - mu0) / (mu1 - mu0), Float(0), Float(1));
-  auto at = [&](int a, int k) {
-    const float* row = table[a][k];
-    return row[m0] + (row[m0 + 1] - row[m0]) * tm;
-  };
-  const Float lo = at(r.r0, k0) * (1 - tk) + at(r.r0, k0 + 1) * tk;
-  const Float hi = at(r.r0 + 1, k0) * (1 - tk) + at(r.r0 + 1, k0 + 1) * tk;
-  return lo * (1 - r.tr) + hi * r.tr;
+Float CoatAlbedo::E_any_row(Float alpha, Float mu) const {
+  const CoatRow r = coat_row(alpha);
+  return E_at_row(r.r0, r.tr, mu);
 }
 
 Float CoatAlbedo::average(Float alpha) const {
@@ -307,8 +294,8 @@ Float projected_alpha(const MicrofacetDistribution& d, const Vec3& w) {
 }
 }  // namespace
 
-Float CoatAlbedo::E(const MicrofacetDistribution& d, const Vec3& w) const {
-  return E(d.is_isotropic() ? d.alpha_x : projected_alpha(d, w), std::abs(w.z));
+Float CoatAlbedo::E_anisotropic(const MicrofacetDistribution& d, const Vec3& w) const {
+  return E(projected_alpha(d, w), std::abs(w.z));
 }
 
 Float CoatAlbedo::average(const MicrofacetDistribution& d) const {

@@ -11,7 +11,11 @@
 // projected roughness α(φ) = sqrt(αx² cos²φ + αy² sin²φ) that fixes Λ (Heitz 2014,
 // eq. 86), and its mean is averaged over φ as well.
 
+#include <algorithm>
+#include <cmath>
+
 #include "gonio/microfacet.h"
+#include "gonio/multiscatter_table_layout.h"
 
 namespace gonio {
 
@@ -30,8 +34,9 @@ struct CoatAlbedo {
   // Prepares lookups at roughness alpha (the coat's, or a texture's): lookups at another
   // α still work, finding their row each time.
   void prepare_roughness(Float alpha);
-  // E_coat(μ) at isotropic roughness alpha (clamped to the table's [1e-3, 10]).
-  Float E(Float alpha, Float mu) const;
+  // E_coat(μ) at isotropic roughness alpha (clamped to the table's [1e-3, 10]). Inline at
+  // the prepared roughness: layered models (openpbr) look it up several times per call.
+  Float E(Float alpha, Float mu) const { return alpha == row_alpha ? E_at_row(r0, tr, mu) : E_any_row(alpha, mu); }
   // Ē_coat at isotropic roughness alpha.
   Float average(Float alpha) const;
 
@@ -45,9 +50,33 @@ struct CoatAlbedo {
   Float sample_complement(Float alpha, Float u) const;
 
   // The same for the distribution's roughness seen from w (its projected roughness).
-  Float E(const MicrofacetDistribution& d, const Vec3& w) const;
+  Float E(const MicrofacetDistribution& d, const Vec3& w) const {
+    return d.is_isotropic() ? E(d.alpha_x, std::abs(w.z)) : E_anisotropic(d, w);
+  }
   // Ē_coat of the distribution: the mean over μ and φ.
   Float average(const MicrofacetDistribution& d) const;
+
+  // E at α row r (fraction t towards r + 1): bilinear in (row, η node) of the rows' values
+  // interpolated linearly in μ between their columns (uniform in s = μ^(1/4)).
+  Float E_at_row(int r, Float t, Float mu) const {
+    const auto& table = type == MicrofacetType::GGX ? tables::kGgxCoatAlbedo : tables::kBeckmannCoatAlbedo;
+    using tables::kCoatCosineSize;
+    const Float m = std::clamp(mu, Float(0), Float(1));
+    const Float fs = std::sqrt(std::sqrt(m)) * Float(kCoatCosineSize - 1);
+    const int m0 = std::min(int(fs), kCoatCosineSize - 2);
+    const Float tm = std::clamp((m - tables::kCoatMuNodes.mu[m0]) * tables::kCoatMuNodes.inv_width[m0], Float(0), Float(1));
+    auto at = [&](int a, int k) {
+      const float* row = table[a][k];
+      return row[m0] + (row[m0 + 1] - row[m0]) * tm;
+    };
+    const Float lo = at(r, k0) * (1 - tk) + at(r, k0 + 1) * tk;
+    const Float hi = at(r + 1, k0) * (1 - tk) + at(r + 1, k0 + 1) * tk;
+    return lo * (1 - t) + hi * t;
+  }
+
+ private:
+  Float E_any_row(Float alpha, Float mu) const;
+  Float E_anisotropic(const MicrofacetDistribution& d, const Vec3& w) const;
 };
 
 }  // namespace gonio

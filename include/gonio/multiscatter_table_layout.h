@@ -130,6 +130,19 @@ constexpr double coat_table_mu_node(int m) {
 }
 // μ at column m; column 0 stands for grazing, evaluated just above it.
 constexpr double coat_table_mu(int m) { return m == 0 ? 1e-10 : coat_table_mu_node(m); }
+// The nodes' μ and the reciprocal widths of the intervals above them, in float, for
+// lookups without double arithmetic or a division (CoatAlbedo::E_at_row).
+struct CoatMuNodes {
+  float mu[kCoatCosineSize];
+  float inv_width[kCoatCosineSize];  // 1 / (μ_{m+1} − μ_m); the last one unused
+};
+constexpr CoatMuNodes make_coat_mu_nodes() {
+  CoatMuNodes n{};
+  for (int m = 0; m < kCoatCosineSize; ++m) n.mu[m] = float(coat_table_mu_node(m));
+  for (int m = 0; m + 1 < kCoatCosineSize; ++m) n.inv_width[m] = 1.0f / (n.mu[m + 1] - n.mu[m]);
+  return n;
+}
+inline constexpr CoatMuNodes kCoatMuNodes = make_coat_mu_nodes();
 
 using CoatAlbedoTable = float[kCoatRoughnessSize][kCoatEtaSize][kCoatCosineSize];
 // 2 ∫ E μ dμ of the piecewise-linear interpolant in μ (exact, hemispherical_average.h).

@@ -262,21 +262,21 @@ struct EonBxDFT {
     const bool flip = wo.z < 0;
     if (flip) wo.z = -wo.z;
     const Float pu = uniform_share(wo.z);
-    Vec3 wi;
-    if (roughness <= 0) {
-      wi = square_to_cosine_hemisphere(u1, u2);  // the CLTC at roughness 0 (mixture_pdf)
-    } else if (u_lobe < pu) {
-      wi = square_to_uniform_hemisphere(u1, u2);
-    } else {
-      const eon::Frame frame(wo);
-      wi = normalize(frame.to_world(eon::cltc_sample(eon::ltc_terms(wo.z, roughness), u1, u2)));
-    }
-    if (!(wi.z >= diffuse_glossy::kGrazing)) return std::nullopt;
+    const std::optional<Vec3> d = sample_direction_upper(wo, pu, u_lobe, u1, u2);
+    if (!d) return std::nullopt;
+    Vec3 wi = *d;
     const Float p = mixture_pdf(wo, wi, pu);
     if (!(p > 0)) return std::nullopt;
     const C weight = f(wo, wi, mode) * (wi.z / p);
     if (flip) wi.z = -wi.z;
     return BSDFSampleT<C>{wi, weight, p, false, Lobe::Reflection, 1};
+  }
+
+  // The sampled direction alone, for wo on the upper side (openpbr evaluates its whole
+  // mixture there, so the lobe's own weight would be thrown away).
+  std::optional<Vec3> sample_direction_upper(const Vec3& wo, Float u_lobe, Float u1, Float u2) const {
+    if (!(wo.z >= diffuse_glossy::kGrazing)) return std::nullopt;
+    return sample_direction_upper(wo, uniform_share(wo.z), u_lobe, u1, u2);
   }
 
   // The closed form of the whole model's directional albedo ("E_EON", §3).
@@ -301,6 +301,20 @@ struct EonBxDFT {
   Float uniform_share(Float mu) const {
     if (roughness <= 0) return 0;
     return eon::uniform_share_from_power(mu, constants_.r == roughness ? constants_.r_pow : std::pow(roughness, Float(0.1)));
+  }
+  // The mixture's direction for wo on the upper side, pu = uniform_share(wo.z).
+  std::optional<Vec3> sample_direction_upper(const Vec3& wo, Float pu, Float u_lobe, Float u1, Float u2) const {
+    Vec3 wi;
+    if (roughness <= 0) {
+      wi = square_to_cosine_hemisphere(u1, u2);  // the CLTC at roughness 0 (mixture_pdf)
+    } else if (u_lobe < pu) {
+      wi = square_to_uniform_hemisphere(u1, u2);
+    } else {
+      const eon::Frame frame(wo);
+      wi = normalize(frame.to_world(eon::cltc_sample(eon::ltc_terms(wo.z, roughness), u1, u2)));
+    }
+    if (!(wi.z >= diffuse_glossy::kGrazing)) return std::nullopt;
+    return wi;
   }
   // wo and wi on the upper side; pu = uniform_share(wo.z).
   Float mixture_pdf(const Vec3& wo, const Vec3& wi, Float pu) const {

@@ -503,14 +503,22 @@ struct OpenPbrBxDFT {
 
   // --- per-direction quantities -----------------------------------------------------
 
-  // The layers' albedos seen from w (upper side): F E_fuzz(w) and E_coat(w).
+  // The layers' albedos seen from w (upper side): F E_fuzz(w) and E_coat(w); and for the
+  // view direction (view_layers), the specular layer's E_s(w), which both the lobe
+  // probabilities and the diffuse's scaling need (one table lookup, not two).
   struct Layers {
     Float e_fz = 0, e_c = 0;
+    Float e_s = 0;
   };
   Layers layers(const Vec3& w) const {
     Layers l;
     if (fuzz > 0) l.e_fz = fuzz * sheen_albedo(w.z, sheen.roughness);
     if (coat > 0) l.e_c = coat_E(w);
+    return l;
+  }
+  Layers view_layers(const Vec3& w) const {
+    Layers l = layers(w);
+    l.e_s = spec_E(w);
     return l;
   }
   Float coat_E(const Vec3& w) const {
@@ -533,8 +541,8 @@ struct OpenPbrBxDFT {
   // channel gain): the channel average spec_E plus the film's deviation from its average
   // at μ, w (R_c(μ) − R̄(μ)) (exact for a smooth layer, (1 − w) F + w R_c; for a rough one
   // the deviation of the lobe's albedo is taken as the film's at the macro-surface cosine).
-  U spec_E_channels(const Vec3& w) const {
-    const Float e = spec_E(w);
+  U spec_E_channels(const Vec3& w) const { return spec_E_channels(w, spec_E(w)); }
+  U spec_E_channels(const Vec3& w, Float e) const {
     if (!(film_w > 0)) return U(e);
     return map(U(e) + film_deviation(std::min(w.z, Float(1))), [](Float v) { return std::clamp(v, Float(0), Float(1)); });
   }
@@ -553,11 +561,12 @@ struct OpenPbrBxDFT {
     const U R = film.reflectance(mu, U(spec_eta), U(0));
     return (R - U(R.average())) * film_w;
   }
-  // The diffuse's albedo scaling (1 − E_s(wo))(1 − E_s(wi)) N(μo, μi) (top of the file).
-  U diffuse_scale(const Vec3& wo, const Vec3& wi) const {
+  // The diffuse's albedo scaling (1 − E_s(wo))(1 − E_s(wi)) N(μo, μi) (top of the file),
+  // es_o = spec_E(wo).
+  U diffuse_scale(const Vec3& wo, const Vec3& wi, Float es_o) const {
     const Float n = diffuse_norm(wo.z, wi.z);
-    if (!(film_w > 0)) return U((1 - spec_E(wo)) * (1 - spec_E(wi)) * n);
-    const U through = (U(1) - spec_E_channels(wo)) * (U(1) - spec_E_channels(wi));
+    if (!(film_w > 0)) return U((1 - es_o) * (1 - spec_E(wi)) * n);
+    const U through = (U(1) - spec_E_channels(wo, es_o)) * (U(1) - spec_E_channels(wi));
     if constexpr (std::is_same_v<U, Color>) {
       // An EON base: each channel's own b (solve_diffuse_norm).
       if (params.base_diffuse_roughness > 0)
@@ -642,8 +651,8 @@ struct OpenPbrBxDFT {
     return U(F * (1 - film_w)) + film.reflectance(c, U(spec_eta), U(0)) * film_w;
   }
 
-  // The lobes' selection probabilities for wo (upper side): their albedo estimates.
-  // In importance mode the layers' scaling follows wi (the adjoint of the view-dependent
+  // The lobes' selection probabilities for wo (upper side; l = view_layers(wo)): their
+  // albedo estimates. In importance mode the layers' scaling follows wi (the adjoint of the view-dependent
   // form), which sampling does not know: the base's share is then not reduced by wo's
   // layers (else a grazing wo, where the coat reflects nearly everything, would draw the
   // base almost never while wi's scaling lets it through: unbounded weights).
@@ -662,7 +671,7 @@ struct OpenPbrBxDFT {
     if (metal_w > 0)
       p[kMetal] = base * metal_w * std::max(metal_xi * fresnel_f82(metal.fresnel.f0, metal.fresnel.f82, mu).average(), Float(0.05));
     const Float diel = base * (1 - metal_w);
-    const Float es = spec_E(wo);
+    const Float es = l.e_s;
     if (trans < 1) {
       if (spec_on()) p[kSpec] = diel * (1 - trans) * std::max(es, Float(0.02)) * std::max(params.specular_color.average(), Float(0.1));
       p[kDiffuse] = diel * (1 - trans) * (1 - es) * std::max(diff_rho.average(), Float(0.05));
@@ -694,10 +703,11 @@ struct OpenPbrBxDFT {
   BSDFEvalT<C> eval(const Vec3& wo, const Vec3& wi, TransportMode mode = TransportMode::Radiance) const {
     if (wo.z == 0 || wi.z == 0 || opacity <= 0) return {};
     const Vec3 wo_u{wo.x, wo.y, std::abs(wo.z)};
-    const Layers lo = layers(wo_u);
+    const Layers lo = view_layers(wo_u);
     return eval_given(wo, wi, mode, lo, probabilities(wo_u, lo, mode, wo.z < 0));
   }
-  // eval with wo's layers and lobe probabilities already known (sample() has them).
+  // eval with wo's layers (view_layers of the upper-side wo) and lobe probabilities
+  // already known (sample() has them).
   BSDFEvalT<C> eval_given(const Vec3& wo, const Vec3& wi, TransportMode mode, const Layers& lo,
                           const std::array<Float, openpbr::kLobes>& p) const {
     using namespace openpbr;
@@ -719,8 +729,10 @@ struct OpenPbrBxDFT {
       const Layers lv = radiance ? lo : layers(wi_u);  // the view direction's layers
       // Fuzz.
       if (fuzz > 0 && p[kFuzz] > 0) {
-        f += C(sheen.f(wo_u, wi_u, mode) * (opacity * fuzz));
-        pdf += p[kFuzz] * sheen.pdf(wo_u, wi_u, mode);
+        // lo.e_fz = fuzz R(μo): the lobe's albedo is known.
+        const BSDFEvalT<U> e = sheen.eval_upper(wo_u, wi_u, mode, lo.e_fz / fuzz);
+        f += C(e.f * (opacity * fuzz));
+        pdf += p[kFuzz] * e.pdf;
       }
       // Coat (rough; the smooth one is a delta).
       if (coat > 0 && coat_eta != 1 && !coat_dist.effectively_smooth()) {
@@ -754,7 +766,7 @@ struct OpenPbrBxDFT {
           }
         }
         // Diffuse under it, reciprocal albedo scaling.
-        f += C(eon_f(wo_u, wi_u, diff_rho, diff_rho_ms) * base * diffuse_scale(wo_u, wi_u) * w);
+        f += C(eon_f(wo_u, wi_u, diff_rho, diff_rho_ms) * base * diffuse_scale(wo_u, wi_u, lo.e_s) * w);
         pdf += p[kDiffuse] * eon.pdf(wo_u, wi_u);
       }
       // Glass, reflection: from outside under the layers, tinted; from inside bare.
@@ -780,7 +792,7 @@ struct OpenPbrBxDFT {
       // The thin-walled subsurface's transmission, mirrored to wo's side.
       const Vec3 wm{wi_u.x, wi_u.y, -wi_u.z};
       const Layers lv = radiance ? lo : layers(wm);
-      f += C(eon_f(wo_u, wm, difft_rho, difft_rho_ms) * base_scale(lv, wo_u.z, wm.z) * diffuse_scale(wo_u, wm) *
+      f += C(eon_f(wo_u, wm, difft_rho, difft_rho_ms) * base_scale(lv, wo_u.z, wm.z) * diffuse_scale(wo_u, wm, lo.e_s) *
              (diel * (1 - trans)));
       pdf += p[kDiffuseT] * eon.pdf(wo_u, wm);
     }
@@ -821,7 +833,7 @@ struct OpenPbrBxDFT {
     if (wo.z == 0) return std::nullopt;
     const Float s = wo.z > 0 ? 1 : -1;
     const Vec3 wo_u{wo.x, wo.y, s * wo.z};
-    const Layers lo = layers(wo_u);
+    const Layers lo = view_layers(wo_u);
     const auto p = probabilities(wo_u, lo, mode, wo.z < 0);
     int k = 0;
     Float acc = 0;
@@ -886,9 +898,9 @@ struct OpenPbrBxDFT {
       }
       case kDiffuse:
       case kDiffuseT: {
-        const auto sm = eon.sample(wo_u, u, u1, u2);
-        if (!sm) return std::nullopt;
-        wi_u = sm->wi;
+        const auto d = eon.sample_direction_upper(wo_u, u, u1, u2);
+        if (!d) return std::nullopt;
+        wi_u = *d;
         if (k == kDiffuseT) wi_u.z = -wi_u.z;
         break;
       }

@@ -161,6 +161,27 @@ struct SheenBxDFT {
     return mode == TransportMode::Radiance ? d : Float(0.5) * (d + wi.z * kInvPi);
   }
 
+  // f and pdf in one pass (one LTC of wo), for wo and wi on the upper side. r_o is R(μo, r)
+  // when the caller already has it (openpbr's fuzz layer scales the layers below by it).
+  BSDFEvalT<C> eval_upper(const Vec3& wo, const Vec3& wi, TransportMode mode, std::optional<Float> r_o = {}) const {
+    if (!(wo.z > 0 && wi.z > 0)) return {};
+    const Float r = sheen_fit::clamp_roughness(roughness);
+    const Float d = sheen_fit::Ltc::of(wo, r).density_over_cos(wi);
+    if (mode == TransportMode::Radiance) {
+      const Float R = r_o ? *r_o : sheen_fit::albedo(std::min(wo.z, Float(1)), r);
+      return {color * (R * d), d * wi.z};
+    }
+    return {f_up(wi, wo), Float(0.5) * (d * wi.z + wi.z * kInvPi)};
+  }
+  BSDFEvalT<C> eval(Vec3 wo, Vec3 wi, TransportMode mode = TransportMode::Radiance) const {
+    if (!(wo.z * wi.z > 0)) return {};
+    if (wo.z < 0) {
+      wo.z = -wo.z;
+      wi.z = -wi.z;
+    }
+    return eval_upper(wo, wi, mode);
+  }
+
   std::optional<BSDFSampleT<C>> sample(Vec3 wo, Float u_lobe, Float u1, Float u2,
                                        TransportMode mode = TransportMode::Radiance) const {
     const bool flip = wo.z < 0;
