@@ -101,6 +101,39 @@ TEST(Sheen, DensityIsTheLinearlyTransformedCosine) {
     }
 }
 
+// The fused eval (one LTC; what the renderer calls, and what openpbr's fuzz calls with the
+// albedo it already has) against the same published forms, both modes, both sides:
+// radiance f = color R(μo) D_wo(wi)/μi, pdf D_wo(wi); importance f = color R(μi) D_wi(wo)/μo,
+// pdf ½ (D_wo(wi) + μi/π).
+TEST(Sheen, FusedEvalIsTheLtcInBothModes) {
+  Pcg32 rng(11);
+  const Color tint(0.5f, 1.0f, 0.25f);
+  for (double r : {0.01, 0.2, 0.5, 1.0})
+    for (int k = 0; k < 300; ++k) {
+      Vec3 wo = at(0.01 + 0.99 * rng.next_float(), 6.283 * rng.next_float());
+      Vec3 wi = at(0.01 + 0.99 * rng.next_float(), 6.283 * rng.next_float());
+      const double d_o = ltc_density(wo, wi, r), d_i = ltc_density(wi, wo, r);
+      const double f_rad = published_R(std::min(double(wo.z), 1.0), r) * d_o / wi.z;
+      const double f_imp = published_R(std::min(double(wi.z), 1.0), r) * d_i / wo.z;
+      const double p_imp = 0.5 * (d_o + wi.z / kPiD);
+      if (k % 2) {  // the lower side: the same values mirrored
+        wo.z = -wo.z;
+        wi.z = -wi.z;
+      }
+      const BSDFEval e = sheen(r, tint).eval(wo, wi);
+      EXPECT_NEAR(e.f[1], f_rad, 2e-5 * f_rad + 1e-12) << "r " << r;
+      EXPECT_NEAR(e.f[2], 0.25 * f_rad, 2e-5 * f_rad + 1e-12) << "r " << r;
+      EXPECT_NEAR(e.pdf, d_o, 2e-5 * d_o + 1e-12) << "r " << r;
+      const BSDFEval ei = sheen(r, tint).eval(wo, wi, TransportMode::Importance);
+      EXPECT_NEAR(ei.f[0], 0.5 * f_imp, 2e-5 * f_imp + 1e-12) << "r " << r;
+      EXPECT_NEAR(ei.pdf, p_imp, 2e-5 * p_imp + 1e-12) << "r " << r;
+      // A given albedo R(μo) is the one used (openpbr passes its layer's).
+      const Vec3 wo_u{wo.x, wo.y, std::abs(wo.z)}, wi_u{wi.x, wi.y, std::abs(wi.z)};
+      EXPECT_NEAR(sheen(r, tint).eval_upper(wo_u, wi_u, TransportMode::Radiance, Float(0.5)).f[1], 0.5 * d_o / wi_u.z,
+                  2e-5 * d_o / wi_u.z + 1e-12);
+    }
+}
+
 TEST(Sheen, LtcIntegratesToOneAboveTheHorizon) {
   for (double r : {0.1, 0.3, 0.5, 1.0})
     for (double mu : {1.0, 0.7, 0.3, 0.05}) {
