@@ -238,6 +238,17 @@ PathTracer::PathTracer(const Scene& scene, const Accel& accel)
                          " has a scattering medium (a subsurface material, or an openpbr one with transmission_depth and "
                          "transmission_scatter), which renders in RGB only (its medium is not carried per "
                          "wavelength yet); render without --spectral and \"spectral\": true");
+  walk_dwivedi_.resize(scene.materials.size());
+  for (size_t i = 0; i < scene.materials.size(); ++i) {
+    if (!scene.materials[i].subsurface) continue;
+    const Medium& medium = scene.materials[i].subsurface->medium;
+    const Color sigma_t = medium.sigma_t();
+    for (size_t c = 0; c < 3; ++c) {
+      const double albedo = sigma_t[int(c)] > 0 ? double(medium.sigma_s[int(c)]) / double(sigma_t[int(c)]) : 0.0;
+      walk_dwivedi_[i][c] = dwivedi_kappa(albedo);
+      walk_dwivedi_[i][c + 3] = dwivedi_pdf_mu(0, walk_dwivedi_[i][c]);
+    }
+  }
   if (scene.settings.polarized) {
     for (const Material& m : scene.materials)
       if (m.subsurface && !m.subsurface_bsdf_fallback)
@@ -427,11 +438,8 @@ bool PathTracer::walk_nee_setup(const Material& material, const SurfaceHit& entr
   w.sigma_min = w.sigma_t.min_component();
   w.g = ss.medium.g;
   w.q = std::clamp(ss.guide, Float(0), Float(1));
-  for (int c = 0; c < 3; ++c) {
-    const double albedo = w.sigma_t[c] > 0 ? double(ss.medium.sigma_s[c]) / double(w.sigma_t[c]) : 0.0;
-    w.kappa[c] = dwivedi_kappa(albedo);
-    w.dnorm[c] = dwivedi_pdf_mu(0, w.kappa[c]);
-  }
+  const auto& k = walk_dwivedi_[static_cast<size_t>(entry.material)];
+  for (int c = 0; c < 3; ++c) w.kappa[c] = k[size_t(c)], w.dnorm[c] = k[size_t(c) + 3];
   return true;
 }
 

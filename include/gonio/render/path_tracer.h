@@ -92,6 +92,9 @@ class PathTracer {
   // Polarized mode: the untextured materials' polarized models (made once; empty for a
   // textured one) and the camera's polarizer as a Mueller matrix per channel.
   std::vector<std::optional<PolarizedBxDF>> polarized_models_;
+  // Per material with a medium: the Dwivedi κ and p(0) per channel (guided_walk.h), for
+  // walk_nee's MIS weights (made once: 60 bisection steps each).
+  std::vector<std::array<double, 6>> walk_dwivedi_;
   MuellerT<Color> polarizer_rgb_;
   MuellerT<SampledSpectrum> polarizer_spectral_;
 };
