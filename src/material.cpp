@@ -720,6 +720,7 @@ Subsurface parse_subsurface(Params& p, bool invert) {
   s.medium.g = Float(g);
   s.method = p.choice("method") == "diffusion" ? SubsurfaceMethod::Diffusion : SubsurfaceMethod::RandomWalk;
   s.guide = Float(p.number("guide"));
+  s.nee = p.boolean("nee");
 
   if (has_sigma_s) {
     s.medium.sigma_s = p.color("sigma_s");

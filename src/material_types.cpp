@@ -174,6 +174,9 @@ constexpr ParamSpec kSubsurface[] = {
     {"guide", K::Number, "0.5", closed(0, 1), "", "", false,
      "Renderer's random walk: the probability of Dwivedi sampling towards the entry point's surface at each event, "
      "mixed by MIS with the classic walk (0: the classic walk's sampling)."},
+    {"nee", K::Boolean, "true", {}, "", "", false,
+     "Renderer's random walk under a smooth boundary: next-event estimation from the walk's scattering events "
+     "through the boundary to the lights, weighted by MIS against the walk's own exits (false: off)."},
 };
 
 // The thin sheet (its index: a dielectric's, read the same way).

@@ -238,6 +238,17 @@ PathTracer::PathTracer(const Scene& scene, const Accel& accel)
                          " has a scattering medium (a subsurface material, or an openpbr one with transmission_depth and "
                          "transmission_scatter), which renders in RGB only (its medium is not carried per "
                          "wavelength yet); render without --spectral and \"spectral\": true");
+  walk_dwivedi_.resize(scene.materials.size());
+  for (size_t i = 0; i < scene.materials.size(); ++i) {
+    if (!scene.materials[i].subsurface) continue;
+    const Medium& medium = scene.materials[i].subsurface->medium;
+    const Color sigma_t = medium.sigma_t();
+    for (size_t c = 0; c < 3; ++c) {
+      const double albedo = sigma_t[int(c)] > 0 ? double(medium.sigma_s[int(c)]) / double(sigma_t[int(c)]) : 0.0;
+      walk_dwivedi_[i][c] = dwivedi_kappa(albedo);
+      walk_dwivedi_[i][c + 3] = dwivedi_pdf_mu(0, walk_dwivedi_[i][c]);
+    }
+  }
   if (scene.settings.polarized) {
     for (const Material& m : scene.materials)
       if (m.subsurface && !m.subsurface_bsdf_fallback)
@@ -264,6 +275,248 @@ bool PathTracer::occluded(const Vec3& p, const Vec3& ng, const Vec3& dir, Float 
   const Vec3 d = p + dir * dist - o;
   const Float len = length(d);
   return accel_.occluded(o, d / len, len * Float(0.9999));
+}
+
+// ---- Next-event estimation from inside a medium (issue 38) ----
+//
+// A walk under a smooth boundary finds light only when its last direction, refracted
+// out, happens to hit an emitter: the exit vertex is a delta refraction, where no light
+// can be sampled. From each scattering event x of the walk a second strategy proposes
+// the direction d towards a light, in the spirit of Koerner, Novák, Kutz, Habel & Jarosz
+// 2016 ("Subdivision next-event estimation for path-traced subsurface scattering",
+// EGSR), who connect a walk's vertices to the lights through the boundary: the entry
+// point's tangent plane (p0, n) stands in for the boundary near x; a light point is
+// sampled as seen from y0, x's projection on that plane, giving ω outside; d is the
+// direction inside that Snell's law (through the plane) refracts into ω. Along d the true
+// boundary is then found (y, its normal), the true Fresnel transmission and refraction
+// are taken there, and a ray from y finds what emits along the refracted direction. The
+// plane only shapes the proposal: its density over d is exact,
+//   p_nee(d) = p_light(y0 → ω(d)) · |dω/dd|,  |dω/dd| = η² cos θ_d / cos θ_ω
+// (the solid-angle form of Snell's law, n_in² cos θ_in dω_in = n_out² cos θ_out dω_out;
+// Veach 1997, §5.2), with p_light the mixture over every light the sampler could have
+// chosen whose solid angle from y0 contains ω. The walk's own exit along d (a segment
+// that reached the boundary: direction density p_dir(d), survival e^{−σt s}) is the other
+// strategy; the two share every path x → y → emitter and are combined by the balance
+// heuristic (Veach 1997, eq. 9.10),
+//   w_nee = q_rr p_nee / (q_rr p_nee + p_walk),  w_walk = p_walk / (q_rr p_nee + p_walk),
+// where q_rr is the probability with which x estimates at all (Russian roulette on the
+// transmittance to the plane) and p_walk = p_dir(d) · e^{−σt s} with p_dir and σt taken
+// channel-independently (the phase/Dwivedi mixture with the channels' Dwivedi densities
+// averaged, the transmittance averaged over channels): any pair of weights that sums to 1
+// for every path keeps the sum unbiased, and a weight that does not depend on the walk's
+// sampled channel keeps the walk's path-level channel MIS (guided_walk.h) intact. The
+// walk's weight applies to the emission its exit finds directly (an area light or the
+// environment), nothing else of the continued path.
+//
+// Estimating at each of hundreds of deep events would cost rays for nothing (the
+// transmittance to the boundary is e^{−σt h}): x estimates with probability
+// q_rr = max(e^{−σt,min h}, kWalkNeeFloor), h its depth below the entry plane, and the
+// estimate is divided by it. The floor keeps q_rr > 0 where the plane is a poor guide to
+// the true boundary (a walk that wandered round a corner), so nothing is left out.
+inline constexpr Float kWalkNeeFloor = 1.0f / 32;
+
+struct WalkNeeState {
+  int material = -1;
+  Vec3 p0, n;       // the entry point and its outward normal (the proposal's plane)
+  Float eta = 1;    // n_inside / n_outside of the smooth boundary
+  Color sigma_t;
+  Float sigma_min = 0;
+  Float g = 0, q = 0;
+  double kappa[3] = {}, dnorm[3] = {};
+};
+
+namespace {
+
+// Snell's law through a plane of normal n, from d inside (index eta relative to outside)
+// to ω outside, and |dω/dd|; false where d does not leave (heads in, or total internal
+// reflection).
+bool walk_plane_out(const Vec3& d, const Vec3& n, Float eta, Vec3& omega, Float& jacobian) {
+  const Float cos_d = dot(d, n);
+  if (!(cos_d > 0)) return false;
+  const Float sin2_o = eta * eta * std::max(Float(0), 1 - cos_d * cos_d);
+  if (!(sin2_o < 1)) return false;
+  const Float cos_o = std::sqrt(1 - sin2_o);
+  if (!(cos_o > 0)) return false;
+  omega = normalize((d - n * cos_d) * eta + n * cos_o);
+  jacobian = eta * eta * cos_d / cos_o;
+  return true;
+}
+
+// The inverse: the d inside that leaves as ω; false where none does.
+bool walk_plane_in(const Vec3& omega, const Vec3& n, Float eta, Vec3& d) {
+  const Float cos_o = dot(omega, n);
+  if (!(cos_o > 0)) return false;
+  const Float sin2_d = std::max(Float(0), 1 - cos_o * cos_o) / (eta * eta);
+  if (!(sin2_d < 1)) return false;
+  d = normalize((omega - n * cos_o) / eta + n * std::sqrt(1 - sin2_d));
+  return true;
+}
+
+// Where the ray o + t·dir (t > 0) meets an area light's surface: the point and the
+// light's normal there. (Any crossing: the density of sample_area_light along dir does
+// not depend on which.)
+bool walk_ray_hits_light(const AreaLight& light, const Vec3& o, const Vec3& dir, Vec3& on, Vec3& n_light) {
+  if (const auto* q = std::get_if<QuadLight>(&light)) {
+    const Vec3 nq = cross(q->edge1, q->edge2);
+    const Float nn = length_squared(nq), dn = dot(dir, nq);
+    if (!(nn > 0) || dn == 0) return false;
+    const Float t = dot(q->corner - o, nq) / dn;
+    if (!(t > 0)) return false;
+    on = o + dir * t;
+    const Vec3 r = on - q->corner;
+    const Float a = dot(cross(r, q->edge2), nq) / nn, b = dot(cross(q->edge1, r), nq) / nn;
+    if (!(a >= 0 && a <= 1 && b >= 0 && b <= 1)) return false;
+    n_light = nq / std::sqrt(nn);
+    return true;
+  }
+  const auto& sp = std::get<SphereLight>(light);
+  const Vec3 oc = o - sp.center;
+  const Float b = dot(oc, dir), c = length_squared(oc) - sp.radius * sp.radius;
+  const Float disc = b * b - c;
+  if (!(disc >= 0)) return false;
+  const Float t = -b - std::sqrt(disc);
+  if (!(t > 0)) return false;
+  on = o + dir * t;
+  n_light = normalize(on - sp.center);
+  return true;
+}
+
+// The exit vertex as the path tracer shades it (trace(): the frame of the shading normal
+// where it agrees with the geometric one about wo's side, the smooth dielectric's
+// refraction from inside): the refracted direction and the weight (1 − F) η² of the
+// transmission sample (dielectric.h: the transmission lobe's share over its probability
+// is (n_wo / n_wi)², times its probability 1 − F). False where no light leaves that way.
+bool walk_exit_refraction(const SurfaceHit& y, const Vec3& d, Float eta, Vec3& wi_world, Float& weight) {
+  const Vec3 wo_world = -d;
+  const bool consistent = dot(wo_world, y.ns) * dot(wo_world, y.ng) > 0;
+  const Frame frame = Frame::from_normal_tangent(consistent ? y.ns : y.ng, y.tangent);
+  const Vec3 wo = normalize(frame.to_local(wo_world));
+  if (!(wo.z < 0)) return false;
+  const Float cos_o = -wo.z;
+  const Float r = fresnel_dielectric_oriented(cos_o, cos_o * cos_o, 1 / eta, eta);
+  if (!(r < 1)) return false;
+  const Vec3 wi = DielectricBxDF::scattered(wo, eta, false);
+  wi_world = normalize(frame.to_world(wi));
+  if (!sides_agree(wo_world, wi_world, y.ng, wo, wi)) return false;
+  weight = (1 - r) * transmission_scale(1 / eta, TransportMode::Radiance);
+  return true;
+}
+
+// p_walk of the header comment: the walk's direction density for d after arriving at an
+// event along d_in (phase and Dwivedi techniques mixed with the guide's q, the Dwivedi
+// density averaged over channels) times the survival to the boundary at s averaged over
+// channels.
+double walk_exit_pdf(const WalkNeeState& w, const Vec3& d_in, const Vec3& d, Float s) {
+  const double phase = hg_sampled_pdf(dot(d_in, d), w.g);
+  const double mu = std::clamp(double(dot(d, w.n)), -1.0, 1.0);
+  double dw = 0, tr = 0;
+  for (int k = 0; k < 3; ++k) {
+    dw += w.dnorm[k] / (1 - w.kappa[k] * mu) * double(kInv2Pi);
+    tr += std::exp(-double(w.sigma_t[k]) * double(s));
+  }
+  return ((1 - double(w.q)) * phase + double(w.q) * dw / 3) * (tr / 3);
+}
+
+// q_rr of the header comment.
+Float walk_nee_probability(const WalkNeeState& w, const Vec3& x) {
+  const Float h = std::max(Float(0), dot(w.p0 - x, w.n));
+  return std::max(kWalkNeeFloor, std::exp(-w.sigma_min * h));
+}
+
+}  // namespace
+
+bool PathTracer::walk_nee_setup(const Material& material, const SurfaceHit& entry, WalkNeeState& w) const {
+  if (!material.subsurface || !material.subsurface->nee || material.inside || light_sampler_.count() == 0) return false;
+  const Subsurface& ss = *material.subsurface;
+  const auto* boundary = std::get_if<DielectricBxDF>(&ss.boundary.models());
+  if (!boundary || boundary->film.active()) return false;
+  w.material = entry.material;
+  w.p0 = entry.p;
+  w.n = normalize(entry.ng);
+  w.eta = boundary->eta;
+  w.sigma_t = ss.medium.sigma_t();
+  w.sigma_min = w.sigma_t.min_component();
+  w.g = ss.medium.g;
+  w.q = std::clamp(ss.guide, Float(0), Float(1));
+  const auto& k = walk_dwivedi_[static_cast<size_t>(entry.material)];
+  for (int c = 0; c < 3; ++c) w.kappa[c] = k[size_t(c)], w.dnorm[c] = k[size_t(c) + 3];
+  return true;
+}
+
+// p_nee(d) for the event x (without q_rr): 0 where the plane proposal cannot give d.
+Float PathTracer::walk_nee_density(const WalkNeeState& w, const Vec3& x, const Vec3& d) const {
+  Vec3 omega;
+  Float jacobian;
+  if (!walk_plane_out(d, w.n, w.eta, omega, jacobian)) return 0;
+  const Vec3 y0 = x + w.n * dot(w.p0 - x, w.n);
+  double p = 0;
+  for (size_t i = 0; i < scene_.area_lights.size(); ++i) {
+    Vec3 on, n_light;
+    if (!walk_ray_hits_light(scene_.area_lights[i], y0, omega, on, n_light)) continue;
+    const Float pmf = light_sampler_.pmf(y0, w.n, int(i));
+    if (pmf > 0) p += double(pmf) * double(area_light_pdf(scene_.area_lights[i], y0, on, n_light));
+  }
+  if (!scene_.environment.is_black())
+    p += double(light_sampler_.pmf(y0, w.n, light_sampler_.environment_index())) * double(scene_.environment.pdf(omega));
+  return Float(p * double(jacobian));
+}
+
+// The weight w_walk of the emission found by the walk's exit: x and d_in the last event
+// and the direction it was reached in, y the boundary point the segment of direction d
+// and length s reached. 1 where next-event estimation does not cover the path.
+Float PathTracer::walk_exit_weight(const WalkNeeState& w, const Vec3& x, const Vec3& d_in, const SurfaceHit& y,
+                                   const Vec3& d, Float s) const {
+  if (y.material != w.material) return 1;
+  const double p_nee = double(walk_nee_probability(w, x)) * double(walk_nee_density(w, x, d));
+  const double p_walk = walk_exit_pdf(w, d_in, d, s);
+  return p_nee + p_walk > 0 ? Float(p_walk / (p_nee + p_walk)) : Float(1);
+}
+
+// One estimate from the event x (reached along d_in) of the light leaving through the
+// boundary towards an emitter, per unit path weight (the caller multiplies by the walk's
+// weight at x): phase(d) e^{−σt s} (1 − F) η² Le / (q_rr p_nee + p_walk) when x estimates
+// (probability q_rr), 0 otherwise.
+Color PathTracer::walk_nee(const WalkNeeState& w, const Vec3& x, const Vec3& d_in, Pcg32& rng, PathStats& stats) const {
+  const Float q_rr = walk_nee_probability(w, x);
+  if (rng.next_float() >= q_rr) return Color(0);
+  const Float u_pick = rng.next_float(), u1 = rng.next_float(), u2 = rng.next_float();
+  const Vec3 y0 = x + w.n * dot(w.p0 - x, w.n);
+  const LightSampler::Choice choice = light_sampler_.sample(y0, w.n, u_pick);
+  if (choice.light < 0) return Color(0);
+  const bool env = choice.light == light_sampler_.environment_index();
+  const LightSample ls = env ? scene_.environment.sample(u1, u2)
+                             : sample_area_light(scene_.area_lights[static_cast<size_t>(choice.light)], y0, u1, u2);
+  Vec3 d;
+  if (!(ls.pdf > 0) || !walk_plane_in(ls.wi, w.n, w.eta, d)) return Color(0);
+  const Float p_nee = walk_nee_density(w, x, d);
+  if (!(p_nee > 0)) return Color(0);
+
+  // The true boundary along d, and the light leaving it.
+  const SceneBoundary boundary(accel_, stats.rays);
+  SceneBoundary::Hit yh;
+  if (!boundary.nearest(x, d, yh) || yh.surface.material != w.material) return Color(0);
+  Vec3 wi;
+  Float transmission;
+  if (!walk_exit_refraction(yh.surface, d, w.eta, wi, transmission)) return Color(0);
+  ++stats.rays;
+  SurfaceHit e;
+  Color le(0);
+  if (!accel_.intersect(Ray{offset_ray_origin(yh.surface.p, yh.surface.ng, wi), wi}, e)) {
+    if (!scene_.environment.is_black()) le = scene_.environment.radiance(wi);
+  } else if (e.area_light >= 0) {
+    // As trace() takes an emitter's radiance where a path hits it.
+    const AreaLight& light = scene_.area_lights[static_cast<size_t>(e.area_light)];
+    const auto* quad = std::get_if<QuadLight>(&light);
+    const Vec3 nl = quad ? quad->normal() : e.ng;
+    const Material& surface = scene_.materials[static_cast<size_t>(e.material)];
+    le = surface.emits ? surface_emission(surface, nl, -wi, e.uv) : area_light_radiance(light, nl, -wi);
+  }
+  if (le.is_black()) return Color(0);
+  const double denom = double(q_rr) * double(p_nee) + walk_exit_pdf(w, d_in, d, yh.t);
+  const double phase = hg_sampled_pdf(dot(d_in, d), w.g);
+  Color tr = map(w.sigma_t, [&](Float st) { return std::exp(-st * yh.t); });
+  const Color c = tr * le * Float(phase * double(transmission) / denom);
+  return c.is_finite() ? c : Color(0);
 }
 
 template <typename Shading, typename Model>
@@ -367,12 +620,20 @@ typename Shading::Radiance PathTracer::trace(Ray ray, PixelSampler& sampler, Pat
   // The boundary point a random walk reached: the next vertex, found without a ray.
   SceneBoundary::Hit walked;
   bool have_walked = false;
+  // Next-event estimation from the walk (walk_nee): the walk's setup and last event, for
+  // the MIS weight of the emission its exit finds (`emit_weight`, for the next hit only).
+  WalkNeeState walk_nee_state;
+  WalkLastEvent walk_last;
+  bool walk_nee_pending = false;
+  Float emit_weight_next = 1;
   // The absorbing interior (an openpbr material's, Material::absorption) the current ray
   // travels through, or null.
   const Material* absorber = nullptr;
   for (int depth = 0;; ++depth) {
     SurfaceHit hit;
     Vec3 wo_world;
+    const Float emit_weight = emit_weight_next;
+    emit_weight_next = 1;
     if (have_walked) {
       // Inside the medium there is nothing to collect: light enters only through the
       // boundary, whose vertex this is.
@@ -394,7 +655,7 @@ typename Shading::Radiance PathTracer::trace(Ray ray, PixelSampler& sampler, Pat
           const Color rgb = scene_.environment.radiance(ray.d);
           const Float w = specular ? 1 : power_heuristic(prev_pdf, light_sampler_.pmf(prev_p, prev_n, light_sampler_.environment_index()) *
                                                                             scene_.environment.pdf(ray.d));
-          if (!rgb.is_black()) shading.add(L, beta, shading.environment(scene_.environment, ray.d, rgb), w);
+          if (!rgb.is_black()) shading.add(L, beta, shading.environment(scene_.environment, ray.d, rgb), w * emit_weight);
         }
         break;
       }
@@ -410,7 +671,7 @@ typename Shading::Radiance PathTracer::trace(Ray ray, PixelSampler& sampler, Pat
         if (!rgb.is_black()) {
           const Float w = specular ? 1 : power_heuristic(prev_pdf, light_sampler_.pmf(prev_p, prev_n, hit.area_light) *
                                                                             area_light_pdf(light, prev_p, hit.p, n));
-          shading.add(L, beta, own ? shading.surface(rgb) : shading.area(light, rgb), w);
+          shading.add(L, beta, own ? shading.surface(rgb) : shading.area(light, rgb), w * emit_weight);
         }
         if (surface.black_body) break;
       } else if (surface.emits) {
@@ -439,6 +700,13 @@ typename Shading::Radiance PathTracer::trace(Ray ray, PixelSampler& sampler, Pat
     if (!s) break;
     Vec3 wi_world = normalize(frame.to_world(s->wi));
     if (!sides_agree(wo_world, wi_world, hit.ng, wo, s->wi)) break;
+    // The exit of a walk that estimated its light: what the refracted ray finds emitting
+    // shares the weight with those estimates.
+    if (walk_nee_pending) {
+      walk_nee_pending = false;
+      if (s->delta && s->lobe == Lobe::Transmission)
+        emit_weight_next = walk_exit_weight(walk_nee_state, walk_last.point, walk_last.d_in, hit, walked.d, walked.t);
+    }
     beta *= s->weight;
     if (!(shading.magnitude(beta) > 0)) break;
     shading.leave(frame, s->wi);
@@ -470,10 +738,22 @@ typename Shading::Radiance PathTracer::trace(Ray ray, PixelSampler& sampler, Pat
           // guided_walk.h: the channel chosen once per walk and weighted over the whole
           // path (spectral MIS), the classic walk mixed with Dwivedi sampling towards
           // the entry point's surface with probability `guide` per event.
-          const bool reached =
-              walk_to_boundary_guided(material.subsurface->medium, boundary,
-                                      WalkGuide{hit.ng, material.subsurface->guide}, start, wi_world, beta,
-                                      sampler.rng(), walked, &ws);
+          // Next-event estimation from the walk's events (walk_nee) where the exit vertex
+          // it stands for is within max_depth (its emitter at depth + 2).
+          const bool nee = depth + 1 < max_depth && walk_nee_setup(material, hit, walk_nee_state);
+          const WalkGuide guide{hit.ng, material.subsurface->guide};
+          bool reached;
+          if (nee) {
+            auto estimate = [&](const Vec3& x, const Vec3& d_in, const Color& b) {
+              shading.add(L, b, walk_nee(walk_nee_state, x, d_in, sampler.rng(), stats));
+            };
+            reached = walk_to_boundary_guided(material.subsurface->medium, boundary, guide, start, wi_world, beta,
+                                              sampler.rng(), walked, &ws, nullptr, kMaxWalkSteps, estimate, &walk_last);
+          } else {
+            reached = walk_to_boundary_guided(material.subsurface->medium, boundary, guide, start, wi_world, beta,
+                                              sampler.rng(), walked, &ws);
+          }
+          walk_nee_pending = nee && walk_last.scattered;
           stats.walk_steps += ws.steps;
           if (!reached || !(beta.max_component() > 0)) break;
           have_walked = true;

@@ -42,6 +42,8 @@ struct PathStats {
   std::uint64_t walks = 0, walk_steps = 0, probe_exits = 0;
 };
 
+struct WalkNeeState;  // path_tracer.cpp
+
 class PathTracer {
  public:
   PathTracer(const Scene& scene, const Accel& accel);
@@ -73,6 +75,14 @@ class PathTracer {
                                    const Vec3& wo_world, int depth, Float u_pick, PixelSampler& sampler, PathStats& stats,
                                    Shading& shading) const;
   bool occluded(const Vec3& p, const Vec3& ng, const Vec3& dir, Float dist, PathStats& stats) const;
+  // A subsurface random walk under a smooth boundary (issue 38): next-event estimation from
+  // its scattering events through the boundary (path_tracer.cpp, "Next-event estimation
+  // from inside a medium"); WalkNeeState holds what one walk's estimates share.
+  bool walk_nee_setup(const Material& material, const SurfaceHit& entry, WalkNeeState& w) const;
+  Color walk_nee(const WalkNeeState& w, const Vec3& x, const Vec3& d_in, Pcg32& rng, PathStats& stats) const;
+  Float walk_nee_density(const WalkNeeState& w, const Vec3& x, const Vec3& d) const;
+  Float walk_exit_weight(const WalkNeeState& w, const Vec3& x, const Vec3& d_in, const SurfaceHit& y, const Vec3& d,
+                         Float s) const;
 
   const Scene& scene_;
   const Accel& accel_;
@@ -82,6 +92,9 @@ class PathTracer {
   // Polarized mode: the untextured materials' polarized models (made once; empty for a
   // textured one) and the camera's polarizer as a Mueller matrix per channel.
   std::vector<std::optional<PolarizedBxDF>> polarized_models_;
+  // Per material with a medium: the Dwivedi κ and p(0) per channel (guided_walk.h), for
+  // walk_nee's MIS weights (made once: 60 bisection steps each).
+  std::vector<std::array<double, 6>> walk_dwivedi_;
   MuellerT<Color> polarizer_rgb_;
   MuellerT<SampledSpectrum> polarizer_spectral_;
 };

@@ -84,6 +84,24 @@ struct WalkGuide {
   Float probability = 0.5f;
 };
 
+// What a caller may learn of a walk's last segment (the one that reached the boundary):
+// whether it started at a scattering event (false: the walk crossed without scattering),
+// that event's point and the direction the walk arrived there in (the phase function's
+// argument for the last segment). The renderer's next-event estimation through the
+// boundary weights the emitter the last segment finds by MIS with these
+// (render/path_tracer.cpp).
+struct WalkLastEvent {
+  bool scattered = false;
+  Vec3 point;
+  Vec3 d_in;
+};
+
+// The default per-event hook: nothing.
+struct NoScatterHook {
+  template <typename C>
+  void operator()(const Vec3&, const Vec3&, const C&) const {}
+};
+
 // The classic technique's direction pdf: hg_sample's (isotropic below kHgIsotropicBelow).
 inline double hg_sampled_pdf(Float cos_theta, Float g) {
   return std::abs(g) < kHgIsotropicBelow ? double(kInv4Pi) : double(hg_phase(cos_theta, g));
@@ -93,10 +111,17 @@ inline double hg_sampled_pdf(Float cos_theta, Float g) {
 // with the guided technique and the path-level channel MIS described above.
 // guide.probability = 0 samples directions and distances as the classic walk (one
 // channel per walk).
-template <typename C, typename Boundary>
+//
+// `on_scatter(x, d_in, beta)` is called at every scattering event x, d_in the direction
+// the walk arrived in and beta the path's weight there (the event's σs included, the
+// Russian roulette that follows not): an unbiased weight of the path up to x whatever
+// the channel sampled, so a caller may add an estimate of what leaves x from there
+// (next-event estimation). `last` receives the last segment's start (WalkLastEvent).
+template <typename C, typename Boundary, typename OnScatter = NoScatterHook>
 bool walk_to_boundary_guided(const MediumT<C>& medium, const Boundary& boundary, const WalkGuide& guide, Vec3 p,
                              Vec3 d, C& beta, Pcg32& rng, typename Boundary::Hit& hit, WalkStats* stats = nullptr,
-                             Vec3* d_out = nullptr, std::uint32_t max_steps = kMaxWalkSteps) {
+                             Vec3* d_out = nullptr, std::uint32_t max_steps = kMaxWalkSteps,
+                             OnScatter&& on_scatter = OnScatter{}, WalkLastEvent* last = nullptr) {
   constexpr int N = C::size();
   const C sigma_t = medium.sigma_t();
   const double q = std::clamp(double(guide.probability), 0.0, 1.0);
@@ -132,6 +157,7 @@ bool walk_to_boundary_guided(const MediumT<C>& medium, const Boundary& boundary,
   double W[N], R[N];
   for (int c = 0; c < N; ++c) W[c] = R[c] = 1;
   bool given = true;  // the first direction is the caller's
+  if (last) *last = WalkLastEvent{};
   for (std::uint32_t step = 0; step <= max_steps; ++step) {
     const bool guided = rng.next_float() < q;
     const Vec3 d_prev = d;
@@ -189,6 +215,8 @@ bool walk_to_boundary_guided(const MediumT<C>& medium, const Boundary& boundary,
     }
     p = p + d * Float(t);
     if (stats) ++stats->steps;
+    if (last) *last = WalkLastEvent{true, p, d};
+    on_scatter(p, d, beta);
 
     // Russian roulette as in random_walk.h, on the path's current weight.
     const Float m = beta.max_component();

@@ -27,6 +27,10 @@ struct Subsurface {
   // The renderer's walk: the probability of the Dwivedi-guided technique per event
   // (guided_walk.h); 0 is the classic walk of random_walk.h.
   Float guide = 0.5f;
+  // The renderer's walk under a smooth boundary: next-event estimation from the walk's
+  // scattering events through the boundary, weighted by MIS against the walk's own exits
+  // (render/path_tracer.cpp, walk_nee).
+  bool nee = true;
 };
 
 // Reads a material description whose "type" is "subsurface" (SPEC §2) — every form of
