@@ -44,6 +44,102 @@ def r12(x): return float(f"{x:.12g}")
 def vec12(v): return [r12(c) for c in v]
 
 
+# --- the dielectric interface: SPEC-OPB "Specular" and the single-scattering albedos ------
+def modulated_ior(eta, xi):
+    """SPEC-OPB eqs. `unmodulated_fresnel`, `modulated_ior`: F_s = ((1 − η)/(1 + η))², the
+    index whose normal-incidence reflectance is ξ F_s, of η's side of 1:
+    ε = sgn(η − 1) sqrt(ξ F_s), η' = (1 + ε)/(1 − ε) (ξ F_s capped just below 1)."""
+    fs = ((1 - eta) / (1 + eta)) ** 2
+    s = math.sqrt(min(max(xi * fs, 0.0), 0.99999))
+    e = s if eta >= 1 else -s
+    return (1 + e) / (1 - e)
+
+
+def tirfix(eta):
+    """SPEC-OPB eq. `specular_ior_ratio_with_tir_fix`: an index below 1 reflects as its inverse."""
+    return 1 / eta if eta < 1 else eta
+
+
+_ALB = {}
+def dielectric_albedo(alpha, mu, eta, transmit=True, n_t=24, n_phi=48):
+    """Single-scattering albedo of the isotropic GGX interface of relative index eta seen
+    from wo at cosine mu (importance mode, no (n_wo/n_wi)²: the energy returned):
+      E = ∫ D(m) G2(wo, w) (wo·m)/μo [F(wo·m) for w = wr above + (1 − F) for w = wt below] dωm,
+    wr the mirror (Walter et al. 2007 eqs. 13-14), wt the refraction (eq. 40) about m, F the
+    exact Fresnel (TIR included); reflection only when not transmit (then F of the
+    specular layer). Integrated as models_reference.albedo_E is, in (θm, φm) with
+    Gauss–Legendre in θm between the cut-offs where wr or wt cross the horizon, wo·m = 0
+    and the critical facet cosine (each found by a sign scan and bisection), so each piece
+    is smooth. With F = 1 it reproduces albedo_E to 1e-15 (the same quadrature)."""
+    key = (alpha, mu, eta, transmit, n_t, n_phi)
+    if key in _ALB: return _ALB[key]
+    mf = R.Microfacet("ggx", alpha, alpha)
+    wo = (math.sqrt(max(0.0, 1 - mu * mu)), 0.0, mu)
+    c_crit = math.sqrt(1 - eta * eta) if eta < 1 else None
+    half = math.pi / 2
+
+    def parts(t, ph):
+        m = R.sph(t, ph)
+        c = R.dot(wo, m)
+        wr = R.add(R.scale(m, 2 * c), R.neg(wo))
+        ct = math.sqrt(max(0.0, 1 - (1 - c * c) / (eta * eta)))
+        wt = R.add(R.scale(R.neg(wo), 1 / eta), R.scale(m, c / eta - ct))
+        return m, c, wr, wt
+
+    def edges(ph):
+        fns = [lambda t: parts(t, ph)[1], lambda t: parts(t, ph)[2][2]]
+        if transmit: fns.append(lambda t: -parts(t, ph)[3][2])
+        if c_crit is not None: fns.append(lambda t: parts(t, ph)[1] - c_crit)
+        grid = [half * k / 96 for k in range(97)]
+        cuts = set()
+        for fn in fns:
+            vals = [fn(t) for t in grid]
+            for a, b, va, vb in zip(grid, grid[1:], vals, vals[1:]):
+                if (va > 0) == (vb > 0): continue
+                lo, hi = a, b
+                for _ in range(60):
+                    mid = (lo + hi) / 2
+                    if (fn(mid) > 0) == (va > 0): lo = mid
+                    else: hi = mid
+                cuts.add((lo + hi) / 2)
+        return cuts
+
+    total = 0.0
+    for j in range(n_phi + 1):  # symmetric about φ = 0: [0, π], doubled
+        ph = math.pi * j / n_phi
+        w_phi = (0.5 if j in (0, n_phi) else 1.0) * (math.pi / n_phi)
+        cuts = sorted({0.0, half} | edges(ph) | {math.atan(k * alpha) for k in (0.5, 1, 2, 4)})
+        inner = 0.0
+        for a, b in zip(cuts, cuts[1:]):
+            if b <= a: continue
+            xs, ws = R.gauss_legendre(n_t, a, b)
+            for t, w in zip(xs, ws):
+                m, c, wr, wt = parts(t, ph)
+                if c <= 0: continue
+                F = R.fresnel(c, eta)
+                g = F * mf.G2(wo, wr) if wr[2] > 0 else 0.0
+                if transmit and F < 1 and wt[2] < 0: g += (1 - F) * mf.G2(wo, wt)
+                inner += w * math.sin(t) * mf.D(m) * g * c / mu
+        total += w_phi * inner
+    _ALB[key] = 2 * total
+    return _ALB[key]
+
+
+_AVG = {}
+def dielectric_albedo_avg(alpha, eta, transmit=True):
+    """Ē = 2 ∫ E(μ) μ dμ (16-point Gauss–Legendre in μ)."""
+    key = (alpha, eta, transmit)
+    if key not in _AVG:
+        _AVG[key] = R.cosine_average(lambda mu: dielectric_albedo(alpha, mu, eta, transmit), n=16)
+    return _AVG[key]
+
+
+def fresnel_avg(eta):
+    """F̄(η) = 2 ∫ F(μ) μ dμ, split at the critical cosine (a square-root edge) when η < 1."""
+    cuts = (0.0, math.sqrt(1 - eta * eta), 1.0) if eta < 1 else (0.0, 1.0)
+    return R.cosine_average(lambda mu: R.fresnel(mu, eta), n=64, pieces=cuts)
+
+
 def upper_direction(rng):
     c = rng.uniform(0.1, 1.0)
     ph = rng.uniform(0, 2 * math.pi)
@@ -81,6 +177,156 @@ def metal_records(opb, rng, n):
     return recs
 
 
+# --- transmission: the rough dielectric with its Kulla–Conty lobe ---------------------------
+def glass_of(opb):
+    """SPEC-OPB "Translucent base", docs/openpbr.md "Structure": transmission_weight 1 (no
+    metal, coat, fuzz) leaves f_glass, the rough dielectric of α = r² and the index
+    specular_ior modulated by specular_weight (eq. `modulated_ior`), with its multiple-
+    scattering compensation (docs/design/dielectric-multiscatter.md, Kulla & Conty 2017);
+    the reflection from outside tinted by specular_color, the refraction by
+    transmission_color (transmission_depth 0), the whole by geometry_opacity."""
+    r = opb.get("specular_roughness", 0.3)
+    eta = modulated_ior(opb.get("specular_ior", 1.5), opb.get("specular_weight", 1.0))
+    return {"type": "roughdielectric", "alpha": r * r, "eta": eta}
+
+
+class GlassMs:
+    """Kulla & Conty 2017's dielectric compensation as docs/design/dielectric-multiscatter.md
+    formulates it (importance mode, + outside, − inside, η = n_in/n_out):
+      reflection ±: r± (1 − E±(μo))(1 − E±(μi)) / (π (1 − Ē±))
+      transmission out→in: t₊ (1 − E₊(μo))(1 − E₋(μi)) / (π (1 − Ē₋)), in→out: t₋ (…₋)(…₊)/(π(1 − Ē₊)),
+      t₊ = (1 − F̄(η)) x, t₋ = (1 − F̄(1/η))(1 − x), r = 1 − t, x = (1 − Ē₋)/((1 − Ē₊) + (1 − Ē₋)).
+    Radiance mode is the adjoint, f_rad(wo, wi) = f_imp(wi, wo) (Veach 1997 §5.2)."""
+    def __init__(self, alpha, eta):
+        self.alpha, self.eta = alpha, eta
+        self.e_avg = {True: dielectric_albedo_avg(alpha, eta), False: dielectric_albedo_avg(alpha, 1 / eta)}
+        mo, mi = 1 - self.e_avg[True], 1 - self.e_avg[False]
+        x = mi / (mo + mi)
+        self.t = {True: (1 - fresnel_avg(eta)) * x, False: (1 - fresnel_avg(1 / eta)) * (1 - x)}
+
+    def E(self, outside, mu):
+        return dielectric_albedo(self.alpha, mu, self.eta if outside else 1 / self.eta)
+
+    def f_imp(self, wo, wi):
+        so, si = wo[2] > 0, wi[2] > 0
+        split = (1 - self.t[so]) if so == si else self.t[so]
+        return split * (1 - self.E(so, abs(wo[2]))) * (1 - self.E(si, abs(wi[2]))) / (math.pi * (1 - self.e_avg[si]))
+
+    def f(self, wo, wi, mode):
+        return self.f_imp(wo, wi) if mode == "importance" else self.f_imp(wi, wo)
+
+    def allowance(self, wo, wi):
+        """Relative error of the term from gonio's interpolated tables (DE in each E and
+        Ē; the split x and (1 − Ē) move by at most DE/(1 − Ē) each)."""
+        so, si = wo[2] > 0, wi[2] > 0
+        return DE * (1 / (1 - self.E(so, abs(wo[2]))) + 1 / (1 - self.E(si, abs(wi[2])))
+                     + 2 / (1 - self.e_avg[True]) + 2 / (1 - self.e_avg[False]))
+
+
+def direction_on(rng, upper):
+    w = upper_direction(rng)
+    return w if upper else (w[0], w[1], -w[2])
+
+
+def sensitivity_of(fn, wo, wi, rng):
+    """Largest relative change of fn when the directions move by float rounding (the C++
+    holds them in float): a narrow lobe needs a wider rtol (20× this, as make_reference_data)."""
+    base, worst = fn(wo, wi), 0.0
+    for _ in range(3):
+        pert = lambda w: R.norm(tuple(c * (1 + rng.uniform(-1.2e-7, 1.2e-7)) for c in w))
+        g = fn(pert(wo), pert(wi))
+        if abs(base) > 1e-30: worst = max(worst, abs(g - base) / abs(base))
+    return worst
+
+
+def glass_records(opb, rng, n):
+    """Reflection and transmission pairs from outside and from inside, both modes."""
+    gl = glass_of(opb)
+    ms = GlassMs(gl["alpha"], gl["eta"])
+    spec = R.col(opb.get("specular_color", 1.0))
+    tint = R.col(opb.get("transmission_color", 1.0))
+    kinds = [(True, True), (True, False), (False, True), (False, False)]
+    recs = []
+    while len(recs) < n:
+        so, si = kinds[len(recs) % 4]
+        mode = "radiance" if (len(recs) // 4) % 2 == 0 else "importance"
+        wo, wi = direction_on(rng, so), direction_on(rng, si)
+        single = R.roughdielectric(gl, wo, wi, mode)[0]
+        if single < 1e-3: continue  # outside the lobe: keep pairs where the lobe is
+        extra = ms.f(wo, wi, mode)
+        allow = ms.allowance(wo, wi)
+        if allow > 0.25: continue
+        sens = sensitivity_of(lambda a, b: R.roughdielectric(gl, a, b, mode)[0], wo, wi, rng)
+        if so == si: c = spec if so else [1.0] * 3   # reflection: tinted from outside only
+        else: c = tint
+        f = [k * (single + extra) for k in c]
+        recs.append({"material": opb, "mode": mode, "wo": vec12(wo), "wi": vec12(wi), "f": vec12(f),
+                     "rtol": r12(max(1e-4, 20 * sens)), "atol": [r12(k * allow * extra + 1e-7) for k in c]})
+    return recs
+
+
+# --- the dielectric base: specular layer over a Lambertian diffuse -----------------------
+def dielectric_base_records(opb, rng, n):
+    """docs/openpbr.md "Structure" with M = T = C = F = 0, base_diffuse_roughness 0:
+      f = f_spec + ρ/π (1 − E_s(μo))(1 − E_s(μi)) / (1 − Ē_s),  ρ = base_weight·base_color,
+    f_spec = specular_color F(h·wo; η_s) D G2/(4 μo μi) (Walter et al. 2007 eq. 20), η_s =
+    tirfix(modulated_ior(specular_ior, specular_weight)), E_s the reflection-only albedo of
+    that lobe with the untinted F (SPEC-OPB "Glossy-diffuse": N = 1/(1 − Ē_s) for Lambert,
+    docs/openpbr.md "Layering, per layer"). Reciprocal: both modes give the same f."""
+    r = opb.get("specular_roughness", 0.3)
+    alpha = r * r
+    eta = tirfix(modulated_ior(opb.get("specular_ior", 1.5), opb.get("specular_weight", 1.0)))
+    rho = [opb.get("base_weight", 1.0) * c for c in R.col(opb.get("base_color", 0.8))]
+    spec = R.col(opb.get("specular_color", 1.0))
+    e_avg = dielectric_albedo_avg(alpha, eta, transmit=False)
+    lobe = {"type": "roughconductor", "alpha": alpha, "eta": [eta] * 3, "k": [0.0] * 3}
+    recs = []
+    while len(recs) < n:
+        mode = "radiance" if len(recs) % 2 == 0 else "importance"
+        wo, wi = upper_direction(rng), upper_direction(rng)
+        single = R.roughconductor_single(lobe, wo, wi)[0]  # F of index η, k = 0: the dielectric's
+        eo, ei = (dielectric_albedo(alpha, w[2], eta, transmit=False) for w in (wo, wi))
+        scale = (1 - eo) * (1 - ei) / (1 - e_avg)
+        diff = [p / math.pi * scale for p in rho]
+        sens = sensitivity_of(lambda a, b: R.roughconductor_single(lobe, a, b)[0], wo, wi, rng)
+        spec_f = [k * single for k in spec]
+        allow = DE * (1 / (1 - eo) + 1 / (1 - ei) + 1 / (1 - e_avg))
+        recs.append({"material": opb, "mode": mode, "wo": vec12(wo), "wi": vec12(wi),
+                     "f": vec12([a + b for a, b in zip(spec_f, diff)]),
+                     "rtol": r12(max(1e-4, 20 * sens * max(sf / (sf + d) for sf, d in zip(spec_f, diff)))),
+                     "atol": [r12(allow * d + 1e-7) for d in diff]})
+    return recs
+
+
+# --- thin-walled transmission: the smooth sheet ------------------------------------------
+def sheet_samples(opb, rng, n):
+    """geometry_thin_walled, transmission_weight 1, specular_roughness 0 (SPEC-OPB
+    "Thin-walled case"; docs/openpbr.md "Structure": the `thindielectric` sheet of the
+    specular layer's index η_s = tirfix(modulated_ior(specular_ior, specular_weight))):
+    two delta lobes, the mirror with R and the straight pass with T (models_reference.
+    thin_sheet: incoherent sum of the sheet's internal reflections), the reflection tinted
+    by specular_color and the pass by transmission_color. The record is the lobe's
+    coefficient weight × prob (the lobe choice is the sampler's), u0 = 0 for the mirror and
+    u0 → 1 for the pass, both modes (the sheet does not change the index)."""
+    eta = tirfix(modulated_ior(opb.get("specular_ior", 1.5), opb.get("specular_weight", 1.0)))
+    spec = R.col(opb.get("specular_color", 1.0))
+    tint = R.col(opb.get("transmission_color", 1.0))
+    recs = []
+    while len(recs) < n:
+        wo = direction_on(rng, rng.random() < 0.5)
+        mode = "radiance" if len(recs) % 2 == 0 else "importance"
+        Rr, Tt = R.thin_sheet(abs(wo[2]), eta)
+        if len(recs) % 4 < 2:
+            sample = {"wi": vec12(R.mirror_dir(wo)), "lobe": "reflection", "weight_x_prob": vec12([k * Rr for k in spec])}
+            u0 = 0.0
+        else:
+            sample = {"wi": vec12(R.neg(wo)), "lobe": "transmission", "weight_x_prob": vec12([k * Tt for k in tint])}
+            u0 = 0.999999
+        recs.append({"material": opb, "mode": mode, "wo": vec12(wo), "u": [u0, 0.5, 0.5],
+                     "sample": sample, "rtol": 1e-4, "atol": 1e-6})
+    return recs
+
+
 def main():
     rng = random.Random(135)
     recs = []
@@ -98,6 +344,24 @@ def main():
                          "wo": vec12(wo), "u": [0.25 * k + 0.1, 0.5, 0.5],
                          "sample": {"wi": vec12(R.neg(wo)), "lobe": "transmission", "weight": [1.0, 1.0, 1.0]},
                          "rtol": 1e-4, "atol": 1e-6})
+    # transmission (not thin-walled): the rough dielectric with its compensation
+    for extra in ({"specular_roughness": 0.5},
+                  {"specular_roughness": 0.8, "specular_ior": 1.33},
+                  {"specular_roughness": 0.6, "specular_weight": 0.5},
+                  {"specular_roughness": 0.5, "specular_ior": 0.75},
+                  {"specular_roughness": 0.7, "transmission_color": [0.9, 0.5, 0.3]}):
+        recs += glass_records({"type": "openpbr", "transmission_weight": 1, **extra}, rng, 16)
+    # thin-walled smooth sheet
+    for extra in ({}, {"specular_ior": 1.33, "transmission_color": [0.9, 0.5, 0.3]},
+                  {"specular_weight": 0.5}, {"specular_ior": 0.75}):
+        recs += sheet_samples({"type": "openpbr", "geometry_thin_walled": True, "transmission_weight": 1,
+                               "specular_roughness": 0, **extra}, rng, 8)
+    # dielectric base over Lambert
+    for extra in ({"specular_roughness": 0.4},
+                  {"specular_roughness": 0.7, "specular_ior": 1.8, "base_weight": 0.7},
+                  {"specular_roughness": 0.5, "specular_weight": 0.5},
+                  {"specular_roughness": 0.5, "specular_ior": 0.75}):
+        recs += dielectric_base_records({"type": "openpbr", "base_color": [0.9, 0.6, 0.2], **extra}, rng, 12)
     with open(OUT, "w") as fh:
         for rec in recs:
             fh.write(json.dumps(rec, sort_keys=True) + "\n")
