@@ -38,6 +38,7 @@ import models_reference as R  # noqa: E402
 
 OUT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "data", "openpbr.jsonl")
 DE = 1.5e-3  # the albedo tables' interpolation error allowed for (README.md)
+EON_NORM_TOL = 2e-3  # b(μo) b(μi): gonio's 64-node solution against this one (EonNorm)
 
 
 def r12(x): return float(f"{x:.12g}")
@@ -327,6 +328,78 @@ def sheet_samples(opb, rng, n):
     return recs
 
 
+# --- the dielectric base over EON: the separable normalisation b(μo) b(μi) -------------------
+class EonNorm:
+    """docs/openpbr.md "Layering, per layer": for base_diffuse_roughness r > 0 the diffuse
+    under the specular layer is b(μo) b(μi) (1 − E_s(μo))(1 − E_s(μi)) f_EON, b such that
+    the white base reflects exactly 1 − E_s(μo):
+      b(μ) ∫₀¹ K(μ, μ') (1 − E_s(μ')) b(μ') μ' dμ' = 1,
+    K the azimuthal integral of the albedo-1 EON lobe (Portsmouth, Kutz & Hill 2025):
+      K = 2π A + 2 r A sinθo sinθi (1/max(μo, μi) − 1) + 2 (1 − E_F(μo))(1 − E_F(μi))/(1 − Ē_F)
+    (∫ s/t dφ over the half where s > 0 gives 2 sinθo sinθi/max(μo, μi), the other half
+    −2 sinθo sinθi; ρ_ms = 1 at ρ = 1). Solved here on its own terms: the continuous
+    equation at n Gauss–Legendre nodes by the symmetric scaling b ← b/sqrt(b Kb) to a fixed
+    point, b at any μ its Nyström interpolant 1/∫ K(μ, ·)(1 − E_s) b μ'. (gonio solves the
+    same condition at 64 midpoint nodes and interpolates linearly; the difference is a
+    discretisation error, allowed for in the records' atol.)"""
+    def __init__(self, r, alpha, eta, n=40):
+        self.r, self.alpha, self.eta = r, alpha, eta
+        self.A = 1 / (math.pi + (math.pi / 2 - 2 / 3) * r)
+        self.ef_avg = R.eon_E_avg(r)
+        self.mu, self.w = R.gauss_legendre(n, 0.0, 1.0)
+        self.es = [self.E_s(m) for m in self.mu]
+        self.c = [(1 - e) * m * w for e, m, w in zip(self.es, self.mu, self.w)]
+        b = [1.0] * n
+        for _ in range(500):
+            nb = [bi / math.sqrt(bi * self._kb(m, b)) for bi, m in zip(b, self.mu)]
+            done = max(abs(x - y) for x, y in zip(nb, b)) < 1e-14
+            b = nb
+            if done: break
+        self.b = b
+
+    def E_s(self, mu):
+        return dielectric_albedo(self.alpha, mu, self.eta, transmit=False) if self.eta != 1 else 0.0
+
+    def K(self, mo, mi):
+        so, si = math.sqrt(1 - mo * mo), math.sqrt(1 - mi * mi)
+        ms = 2 * (1 - R.eon_E(self.r, math.acos(mo))) * (1 - R.eon_E(self.r, math.acos(mi))) / (1 - self.ef_avg)
+        return 2 * math.pi * self.A + 2 * self.r * self.A * so * si * (1 / max(mo, mi) - 1) + ms
+
+    def _kb(self, mo, b):
+        return sum(self.K(mo, m) * c * bj for m, c, bj in zip(self.mu, self.c, b))
+
+    def at(self, mu):
+        return 1 / self._kb(mu, self.b)
+
+
+def eon_base_records(opb, rng, n):
+    """The dielectric base with base_diffuse_roughness r > 0:
+      f = f_spec + b(μo) b(μi) (1 − E_s(μo))(1 − E_s(μi)) f_EON(ρ, r)   (EonNorm; f_spec as
+    in dielectric_base_records; f_EON models_reference.eon). Reciprocal, both modes."""
+    r_s = opb.get("specular_roughness", 0.3)
+    alpha = r_s * r_s
+    eta = tirfix(modulated_ior(opb.get("specular_ior", 1.5), opb.get("specular_weight", 1.0)))
+    rho = [opb.get("base_weight", 1.0) * c for c in R.col(opb.get("base_color", 0.8))]
+    rd = opb["base_diffuse_roughness"]
+    norm_ = EonNorm(rd, alpha, eta)
+    lobe = {"type": "roughconductor", "alpha": alpha, "eta": [eta] * 3, "k": [0.0] * 3}
+    recs = []
+    while len(recs) < n:
+        mode = "radiance" if len(recs) % 2 == 0 else "importance"
+        wo, wi = upper_direction(rng), upper_direction(rng)
+        single = R.roughconductor_single(lobe, wo, wi)[0]
+        eo, ei = (norm_.E_s(w[2]) for w in (wo, wi))
+        scale = norm_.at(wo[2]) * norm_.at(wi[2]) * (1 - eo) * (1 - ei)
+        diff = [d * scale for d in R.eon({"roughness": rd, "reflectance": rho}, wo, wi, mode)]
+        sens = sensitivity_of(lambda a, b: R.roughconductor_single(lobe, a, b)[0], wo, wi, rng)
+        allow = DE * (1 / (1 - eo) + 1 / (1 - ei)) + EON_NORM_TOL
+        recs.append({"material": opb, "mode": mode, "wo": vec12(wo), "wi": vec12(wi),
+                     "f": vec12([single + d for d in diff]),
+                     "rtol": r12(max(1e-4, 20 * sens * max(single / (single + d) for d in diff))),
+                     "atol": [r12(allow * d + 1e-7) for d in diff]})
+    return recs
+
+
 def main():
     rng = random.Random(135)
     recs = []
@@ -362,6 +435,10 @@ def main():
                   {"specular_roughness": 0.5, "specular_weight": 0.5},
                   {"specular_roughness": 0.5, "specular_ior": 0.75}):
         recs += dielectric_base_records({"type": "openpbr", "base_color": [0.9, 0.6, 0.2], **extra}, rng, 12)
+    # dielectric base over EON
+    for extra in ({"specular_roughness": 0.4, "base_diffuse_roughness": 0.5},
+                  {"specular_roughness": 0.6, "specular_ior": 1.8, "base_diffuse_roughness": 1.0}):
+        recs += eon_base_records({"type": "openpbr", "base_color": [0.9, 0.6, 0.2], **extra}, rng, 12)
     with open(OUT, "w") as fh:
         for rec in recs:
             fh.write(json.dumps(rec, sort_keys=True) + "\n")
