@@ -38,7 +38,9 @@ import models_reference as R  # noqa: E402
 
 OUT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "data", "openpbr.jsonl")
 DE = 1.5e-3  # the albedo tables' interpolation error allowed for (README.md)
-EON_NORM_TOL = 2e-3  # b(μo) b(μi): gonio's 64-node solution against this one (EonNorm)
+FUZZ_DE = 1.5e-3  # gonio's tabulated sheen albedo against the fit R(μ, r)
+EON_NORM_TOL = 2e-3
+FILM_DR = 2e-4  # gonio's RGB film table (the film's own spectrum reduced, interpolated in cosine) against the exact reduction
 
 
 def r12(x): return float(f"{x:.12g}")
@@ -400,6 +402,139 @@ def eon_base_records(opb, rng, n):
     return recs
 
 
+# --- coat over a base --------------------------------------------------------------------
+def coat_records(opb, rng, n):
+    """docs/openpbr.md "Structure" with F = 0 (SPEC-OPB "Coat", eq.
+    `coat_layering_formula_with_albedo_scaling`):
+      f = C f_coat + lerp(1, A (1 − E_c(v)), C) Δ f_base,  v = wo (radiance) or wi (importance),
+    f_coat = F(h·wo; η_c) D G2/(4 μo μi) (α_c = r_c², η_c = coat_ior), E_c its reflection-only
+    albedo, A = coat_color^((1/μt_o + 1/μt_i)/2) with μt the cosine refracted into the coat
+    (SPEC-OPB "View-dependent absorption"). Two bases, each reduced to a standalone lobe:
+    * metal (base_metalness 1, coat_darkening 0, Δ = 1): f_base = ξ f_conductor of the
+      roughened r' = lerp(r, min(1, r⁴ + 2 r_c⁴)^¼, C) (SPEC-OPB "Roughening"; the metal's
+      F82 is not changed by the coat);
+    * Lambert with no specular layer (specular_weight 0: ξ F_s = 0, η' = 1, E_s = 0): f_base =
+      ρ/π, and darkening Δ = lerp(1, (1 − K)/(1 − ρ K), C·coat_darkening), K = 1 − (1 −
+      Ē_c)/η_c² (SPEC-OPB "Darkening"; E_b = ρ is this base's albedo exactly)."""
+    C = opb.get("coat_weight", 0.0)
+    rc = opb.get("coat_roughness", 0.0)
+    ac, eta_c = rc * rc, tirfix(opb.get("coat_ior", 1.6))
+    coat_lobe = {"type": "roughconductor", "alpha": ac, "eta": [eta_c] * 3, "k": [0.0] * 3}
+    kappa = R.col(opb.get("coat_color", 1.0))
+    metal = opb.get("base_metalness", 0) == 1
+    if metal:
+        rb = opb.get("specular_roughness", 0.3)
+        rr = rb + (min(1.0, rb ** 4 + 2 * rc ** 4) ** 0.25 - rb) * C
+        cond, factor = metal_of({**opb, "specular_roughness": rr})
+        parts = R.multiscatter_parts(cond)
+        delta = [1.0] * 3
+    else:
+        rho = [opb.get("base_weight", 1.0) * c for c in R.col(opb.get("base_color", 0.8))]
+        e_avg_c = dielectric_albedo_avg(ac, eta_c, transmit=False)
+        K = 1 - (1 - e_avg_c) / (eta_c * eta_c)
+        t = C * opb.get("coat_darkening", 1.0)
+        delta = [1 + ((1 - K) / (1 - p * K) - 1) * t for p in rho]
+
+    def mu_t(mu): return math.sqrt(1 - (1 - mu * mu) / (eta_c * eta_c))
+    recs = []
+    while len(recs) < n:
+        mode = "radiance" if len(recs) % 2 == 0 else "importance"
+        wo, wi = upper_direction(rng), upper_direction(rng)
+        v = wo if mode == "radiance" else wi
+        ec = dielectric_albedo(ac, v[2], eta_c, transmit=False)
+        A = [k ** ((1 / mu_t(wo[2]) + 1 / mu_t(wi[2])) / 2) for k in kappa]
+        through = [1 - C + C * a * (1 - ec) for a in A]
+        fc = C * R.roughconductor_single(coat_lobe, wo, wi)[0]
+        if metal:
+            eo, ei = (R.albedo_E("ggx", cond["alpha"], w[2]) for w in (wo, wi))
+            allowance = DE * (1 / (1 - eo) + 1 / (1 - ei) + 1 / (1 - parts[1]))
+            if allowance > 0.25: continue
+            single = R.roughconductor_single(cond, wo, wi)
+            ms = R.roughconductor_ms_term(cond, wo, wi, parts)
+            base = [factor * (a + b) for a, b in zip(single, ms)]
+            base_atol = [factor * allowance * m for m in ms]
+        else:
+            base = [p / math.pi for p in rho]
+            base_atol = [0.0] * 3
+        f = [fc + th * d * b for th, d, b in zip(through, delta, base)]
+        # E_c(v) and Ē_c go through gonio's table (DE each): the through factor moves by
+        # C·A·DE, Δ by |dΔ/Δ| = (1 − ρ) dK/((1 − ρK)(1 − K)) ≤ DE/(η_c² (1 − K)²) relative
+        # (dK = dĒ_c/η_c²), below 4 DE for the coats of main() (1 − K ≥ 0.35).
+        atol = [th * d * ba + C * a * DE * d * abs(b) + 4 * DE * th * abs(b) * (d != 1.0) + 1e-7
+                for th, d, b, ba, a in zip(through, delta, base, base_atol, A)]
+        sens = sensitivity_of(lambda a, b: R.roughconductor_single(coat_lobe, a, b)[0], wo, wi, rng)
+        recs.append({"material": opb, "mode": mode, "wo": vec12(wo), "wi": vec12(wi), "f": vec12(f),
+                     "rtol": r12(max(1e-4, 20 * sens * max(fc / x for x in f))), "atol": [r12(x) for x in atol]})
+    return recs
+
+
+# --- fuzz over a base --------------------------------------------------------------------
+def fuzz_records(opb, rng, n):
+    """docs/openpbr.md "Structure" with C = 0 over the metal (SPEC-OPB "Fuzz", eq.
+    `fuzz-layering-approx`):
+      f = F f_sheen + (1 − F E_fuzz(v)) ξ f_conductor,  v = wo (radiance) or wi (importance),
+    f_sheen models_reference.sheen (Zeltner et al. 2022, color fuzz_color, roughness
+    fuzz_roughness) and E_fuzz its directional albedo R(μ_v, r), the fits' dir_albedo (the
+    LTC lobe integrates to 1, so ∫ f_sheen μi dωi = R with a white colour)."""
+    Fw = opb.get("fuzz_weight", 0.0)
+    fr = opb.get("fuzz_roughness", 0.5)
+    sheen = {"type": "sheen", "color": R.col(opb.get("fuzz_color", 1.0)), "roughness": fr}
+    cond, factor = metal_of(opb)
+    parts = R.multiscatter_parts(cond)
+    recs = []
+    while len(recs) < n:
+        mode = "radiance" if len(recs) % 2 == 0 else "importance"
+        wo, wi = upper_direction(rng), upper_direction(rng)
+        v = wo if mode == "radiance" else wi
+        through = 1 - Fw * R.sheen_fits(min(v[2], 1.0), fr)[2]
+        eo, ei = (R.albedo_E("ggx", cond["alpha"], w[2]) for w in (wo, wi))
+        allowance = DE * (1 / (1 - eo) + 1 / (1 - ei) + 1 / (1 - parts[1]))
+        if allowance > 0.25: continue
+        single = R.roughconductor_single(cond, wo, wi)
+        ms = R.roughconductor_ms_term(cond, wo, wi, parts)
+        base = [factor * (a + b) for a, b in zip(single, ms)]
+        fz = [Fw * x for x in R.sheen(sheen, wo, wi, mode)]
+        f = [a + through * b for a, b in zip(fz, base)]
+        # E_fuzz through gonio's albedo table (FUZZ_DE) and the metal's compensation (DE)
+        atol = [through * factor * allowance * m + Fw * FUZZ_DE * b + 1e-7 for m, b in zip(ms, base)]
+        recs.append({"material": opb, "mode": mode, "wo": vec12(wo), "wi": vec12(wi), "f": vec12(f),
+                     "rtol": 1e-4, "atol": [r12(x) for x in atol]})
+    return recs
+
+
+# --- thin film on the dielectric specular layer ----------------------------------------------
+def film_records(opb, rng, n):
+    """docs/openpbr.md "Structure" / SPEC-OPB "Thin film" over a black base (base_weight 0:
+    the diffuse term is 0 whatever its scaling), so only the specular layer is left:
+      f = specular_color [(1 − w) F(h·wo; η_s) + w R_film(h·wo)] D G2/(4 μo μi),
+    w = thin_film_weight, R_film the Airy sum of a film of index thin_film_ior and thickness
+    thin_film_thickness (µm) on the substrate of index η_s, reduced to linear sRGB under D65
+    (thin_film_reference.film_rgb; Belcour & Barla 2017 eq. 1). Reciprocal, both modes."""
+    import thin_film_reference as TF
+    r = opb.get("specular_roughness", 0.3)
+    alpha = r * r
+    eta = tirfix(modulated_ior(opb.get("specular_ior", 1.5), opb.get("specular_weight", 1.0)))
+    w = opb.get("thin_film_weight", 0.0)
+    nf, d = opb.get("thin_film_ior", 1.4), 1000 * opb.get("thin_film_thickness", 0.5)
+    spec = R.col(opb.get("specular_color", 1.0))
+    mf = R.Microfacet("ggx", alpha, alpha)
+    recs = []
+    while len(recs) < n:
+        mode = "radiance" if len(recs) % 2 == 0 else "importance"
+        wo, wi = upper_direction(rng), upper_direction(rng)
+        m = R.norm(R.add(wo, wi))
+        c = R.dot(wo, m)
+        lobe = mf.D(m) * mf.G2(wo, wi) / (4 * wo[2] * wi[2])
+        rf = TF.film_rgb(c, nf, d, lambda lam: (eta, 0.0))
+        F = R.fresnel(c, eta)
+        f = [k * ((1 - w) * F + w * x) * lobe for k, x in zip(spec, rf)]
+        sens = sensitivity_of(lambda a, b: R.roughconductor_single(
+            {"alpha": alpha, "eta": [eta] * 3, "k": [0.0] * 3}, a, b)[0], wo, wi, rng)
+        recs.append({"material": opb, "mode": mode, "wo": vec12(wo), "wi": vec12(wi), "f": vec12(f),
+                     "rtol": r12(max(1e-4, 20 * sens)), "atol": [r12(k * w * FILM_DR * lobe + 1e-7) for k in spec]})
+    return recs
+
+
 def main():
     rng = random.Random(135)
     recs = []
@@ -439,6 +574,26 @@ def main():
     for extra in ({"specular_roughness": 0.4, "base_diffuse_roughness": 0.5},
                   {"specular_roughness": 0.6, "specular_ior": 1.8, "base_diffuse_roughness": 1.0}):
         recs += eon_base_records({"type": "openpbr", "base_color": [0.9, 0.6, 0.2], **extra}, rng, 12)
+    # coat over the metal (no darkening) and over a bare Lambertian base (with darkening)
+    metal = {"type": "openpbr", **tint}
+    for extra in ({"coat_weight": 1, "coat_roughness": 0.3, "coat_darkening": 0, "specular_roughness": 0.5},
+                  {"coat_weight": 0.5, "coat_roughness": 0.5, "coat_ior": 1.8, "coat_darkening": 0,
+                   "specular_roughness": 0.6, "coat_color": [0.9, 0.7, 0.5]}):
+        recs += coat_records({**metal, **extra}, rng, 12)
+    lam = {"type": "openpbr", "base_color": [0.9, 0.6, 0.2], "specular_weight": 0}
+    for extra in ({"coat_weight": 1, "coat_roughness": 0.3, "coat_darkening": 0},
+                  {"coat_weight": 1, "coat_roughness": 0.4, "coat_darkening": 1},
+                  {"coat_weight": 0.6, "coat_roughness": 0.5, "coat_ior": 1.4, "coat_darkening": 0.5,
+                   "coat_color": [0.8, 0.9, 0.6]}):
+        recs += coat_records({**lam, **extra}, rng, 12)
+    # fuzz over the metal
+    for extra in ({"fuzz_weight": 1, "fuzz_roughness": 0.5},
+                  {"fuzz_weight": 0.6, "fuzz_roughness": 0.3, "fuzz_color": [1.0, 0.5, 0.2]}):
+        recs += fuzz_records({**metal, "specular_roughness": 0.6, **extra}, rng, 12)
+    # thin film on the specular layer over a black base
+    for extra in ({"thin_film_weight": 1, "thin_film_thickness": 0.3, "thin_film_ior": 2.0},
+                  {"thin_film_weight": 0.7, "thin_film_thickness": 0.45, "thin_film_ior": 1.33, "specular_ior": 1.6}):
+        recs += film_records({"type": "openpbr", "base_weight": 0, "specular_roughness": 0.4, **extra}, rng, 10)
     with open(OUT, "w") as fh:
         for rec in recs:
             fh.write(json.dumps(rec, sort_keys=True) + "\n")
