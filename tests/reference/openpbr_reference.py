@@ -20,12 +20,47 @@ parameter group meets a single standalone lobe):
   metal also samples its multiple-scattering term (not the visible-normal density alone,
   as roughconductor_multiscatter.jsonl has no pdf either), a sampling choice of the C++.
 * cut-out: geometry_opacity 0 is a pure pass-through delta, wi = −wo, weight 1.
+* transmission (transmission_weight 1, not thin-walled): the rough dielectric of α = r²
+  and η = modulated_ior(specular_ior, specular_weight) (models_reference.roughdielectric,
+  Walter et al. 2007) plus its Kulla–Conty lobe as docs/design/dielectric-multiscatter.md
+  defines it (GlassMs, with this file's own R + T albedo quadrature), reflection and
+  transmission from both sides in both modes (importance is the adjoint: transmission
+  differs by η²); specular_ior 1.33 and 0.75, specular_weight 0.5, transmission_color.
+* thin-walled transmission, specular_roughness 0: the thin sheet's two delta lobes
+  (models_reference.thin_sheet) of η_s as sample records (weight × prob), tints included;
+  thin-walled subsurface (weight 1, colour 1, base_diffuse_roughness 0): Lambert lobes of
+  albedo ½ (1 ∓ g) reflected and transmitted under the specular layer's scaling.
+* dielectric base (no metal, transmission, coat, fuzz): f_spec + ρ/π (1 − E_s(μo))
+  (1 − E_s(μi))/(1 − Ē_s) over Lambert, and b(μo) b(μi) (1 − E_s)(1 − E_s) f_EON over
+  EON with b solved here from the condition docs/openpbr.md states (EonNorm);
+  specular_ior 1.8 and 0.75 (the TIR fix), specular_weight 0.5, base_weight.
+* coat (coat_darkening 0) over the metal, with roughening, absorption and coat_weight 0.5;
+  coat over a bare Lambertian base (specular_weight 0) with darkening 1 and 0.5.
+* fuzz over the metal (the sheen lobe of models_reference.sheen, E_fuzz its fitted albedo).
+* thin film on the specular layer over a black base (thin_film_reference.film_rgb).
 
-Tolerances: the conductor's compensation term goes through gonio's interpolated albedo
-tables (error up to ~1.5e-3 in E), so each record's atol is that allowance times the
-multiple-scattering term, as for roughconductor_multiscatter.jsonl (see README.md).
-Not covered yet (left for later): the dielectric base with the b(μ) normalisation, coat,
-fuzz, transmission, subsurface, thin-walled, thin film, anisotropy.
+Tolerances (atol per record and channel; rtol 1e-4, or 20× the float-rounding
+sensitivity of a narrow lobe as in make_reference_data.py):
+* every albedo that gonio reads from an interpolated table (the conductor's and the glass's
+  E and Ē, the specular layer's and the coat's E_s, E_c, Ē) may be off by DE = 1.5e-3, as
+  for roughconductor_multiscatter.jsonl (README.md); each record's atol is the first-order
+  change of its value under that error (the compensation term × DE (1/(1 − E(μo)) +
+  1/(1 − E(μi)) + 1/(1 − Ē)), the glass's split x adding 2 DE/(1 − Ē±); the scaled diffuse
+  × DE (1/(1 − E_s(μo)) + 1/(1 − E_s(μi)) + 1/(1 − Ē_s)); the coat's through factor × C·A·DE,
+  its darkening × 4 DE); a pair whose allowance exceeds 25 % of its term is skipped;
+* the EON normalisation adds EON_NORM_TOL = 2e-3 relative (gonio solves b at 64 midpoint
+  nodes and interpolates linearly; EonNorm's own 24- and 40-node solutions differ by 1e-4);
+* the sheen's albedo table FUZZ_DE = 1.5e-3 against the fit; the film's RGB table
+  FILM_DR = 2e-4 in reflectance.
+Measured against the C++ on 2026-12-05 every record is within 0.2 of its tolerance (the
+largest relative differences: 8.6e-3 where the glass's compensation term dominates, seen
+from inside; ≤ 5.6e-4 elsewhere).
+
+Not covered yet (left for later): subsurface but the thin-walled Lambertian case, anisotropy, a rough thin-walled sheet (gonio's is smooth),
+specular_color on the dielectric lobes, the dielectric base under a coat (the index ratio
+η_s = n_b/n_c), darkening over any base but a bare Lambertian (E_b, the base's albedo, is
+exact only there), the film on the dielectric base's diffuse scaling (per-channel E_s),
+geometry_opacity between 0 and 1 over anything but the metal, fuzz over coat, and pdfs.
 """
 import json
 import math
@@ -535,6 +570,40 @@ def film_records(opb, rng, n):
     return recs
 
 
+# --- thin-walled diffuse transmission: the thin-walled subsurface over Lambert -------------
+def thin_diffuse_records(opb, rng, n):
+    """geometry_thin_walled, subsurface_weight 1, subsurface_color 1, transmission 0,
+    base_diffuse_roughness 0 (SPEC-OPB "Thin-walled case"; docs/openpbr.md "Structure": the
+    subsurface is ½ S (1 ∓ g) of an albedo-1 lobe reflected / transmitted, g =
+    subsurface_scatter_anisotropy, under the specular layer like the diffuse):
+      reflection   f_spec + (1 − g)/(2π) (1 − E_s(μo))(1 − E_s(μi))/(1 − Ē_s),
+      transmission          (1 + g)/(2π) (1 − E_s(μo))(1 − E_s(|μi|))/(1 − Ē_s),
+    f_spec and E_s as in dielectric_base_records. Both modes (the lobes are reciprocal)."""
+    r = opb.get("specular_roughness", 0.3)
+    alpha = r * r
+    eta = tirfix(modulated_ior(opb.get("specular_ior", 1.5), opb.get("specular_weight", 1.0)))
+    g = opb.get("subsurface_scatter_anisotropy", 0.0)
+    e_avg = dielectric_albedo_avg(alpha, eta, transmit=False)
+    lobe = {"type": "roughconductor", "alpha": alpha, "eta": [eta] * 3, "k": [0.0] * 3}
+    recs = []
+    while len(recs) < n:
+        mode = "radiance" if len(recs) % 2 == 0 else "importance"
+        wo, wi = upper_direction(rng), direction_on(rng, len(recs) % 4 < 2)
+        eo, ei = (dielectric_albedo(alpha, abs(w[2]), eta, transmit=False) for w in (wo, wi))
+        scale = (1 - eo) * (1 - ei) / (1 - e_avg)
+        if wi[2] > 0:
+            single = R.roughconductor_single(lobe, wo, wi)[0]
+            sens = sensitivity_of(lambda a, b: R.roughconductor_single(lobe, a, b)[0], wo, wi, rng)
+            diff = (1 - g) / (2 * math.pi) * scale
+        else:
+            single, sens, diff = 0.0, 0.0, (1 + g) / (2 * math.pi) * scale
+        allow = DE * (1 / (1 - eo) + 1 / (1 - ei) + 1 / (1 - e_avg))
+        recs.append({"material": opb, "mode": mode, "wo": vec12(wo), "wi": vec12(wi), "f": vec12([single + diff] * 3),
+                     "rtol": r12(max(1e-4, 20 * sens * single / (single + diff))),
+                     "atol": r12(allow * diff + 1e-7)})
+    return recs
+
+
 def main():
     rng = random.Random(135)
     recs = []
@@ -590,6 +659,10 @@ def main():
     for extra in ({"fuzz_weight": 1, "fuzz_roughness": 0.5},
                   {"fuzz_weight": 0.6, "fuzz_roughness": 0.3, "fuzz_color": [1.0, 0.5, 0.2]}):
         recs += fuzz_records({**metal, "specular_roughness": 0.6, **extra}, rng, 12)
+    # thin-walled subsurface over Lambert: diffuse reflection and transmission
+    for extra in ({"subsurface_scatter_anisotropy": 0.4}, {"subsurface_scatter_anisotropy": -0.3, "specular_ior": 1.8}):
+        recs += thin_diffuse_records({"type": "openpbr", "geometry_thin_walled": True, "subsurface_weight": 1,
+                                      "subsurface_color": 1, "specular_roughness": 0.5, **extra}, rng, 12)
     # thin film on the specular layer over a black base
     for extra in ({"thin_film_weight": 1, "thin_film_thickness": 0.3, "thin_film_ior": 2.0},
                   {"thin_film_weight": 0.7, "thin_film_thickness": 0.45, "thin_film_ior": 1.33, "specular_ior": 1.6}):
