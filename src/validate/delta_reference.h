@@ -215,15 +215,18 @@ inline DeltaReference openpbr_reference(const OpenPbrBxDF& m, const Vec3& wo, Tr
     const double tint = p.transmission_depth > 0 ? 1.0 : std::clamp(double(p.transmission_color[c]), 0.0, 1.0);
     if (T > 0 && M < 1) {
       if (p.geometry_thin_walled) {
-        const auto sheet = thin_sheet_reference(up, eta_spec);
-        double R = sheet.reflection[size_t(c)], Tr = sheet.transmission[size_t(c)];
-        if (film_w > 0) {
-          const auto bubble = thin_sheet_reference(up, eta_spec, &m.film);
-          R = (1 - film_w) * R + film_w * bubble.reflection[size_t(c)];
-          Tr = (1 - film_w) * Tr + film_w * bubble.transmission[size_t(c)];
+        // (A rough sheet has no delta lobe: openpbr.h, rough_sheet.)
+        if (spec_smooth) {
+          const auto sheet = thin_sheet_reference(up, eta_spec);
+          double R = sheet.reflection[size_t(c)], Tr = sheet.transmission[size_t(c)];
+          if (film_w > 0) {
+            const auto bubble = thin_sheet_reference(up, eta_spec, &m.film);
+            R = (1 - film_w) * R + film_w * bubble.reflection[size_t(c)];
+            Tr = (1 - film_w) * Tr + film_w * bubble.transmission[size_t(c)];
+          }
+          refl += base * (1 - M) * T * p.specular_color[c] * R;
+          trans += base * (1 - M) * T * tint * Tr;
         }
-        refl += base * (1 - M) * T * p.specular_color[c] * R;
-        trans += base * (1 - M) * T * tint * Tr;
       } else if (glass_smooth) {
         const DeltaReference g = dielectric_reference(wo, eta_glass, mode);
         if (outside) {

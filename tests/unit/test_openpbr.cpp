@@ -451,6 +451,58 @@ TEST(OpenPbrReduction, ThinWalledSubsurfaceSplits) {
 }
 
 // The modulated index (SPEC-OPB eq. modulated_ior): F0 of η' is ξ F0(η); 0 → η' = 1.
+// A rough thin-walled glass (openpbr.h, rough_sheet): at each microfacet the sheet reflects
+// R_sheet = ½ Σ_{s,p} 2r/(1 + r) (r the interface's reflectance of that polarization, the
+// incoherent sum of the sheet's internal reflections) and transmits the rest undeflected
+// relative to the mirror image: reflection D G2 R_sheet(wo·h) / (4 μo μi), transmission the
+// same lobe at wi mirrored through the surface with 1 − R_sheet. Written out here: GGX of
+// α = r² (Walter et al. 2007 eq. 33), height-correlated Smith G2 (Heitz 2014 eq. 99), the
+// Fresnel amplitudes of Born & Wolf.
+double sheet_reflectance_1p5(double c) {
+  const double eta = 1.5, ct = std::sqrt(1 - (1 - c * c) / (eta * eta));
+  const double rs = (c - eta * ct) / (c + eta * ct), rp = (eta * c - ct) / (eta * c + ct);
+  const double Rs = rs * rs, Rp = rp * rp;
+  return 0.5 * (2 * Rs / (1 + Rs) + 2 * Rp / (1 + Rp));
+}
+double ggx_lobe(const Vec3& wo, const Vec3& wi, double alpha, double& cos_h) {
+  const double hx = double(wo.x) + wi.x, hy = double(wo.y) + wi.y, hz = double(wo.z) + wi.z;
+  const double hl = std::sqrt(hx * hx + hy * hy + hz * hz);
+  const double c2 = (hz / hl) * (hz / hl), a2 = alpha * alpha;
+  const double D = a2 / (kPiD * std::pow(c2 * (a2 - 1) + 1, 2));
+  auto lambda = [&](const Vec3& w) {
+    const double t2 = (1 - double(w.z) * w.z) / (double(w.z) * w.z);
+    return (-1 + std::sqrt(1 + a2 * t2)) / 2;
+  };
+  cos_h = (double(wo.x) * hx + double(wo.y) * hy + double(wo.z) * hz) / hl;
+  return D / (1 + lambda(wo) + lambda(wi)) / (4 * double(wo.z) * wi.z);
+}
+TEST(OpenPbrReduction, RoughThinWalledSheetIsTheMicrofacetSheet) {
+  P p;
+  p.geometry_thin_walled = true;
+  p.transmission_weight = 1;
+  p.specular_roughness = 0.5f;  // α = 0.25
+  const OpenPbrBxDF m = OpenPbrBxDF::make(p);
+  EXPECT_TRUE(has(m.flags(), BxDFFlags::GlossyTransmission));
+  for (double to : {10.0, 50.0, 80.0})
+    for (double ti : {5.0, 35.0, 70.0, 87.0})
+      for (double dphi : {0.0, 0.4, 2.5}) {
+        const Vec3 wo = direction(to, 0.3), wi = direction(ti, 0.3 + kPiD + dphi);
+        double ch = 0;
+        const double lobe = ggx_lobe(wo, wi, 0.25, ch);
+        const double fr = lobe * sheet_reflectance_1p5(ch);
+        EXPECT_NEAR(m.f(wo, wi)[1], fr, 2e-4 * fr + 1e-7) << to << " " << ti << " " << dphi;
+        // The transmitted direction below, and the pair seen from below (symmetric sheet).
+        const Vec3 wt{wi.x, wi.y, -wi.z};
+        const double ft = lobe * (1 - sheet_reflectance_1p5(ch));
+        EXPECT_NEAR(m.f(wo, wt)[1], ft, 2e-4 * ft + 1e-7) << to << " " << ti << " " << dphi;
+        const Vec3 wo_b{wo.x, wo.y, -wo.z};
+        EXPECT_NEAR(m.f(wo_b, wi)[1], ft, 2e-4 * ft + 1e-7) << to << " " << ti << " " << dphi;
+        // Reciprocal, and the sheet does not scale the transmitted radiance.
+        EXPECT_NEAR(m.f(wt, wo)[1], ft, 2e-4 * ft + 1e-7);
+        EXPECT_NEAR(m.f(wo, wt, TransportMode::Importance)[1], ft, 2e-4 * ft + 1e-7);
+      }
+}
+
 TEST(OpenPbrReduction, SpecularWeightModulatesF0) {
   for (double eta : {1.5, 2.4, 0.7})
     for (double xi : {0.0, 0.5, 1.0, 2.0}) {
@@ -530,7 +582,14 @@ TEST(OpenPbrSampling, PdfIntegratesToNonDeltaShare) {
     p.geometry_thin_walled = true;
     p.subsurface_weight = 0.6f;
     p.geometry_opacity = 0.7f;
-    set.push_back(p);
+    set.push_back(p);    // The rough thin-walled glass (rough_sheet), with a film over part of it.
+    P q;
+    q.geometry_thin_walled = true;
+    q.transmission_weight = 1;
+    q.specular_roughness = 0.45f;
+    q.thin_film_weight = 0.5f;
+    q.thin_film_thickness = 0.4f;
+    set.push_back(q);
   }
   for (size_t k = 0; k < set.size(); ++k) {
     const OpenPbrBxDF m = OpenPbrBxDF::make(set[k]);
@@ -559,7 +618,10 @@ TEST(OpenPbrSampling, PdfIntegratesToNonDeltaShare) {
         if (!s || !s->delta) ++n_non_delta;
       }
       EXPECT_LE(integral, double(n_non_delta) / n + 2e-3) << k << " " << th;
-      EXPECT_GE(integral, double(n_non_delta) / n - 2e-2) << k << " " << th;  // mass lost below the horizon
+      // Mass lost below the horizon: the rough sheet (set 3) reflects or mirrors every visible
+      // normal's reflection, so it loses what falls below (5.7 % at 70°, 4.0 % at 20° here).
+      const double lost = k == 3 ? 7e-2 : 2e-2;
+      EXPECT_GE(integral, double(n_non_delta) / n - lost) << k << " " << th;
       std::printf("pdf integral %.5f, non-delta share %.5f (set %zu, theta %.0f)\n", integral, double(n_non_delta) / n, k, th);
     }
   }

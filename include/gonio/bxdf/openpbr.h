@@ -41,7 +41,7 @@
 //    Kulla–Conty compensation (R + T conserves energy), transmission_color a constant tint
 //    on the refraction when transmission_depth is 0 (SPEC-OPB "Translucent base"; with a
 //    depth the interior is the renderer's medium). Thin-walled: the thin sheet
-//    (thindielectric.h; smooth whatever the roughness in stage 1) and the thin-walled
+//    (thindielectric.h; rough: rough_sheet below) and the thin-walled
 //    subsurface ½ S (1 ∓ g) of an albedo-1 EON lobe reflected and transmitted (SPEC-OPB
 //    "Thin-walled case").
 // Coat: absorption A_coat = coat_color^((1/μt_o + 1/μt_i)/2) (SPEC-OPB "View-dependent
@@ -247,6 +247,16 @@ struct OpenPbrBxDFT {
   RoughDielectricBxDFT<C> glass{};
   ThinDielectricBxDFT<C> sheet{};
   ThinDielectricBxDFT<C> sheet_film{};
+  // A thin-walled glass whose specular layer is rough (SPEC-OPB "Thin-walled": the sheet's
+  // reflection lobe and its undeflected transmission, roughened): at each microfacet h the
+  // sheet reflects R_sheet(wo·h) (thindielectric.h, the film's Airy sum over film_w of
+  // it) and transmits 1 − R_sheet, the transmitted light leaving along the reflection
+  // mirrored through the surface: the lobe D G2 / (4 μo μi) of the specular layer's
+  // roughness centred on −wo instead of on the mirror direction. The two lobes share their
+  // facets, so at each h R + T = 1, and the pair is reciprocal (D, G2 and wo·h are symmetric
+  // under the mirror). The width of the transmitted lobe is the reflection's (Kulla &
+  // Conty 2017 roughen it by the index; gonio keeps one roughness, documented).
+  bool rough_sheet = false;
   U trans_tint{Float(1)};
 
   // `solved`: the quadratures of a model made from the same parameters (the spectral
@@ -374,6 +384,7 @@ struct OpenPbrBxDFT {
       m.glass.multiscatter = solved && *solved->glass_ms ? *solved->glass_ms
                                                          : DielectricMultiscatterLobe::make(m.glass.distribution, m.glass.eta);
     m.sheet.eta = m.spec_eta;
+    m.rough_sheet = m.thin && !m.spec_dist.effectively_smooth();
     m.sheet_film.eta = m.spec_eta;
     m.sheet_film.film = film_on_spec;
     if (m.film_w > 0) m.sheet_film.film.eta = film_on_spec.eta;
@@ -398,7 +409,9 @@ struct OpenPbrBxDFT {
       f = f | (spec_smooth ? BxDFFlags::SpecularReflection : BxDFFlags::GlossyReflection);
     if ((1 - m.metal_w) * (1 - m.trans) > 0) f = f | BxDFFlags::DiffuseReflection;
     if (m.thin && m.sss > 0 && (1 - m.metal_w) * (1 - m.trans) > 0) f = f | BxDFFlags::DiffuseTransmission;
-    if (m.trans > 0 && m.metal_w < 1) f = f | (m.thin ? m.sheet.flags() : m.glass.flags());
+    if (m.trans > 0 && m.metal_w < 1)
+      f = f | (m.rough_sheet ? BxDFFlags::GlossyReflection | BxDFFlags::GlossyTransmission
+                             : (m.thin ? m.sheet.flags() : m.glass.flags()));
     if (m.opacity < 1) f = f | BxDFFlags::SpecularTransmission;
     if (m.opacity <= 0) f = BxDFFlags::SpecularTransmission;
     m.flags_ = f;
@@ -769,6 +782,16 @@ struct OpenPbrBxDFT {
         f += C(eon_f(wo_u, wi_u, diff_rho, diff_rho_ms) * base * diffuse_scale(wo_u, wi_u, lo.e_s) * w);
         pdf += p[kDiffuse] * eon.pdf(wo_u, wi_u);
       }
+      // The rough thin-walled sheet's reflection (rough_sheet).
+      if (diel > 0 && trans > 0 && rough_sheet) {
+        const Glossy g = glossy(spec_dist, spec_rot.in(wo_u), spec_rot.in(wi_u));
+        if (g.valid) {
+          const SheetShares r = sheet_shares(g.cos_h);
+          f += fresnel_factor<C>(r.reflect * params.specular_color * base * (g.f_per_f * diel * trans),
+                                 [&] { return sheet_mueller(g.cos_h, true); }, wo, wi);
+          pdf += p[kGlass] * g.pdf * r.p_reflect;
+        }
+      }
       // Glass, reflection: from outside under the layers, tinted; from inside bare.
       if (diel > 0 && trans > 0 && !thin) {
         const BSDFEvalT<C> e = glass.eval(spec_rot.in(wo), spec_rot.in(wi), mode);
@@ -787,6 +810,18 @@ struct OpenPbrBxDFT {
       const Layers l = w_out.z == wo_u.z ? lo : layers(w_out);
       f += e.f * (through_layers(l, w_out.z) * trans_tint * (diel * trans));
       pdf += p[kGlass] * e.pdf;
+    }
+    if (rough_sheet && trans > 0) {
+      // The rough sheet's transmission: its reflection lobe at wi mirrored to wo's side.
+      const Vec3 wm{wi_u.x, wi_u.y, -wi_u.z};
+      const Glossy g = glossy(spec_dist, spec_rot.in(wo_u), spec_rot.in(wm));
+      if (g.valid) {
+        const Layers lv = radiance ? lo : layers(wm);
+        const SheetShares r = sheet_shares(g.cos_h);
+        f += fresnel_factor<C>(r.transmit * base_scale(lv, wo_u.z, wm.z) * trans_tint * (g.f_per_f * diel * trans),
+                               [&] { return sheet_mueller(g.cos_h, false); }, wo, wi);
+        pdf += p[kGlass] * g.pdf * (1 - r.p_reflect);
+      }
     }
     if (thin && sss > 0 && trans < 1) {
       // The thin-walled subsurface's transmission, mirrored to wo's side.
@@ -906,6 +941,17 @@ struct OpenPbrBxDFT {
       }
       case kGlass:
       default: {
+        if (rough_sheet) {
+          // A facet of the visible normals, then its reflection or (mirrored) transmission
+          // with the sheet's reflectance there as the probability.
+          const Vec3 wl = spec_rot.in(wo_u);
+          const Vec3 h = spec_dist.sample_visible(wl, u1, u2);
+          const Vec3 wr = spec_rot.out(reflect(wl, h));
+          if (!(wr.z > 0)) return std::nullopt;
+          const bool refl = u < sheet_shares(std::clamp(dot(wl, h), Float(0), Float(1))).p_reflect;
+          wi_u = refl ? wr : Vec3{wr.x, wr.y, -wr.z};
+          break;
+        }
         if (thin) return sample_sheet(wo, wo_u, lo, u, pk);
         const auto sm = glass.sample(spec_rot.in(wo), u, u1, u2, mode);
         if (!sm) return std::nullopt;
@@ -935,6 +981,31 @@ struct OpenPbrBxDFT {
   }
 
  private:
+  // The rough sheet's reflectance and transmittance per channel at the facet cosine c, and
+  // the reflection's probability (their channel average): the bare sheet's, and the
+  // film's Airy sum over film_w of it (the mixture sample_sheet draws for a smooth one).
+  struct SheetShares {
+    U reflect, transmit;
+    Float p_reflect;
+  };
+  SheetShares sheet_shares(Float c) const {
+    U r(sheet_terms(c).r());
+    if (film_w > 0 && sheet_film.film.active())
+      r = r * (1 - film_w) + sheet_film.film.reflectance(std::min(c, Float(1)), U(1), U(0)) * film_w;
+    return {r, U(1) - r, std::clamp(r.average(), Float(0), Float(1))};
+  }
+  ThinSheetTerms<Float> sheet_terms(Float c) const { return thin_sheet_terms(c, sheet.eta); }
+  // Its Mueller shape (polarized mode): the bare sheet's, mixed with the film's.
+  MuellerT<U> sheet_mueller(Float c, bool reflection) const {
+    const Float cc = std::min(c, Float(1));
+    MuellerT<U> m = broadcast<U>(thin_sheet_mueller(sheet_terms(cc), reflection, cc, sheet.eta));
+    if (film_w > 0 && sheet_film.film.active()) {
+      m *= (1 - film_w);
+      m += sheet_film.film.mueller(cc, U(1), U(0), reflection, false) * film_w;
+    }
+    return m;
+  }
+
   // A non-polarizing pass-through of value v (identity Mueller matrix in polarized mode).
   static C identity(const U& v) {
     if constexpr (kPolarized<C>) {
