@@ -27,6 +27,7 @@
 #include "gonio/metals.h"
 #include "gonio/spectral_material.h"
 #include "gonio/spectrum/metal_spectra.h"
+#include "gonio/spectrum/rgb_to_spectrum.h"
 #include "gonio/spectrum/spectrum_json.h"
 #include "gonio/spectrum/spectrum_to_rgb.h"
 #include "gonio/subsurface/albedo_inversion.h"
@@ -780,6 +781,34 @@ ThinFilmT<Color> openpbr_film(const OpenPbrParams<Color>& o, bool table) {
   return film;
 }
 
+// The same film over openpbr's metal, with RGB mode's table of its reflectance there: the
+// substrate at λ is the effective complex index (f82_effective_index.h) of the F82 curve of
+// base_color and specular_color upsampled to λ (base_weight times the first), as spectral
+// mode upsamples them (spectral_material.cpp); none without a metal.
+ThinFilmT<Color> openpbr_metal_film(const OpenPbrParams<Color>& o) {
+  ThinFilmT<Color> film = openpbr_film(o, false);
+  if (!film.active() || !(o.base_metalness > 0)) return {};
+  const SigmoidPolynomial colour = rgb_to_sigmoid_polynomial(o.base_color[0], o.base_color[1], o.base_color[2]);
+  const SigmoidPolynomial tint = rgb_to_sigmoid_polynomial(o.specular_color[0], o.specular_color[1], o.specular_color[2]);
+  const double weight = std::clamp(double(o.base_weight), 0.0, 1.0);
+  film.table = make_thin_film_rgb_table(film.thickness, film.eta, [=](double l) {
+    const ComplexIndex c = f82_effective_index(weight * colour.eval(Float(l)), double(tint.eval(Float(l))));
+    return std::pair<double, double>(c.n, c.k);
+  });
+  return film;
+}
+
+// The same film over openpbr's glass (transmission, not thin-walled), with RGB mode's table
+// over the glass's index; none without a glass.
+ThinFilmT<Color> openpbr_glass_film(const OpenPbrParams<Color>& o) {
+  ThinFilmT<Color> film = openpbr_film(o, false);
+  const double eta = openpbr::modulated_ior(o.specular_ior, o.specular_weight);
+  if (!film.active() || !(o.transmission_weight > 0) || o.geometry_thin_walled || eta < openpbr::kMinFilmGlassEta)
+    return {};
+  film.table = make_thin_film_rgb_table(film.thickness, film.eta, [eta](double) { return std::pair<double, double>(eta, 0); });
+  return film;
+}
+
 // openpbr (issue 35; SPEC §2): every OpenPBR Surface 1.1 parameter, read from the registry
 // (defaults, ranges). OpenPBR's units: thin_film_thickness in µm, the film table in nm.
 BxDF make_openpbr(Params& p) {
@@ -790,7 +819,7 @@ BxDF make_openpbr(Params& p) {
     else o.*f.colour = p.color(f.key.data());
   }
   o.geometry_thin_walled = p.boolean("geometry_thin_walled");
-  return OpenPbrBxDF::make(o, openpbr_film(o, true));
+  return OpenPbrBxDF::make(o, openpbr_film(o, true), nullptr, {openpbr_metal_film(o), openpbr_glass_film(o)});
 }
 
 // The constructor of each type of the registry but blend (which needs its place and depth).
@@ -1167,8 +1196,23 @@ OpenPbrBxDF with_openpbr_params(const OpenPbrBxDF& model, std::span<const ParamV
   }
   ThinFilmT<Color> film = openpbr_film(p, false);
   if (same_film && film.active() && model.film.active()) film.table = model.film.table;
+  // The metal's and the glass's film tables are kept while the film and their substrates
+  // (the metal's colours; the glass's index, a film input) are the same.
+  openpbr::SubstrateFilms<Color> films;
+  const auto keep = [&](const ThinFilmT<Color>& old, bool same_substrate) {
+    ThinFilmT<Color> f;
+    if (same_film && same_substrate && film.active() && old.active() && old.table) {
+      f = film;
+      f.table = old.table;
+    }
+    return f;
+  };
+  films.metal = keep(model.metal.fresnel.film, p.base_color == model.params.base_color &&
+                                                   p.base_weight == model.params.base_weight &&
+                                                   p.specular_color == model.params.specular_color);
+  films.glass = keep(model.glass.film, true);
   const openpbr::Solved solved = model.solved();
-  return OpenPbrBxDF::make(p, std::move(film), same_solved ? &solved : nullptr);
+  return OpenPbrBxDF::make(p, std::move(film), same_solved ? &solved : nullptr, std::move(films));
 }
 
 }  // namespace

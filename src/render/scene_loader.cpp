@@ -712,7 +712,7 @@ struct Loader {
     q.geometry_opacity = 1;
     q.coat_weight = 0;
     q.fuzz_weight = 0;
-    return OpenPbrBxDF::make(q, model.film);
+    return OpenPbrBxDF::make(q, model.film, nullptr, {model.metal.fresnel.film, model.glass.film});
   }
 
   void subsurface_volume(Material& m, const OpenPbrBxDF& model, const Node& desc) {
@@ -720,7 +720,7 @@ struct Loader {
     OpenPbrParams<Color> q = p;
     q.transmission_weight = p.transmission_weight + (1 - p.transmission_weight) * p.subsurface_weight;
     q.subsurface_weight = 0;
-    const OpenPbrBxDF boundary = OpenPbrBxDF::make(q, model.film);
+    const OpenPbrBxDF boundary = OpenPbrBxDF::make(q, model.film, nullptr, {model.metal.fresnel.film, model.glass.film});
     json medium = {{"type", "subsurface"}, {"eta", std::clamp(boundary.relative_eta(), Float(0.25), Float(4))}};
     json albedo = json::array(), mfp = json::array();
     for (int c = 0; c < Color::size(); ++c) {

@@ -38,6 +38,8 @@ parameter group meets a single standalone lobe):
   coat over a bare Lambertian base (specular_weight 0) with darkening 1 and 0.5.
 * fuzz over the metal (the sheen lobe of models_reference.sheen, E_fuzz its fitted albedo).
 * thin film on the specular layer over a black base (thin_film_reference.film_rgb).
+* thin film on the metal, grey colours (one effective index (n, k) at every wavelength,
+  Gulbrandsen's member matching F82-tint at μ = 1/7), with the mixture's F̄ in Kulla–Conty.
 
 Tolerances (atol per record and channel; rtol 1e-4, or 20× the float-rounding
 sensitivity of a narrow lobe as in make_reference_data.py):
@@ -570,6 +572,80 @@ def film_records(opb, rng, n):
     return recs
 
 
+# --- thin film on the metal ------------------------------------------------------------------
+def gulbrandsen(r, g):
+    """Gulbrandsen 2014 ("Artist Friendly Metallic Fresnel", JCGT 3(4)): the index of
+    reflectivity r at normal incidence and edge parameter g, n between n_max (g = 0, k = 0)
+    and n_min (g = 1)."""
+    n_min, n_max = (1 - r) / (1 + r), (1 + math.sqrt(r)) / (1 - math.sqrt(r))
+    n = g * n_min + (1 - g) * n_max
+    return n, math.sqrt(max(0.0, (r * (n + 1) ** 2 - (n - 1) ** 2) / (1 - r)))
+
+
+def effective_index(f0, tint):
+    """SPEC-OPB "Thin-film iridescence" (the F82-tint metal's "best matching effective
+    complex IOR", after Gulbrandsen 2014), as docs/openpbr.md states it: Gulbrandsen's member
+    whose exact Fresnel at μ = 1/7 is F82-tint's there (tint × Schlick), g by bisection,
+    the nearer end of [0, 1] where out of reach."""
+    target = R.f82_tint(1 / 7, f0, 1.0) * tint
+    at = lambda g: R.fresnel(1 / 7, *gulbrandsen(f0, g))
+    if at(0.0) >= target: return gulbrandsen(f0, 0.0)
+    if at(1.0) <= target: return gulbrandsen(f0, 1.0)
+    lo, hi = 0.0, 1.0
+    for _ in range(100):
+        mid = (lo + hi) / 2
+        lo, hi = (mid, hi) if at(mid) < target else (lo, mid)
+    return gulbrandsen(f0, (lo + hi) / 2)
+
+
+def metal_film_records(opb, rng, n):
+    """The film on the metal (base_metalness 1, no coat or fuzz; docs/openpbr.md "Structure"),
+    grey base_color and specular_color, whose upsampled spectra are constant, so that the
+    substrate under the film is one effective index (n, k) at every wavelength:
+      f = ξ [F(h·wo) D G2/(4 μo μi) + F_ms (1 − E(μo))(1 − E(μi))/(π (1 − Ē))],
+      F = (1 − w) F82(c) + w R_film(c),  F_ms = F̄² Ē/(1 − F̄ (1 − Ē)),  F̄ = 2 ∫ F μ dμ,
+    w = thin_film_weight, R_film the film's Airy sum over (n, k) reduced to linear sRGB
+    (thin_film_reference.film_rgb), Kulla & Conty 2017 with the mixture's F̄. Both modes."""
+    import thin_film_reference as TF
+    r = opb["specular_roughness"]
+    alpha = r * r
+    f0, tint = opb.get("base_weight", 1.0) * opb["base_color"], opb["specular_color"]
+    w, nf, d = opb["thin_film_weight"], opb.get("thin_film_ior", 1.4), 1000 * opb.get("thin_film_thickness", 0.5)
+    xi = opb.get("specular_weight", 1.0)
+    nk = effective_index(f0, tint)
+
+    def fresnel_mix(c):
+        return [(1 - w) * R.f82_tint(c, f0, tint) + w * x for x in TF.film_rgb(c, nf, d, lambda lam: nk)]
+    f_nodes = {}
+    def channel(c, j):
+        if c not in f_nodes: f_nodes[c] = fresnel_mix(c)
+        return f_nodes[c][j]
+    f_avg = [R.cosine_average(lambda mu, j=j: channel(mu, j), n=24) for j in range(3)]
+    e_avg = R.albedo_E_avg("ggx", alpha)
+    f_ms = [fa * fa * e_avg / (1 - fa * (1 - e_avg)) for fa in f_avg]
+    mf = R.Microfacet("ggx", alpha, alpha)
+    recs = []
+    while len(recs) < n:
+        wo, wi = upper_direction(rng), upper_direction(rng)
+        eo, ei = (R.albedo_E("ggx", alpha, v[2]) for v in (wo, wi))
+        allowance = DE * (1 / (1 - eo) + 1 / (1 - ei) + 1 / (1 - e_avg))
+        if allowance > 0.25: continue
+        m = R.norm(R.add(wo, wi))
+        lobe = mf.D(m) * mf.G2(wo, wi) / (4 * wo[2] * wi[2])
+        F = fresnel_mix(R.dot(wo, m))
+        ms = [fm * (1 - eo) * (1 - ei) / (math.pi * (1 - e_avg)) for fm in f_ms]
+        f = [xi * (a * lobe + b) for a, b in zip(F, ms)]
+        sens = sensitivity_of(lambda a, b: R.roughconductor_single(
+            {"alpha": alpha, "eta": [nk[0]] * 3, "k": [nk[1]] * 3}, a, b)[0], wo, wi, rng)
+        mode = "radiance" if len(recs) % 2 == 0 else "importance"
+        # The table's FILM_DR in F moves the lobe by w FILM_DR lobe, and in F̄ moves F_ms by at
+        # most (2 − F̄ (1 − Ē))/(F̄ (1 − F̄ (1 − Ē))) w FILM_DR relative: below 4 here (F̄ > 0.6).
+        recs.append({"material": opb, "mode": mode, "wo": vec12(wo), "wi": vec12(wi), "f": vec12(f),
+                     "rtol": r12(max(1e-4, 20 * sens)),
+                     "atol": [r12(xi * (allowance * b + w * FILM_DR * (lobe + 4 * b)) + 1e-7) for b in ms]})
+    return recs
+
+
 # --- thin-walled diffuse transmission: the thin-walled subsurface over Lambert -------------
 def thin_diffuse_records(opb, rng, n):
     """geometry_thin_walled, subsurface_weight 1, subsurface_color 1, transmission 0,
@@ -667,6 +743,11 @@ def main():
     for extra in ({"thin_film_weight": 1, "thin_film_thickness": 0.3, "thin_film_ior": 2.0},
                   {"thin_film_weight": 0.7, "thin_film_thickness": 0.45, "thin_film_ior": 1.33, "specular_ior": 1.6}):
         recs += film_records({"type": "openpbr", "base_weight": 0, "specular_roughness": 0.4, **extra}, rng, 10)
+    # thin film on the metal (grey colours: one effective index at every wavelength)
+    for extra in ({"thin_film_weight": 1, "thin_film_thickness": 0.35, "thin_film_ior": 1.5},
+                  {"thin_film_weight": 0.6, "thin_film_thickness": 0.5, "thin_film_ior": 2.0, "specular_weight": 0.7}):
+        recs += metal_film_records({"type": "openpbr", "base_metalness": 1, "base_color": 0.7, "specular_color": 0.85,
+                                    "specular_roughness": 0.5, **extra}, rng, 10)
     with open(OUT, "w") as fh:
         for rec in recs:
             fh.write(json.dumps(rec, sort_keys=True) + "\n")

@@ -33,7 +33,10 @@ struct ConductorFresnelT {
   // F82: its coefficient a = fresnel_f82_a(f0, f82) per channel, a function of the
   // material alone, computed once by prepare(): whoever sets f0 or f82 calls it.
   C f82_a{0.0f};
-  // A thin film on the metal (thin_film.h; exact model only; inactive: the bare metal).
+  // A thin film on the metal (thin_film.h; inactive: the bare metal), read over the complex
+  // index (eta, k): the exact model's own, or an F82-tint curve's effective one
+  // (f82_effective_index.h, openpbr). Where it covers film.coverage = w of the surface,
+  // F = (1 − w) F_bare + w R_film, F_bare this model's own (F82-tint's for openpbr).
   ThinFilmT<C> film{};
 
   void prepare() { f82_a = fresnel_f82_a(f0, f82); }
@@ -43,7 +46,14 @@ struct ConductorFresnelT {
   // formula needs cos θi only after two square roots of its own).
   C operator()(Float cos_i, Float cos2_i) const {
     const Float c = std::abs(cos_i);
-    if (film.active()) return film.reflectance(std::min(c, Float(1)), eta, k);
+    if (film.active()) {
+      const C r = film.film_reflectance(std::min(c, Float(1)), eta, k);
+      return film.coverage < 1 ? bare(c, cos2_i) * (1 - film.coverage) + r * film.coverage : r;
+    }
+    return bare(c, cos2_i);
+  }
+  // The bare metal's reflectance at c = |cos θi|.
+  C bare(Float c, Float cos2_i) const {
     if (model == FresnelModel::Schlick) return fresnel_schlick(f0, c);
     if (model == FresnelModel::F82) return fresnel_f82_from_a(f0, f82_a, c);
 #if defined(__GNUC__)
@@ -81,7 +91,13 @@ struct ConductorFresnelT {
   // Schlick's generalisation (Hoffman 2023), which has no phase either.
   MuellerT<C> mueller(Float cos_i) const {
     const Float c = std::min(std::abs(cos_i), Float(1));
-    if (film.active()) return film.mueller(c, eta, k, true, false);
+    if (film.active()) {
+      const MuellerT<C> r = film.film_mueller(c, eta, k, true, false);
+      return film.coverage < 1 ? bare_mueller(c) * (1 - film.coverage) + r * film.coverage : r;
+    }
+    return bare_mueller(c);
+  }
+  MuellerT<C> bare_mueller(Float c) const {
     MuellerT<C> m;
     for (int ch = 0; ch < C::size(); ++ch) {
       MuellerT<Float> one;
@@ -101,10 +117,10 @@ struct ConductorFresnelT {
 using ConductorFresnel = ConductorFresnelT<Color>;
 
 // F_avg = 2 ∫ F(μ) μ dμ per channel (Kulla & Conty 2017; 64 Simpson panels: F is smooth
-// in μ). F82-tint has its closed form (fresnel_f82_average; SPEC §2).
+// in μ). F82-tint without a film has its closed form (fresnel_f82_average; SPEC §2).
 template <typename C>
 C conductor_average_fresnel(const ConductorFresnelT<C>& fr) {
-  if (fr.model == FresnelModel::F82) return fresnel_f82_average(fr.f0, fr.f82);
+  if (fr.model == FresnelModel::F82 && !fr.film.active()) return fresnel_f82_average(fr.f0, fr.f82);
   const auto avg = cosine_weighted_average(
       [&](double mu) {
         const C f = fr(Float(mu));

@@ -54,8 +54,9 @@
 // `unmodulated_fresnel`, `modulated_ior`): F_s = ((1 − η)/(1 + η))², ε = sgn(η − 1)
 // sqrt(min(ξ F_s, 0.99999)), η' = (1 + ε)/(1 − ε). An index below 1 reflects as its inverse
 // (the same TIR fix; the coat tables are for η ≥ 1). Thin film (Belcour & Barla 2017,
-// thin_film.h) on the dielectric reflection lobe, covering thin_film_weight of it
-// (the metal's film and the glass's are not in stage 1).
+// thin_film.h) on the dielectric reflection lobe, on the metal (over the F82 curve's
+// effective complex index, f82_effective_index.h) and on the glass, covering
+// thin_film_weight of each.
 //
 // Polarized mode (C = MuellerT<colour>): the specular, coat, metal and glass lobes polarize
 // (fresnel_factor); the diffuse, subsurface and fuzz lobes depolarize, and the layer
@@ -73,6 +74,7 @@
 #include "gonio/bxdf/contract.h"
 #include "gonio/bxdf/openpbr_params.h"
 #include "gonio/bxdf/eon.h"
+#include "gonio/bxdf/f82_effective_index.h"
 #include "gonio/bxdf/roughconductor.h"
 #include "gonio/bxdf/roughdielectric.h"
 #include "gonio/bxdf/sheen.h"
@@ -187,6 +189,17 @@ T at_nodes(const std::array<T, kNormNodes>& table, Float mu) {
 
 enum Component : int { kPass, kFuzz, kCoat, kMetal, kSpec, kDiffuse, kDiffuseT, kGlass, kLobes };
 
+// The film over the metal and over the glass with RGB mode's tables of its reflectance
+// there (made at parse time, src/material.cpp); an inactive one is the specular layer's
+// film read at the channels' wavelengths.
+template <typename U>
+struct SubstrateFilms {
+  ThinFilmT<U> metal, glass;
+};
+// Below this index the film's table does not resolve a glass (material.cpp's
+// kThinFilmMinSubstrateEta): such a glass is bare.
+inline constexpr Float kMinFilmGlassEta = Float(0.1);
+
 }  // namespace openpbr
 
 template <typename C>
@@ -261,8 +274,9 @@ struct OpenPbrBxDFT {
 
   // `solved`: the quadratures of a model made from the same parameters (the spectral
   // and polarized forms copy the RGB model's instead of solving again).
+  // `films`: the same film over the metal and the glass (openpbr::SubstrateFilms).
   static OpenPbrBxDFT make(const OpenPbrParams<U>& p, ThinFilmT<U> film_on_spec = {},
-                           const openpbr::Solved* solved = nullptr) {
+                           const openpbr::Solved* solved = nullptr, openpbr::SubstrateFilms<U> films = {}) {
     using namespace openpbr;
     OpenPbrBxDFT m;
     m.params = p;
@@ -342,7 +356,25 @@ struct OpenPbrBxDFT {
     m.metal.fresnel.f0 = map(p.base_color * p.base_weight, [](Float v) { return std::clamp(v, Float(0), Float(1)); });
     m.metal.fresnel.f82 = map(p.specular_color, [](Float v) { return std::clamp(v, Float(0), Float(1)); });
     m.metal.fresnel.prepare();
-    m.f82_avg_est = fresnel_f82_average(m.metal.fresnel.f0, m.metal.fresnel.f82);
+    // The film on the metal (SPEC-OPB "Thin-film iridescence": on the base substrate, metal
+    // or dielectric), over the F82 curve's effective complex index (f82_effective_index.h),
+    // covering thin_film_weight of it; Kulla–Conty's F_avg is then that of the mixture.
+    const auto substrate_film = [&](const ThinFilmT<U>& given) {
+      ThinFilmT<U> f = given;
+      if (!f.active()) {
+        f = film_on_spec;
+        f.table.reset();  // film_on_spec's is over the specular layer's index
+      }
+      f.coverage = std::clamp(p.thin_film_weight, Float(0), Float(1));
+      return f;
+    };
+    if (m.metal_w > 0 && film_on_spec.active() && p.thin_film_weight > 0) {
+      m.metal.fresnel.film = substrate_film(films.metal);
+      f82_effective_index(m.metal.fresnel.f0, m.metal.fresnel.f82, m.metal.fresnel.eta, m.metal.fresnel.k);
+      m.f82_avg_est = conductor_average_fresnel(m.metal.fresnel);
+    } else {
+      m.f82_avg_est = fresnel_f82_average(m.metal.fresnel.f0, m.metal.fresnel.f82);
+    }
     if (!m.spec_dist.effectively_smooth() && m.spec_dist.is_isotropic())
       m.metal.multiscatter = MultiscatterLobeT<U>::make(m.spec_dist, m.f82_avg_est);
     m.metal_xi = std::clamp(p.specular_weight, Float(0), Float(1));
@@ -383,6 +415,12 @@ struct OpenPbrBxDFT {
         m.glass.eta >= Float(0.25) && m.glass.eta <= Float(4))
       m.glass.multiscatter = solved && *solved->glass_ms ? *solved->glass_ms
                                                          : DielectricMultiscatterLobe::make(m.glass.distribution, m.glass.eta);
+    // The film on the glass (SPEC-OPB "Thin-film iridescence": on the dielectric base "the
+    // thin-film should also generate color fringes in the transmission lobe"): the rough
+    // dielectric's own film (roughdielectric.h: R_film at each facet, 1 − R_film through it)
+    // over thin_film_weight of the surface; its Kulla–Conty lobe stays the bare interface's.
+    if (m.trans > 0 && !m.thin && film_on_spec.active() && p.thin_film_weight > 0 && m.glass.eta >= kMinFilmGlassEta)
+      m.glass.film = substrate_film(films.glass);
     m.sheet.eta = m.spec_eta;
     m.rough_sheet = m.thin && !m.spec_dist.effectively_smooth();
     m.sheet_film.eta = m.spec_eta;
@@ -395,7 +433,7 @@ struct OpenPbrBxDFT {
     {
       const Float K = 1 - (1 - m.coat_avg) / (m.coat_eta * m.coat_eta);
       const U eb_diel = (rho_d * (1 - m.sss) + rho_s * m.sss) * (1 - m.trans) + U(m.trans);
-      const U eb = eb_diel * (1 - m.metal_w) + m.metal.fresnel.f0 * (m.metal_xi * m.metal_w);
+      const U eb = eb_diel * (1 - m.metal_w) + m.metal.fresnel(Float(1)) * (m.metal_xi * m.metal_w);
       const U delta = map(eb, [K](Float e) { return (1 - K) / std::max(Float(1e-6), 1 - e * K); });
       const Float t = m.coat * std::clamp(p.coat_darkening, Float(0), Float(1));
       m.darkening = U(1) + (delta - U(1)) * t;

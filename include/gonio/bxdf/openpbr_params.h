@@ -58,7 +58,8 @@ struct OpenPbrParams {
 //    normalisation b(μ) (the specular layer's E_s(μ) through its index, roughness and film,
 //    and EON's kernel through base_diffuse_roughness), the film's change of E_s, the coat's
 //    and the specular layer's average albedos, the glass's compensation lobe;
-//  * `film`: RGB mode's film reflectance table (the film on the specular layer's index);
+//  * `film`: RGB mode's film reflectance tables (the film on the specular layer's index and the
+//    glass's; the metal's also reads its colours, which with_openpbr_params compares);
 //  * `medium`: the glass's index, modulated_ior(specular_ior, specular_weight), which bounds
 //    the medium behind a non-thin translucent base.
 template <typename U>

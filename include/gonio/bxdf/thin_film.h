@@ -157,12 +157,27 @@ struct ThinFilmT {
   Float eta = 1.5f;     // the film's index relative to the outside
   U lambda{};           // each channel's wavelength in nm: the path's (spectral), 650/550/450 (RGB)
   std::shared_ptr<const ThinFilmRgbTable> table;  // RGB mode's reflectance
+  // The share of the surface the film covers (OpenPBR's thin_film_weight, SPEC-OPB
+  // "Thin-film iridescence": "a blend between the BSDF with and without the presence of the
+  // film"); the rest is the bare interface. reflectance() and mueller() are the blend,
+  // film_reflectance() and film_mueller() the covered part alone.
+  Float coverage = 1;
 
   bool active() const { return thickness > 0; }
 
-  // R of the film-covered interface for light from the outside at cos1, over a substrate
-  // of relative index n3 + i k3 per channel.
+  // R of the interface for light from the outside at cos1, over a substrate of relative
+  // index n3 + i k3 per channel: (1 − coverage) of the bare interface's exact Fresnel
+  // (fresnel.h) and coverage of the film's.
   U reflectance(Float cos1, const U& n3, const U& k3) const {
+    const U r = film_reflectance(cos1, n3, k3);
+    if (!(coverage < 1)) return r;
+    const Float c = std::clamp(cos1, Float(0), Float(1));
+    U bare;
+    for (int j = 0; j < U::size(); ++j)
+      bare[j] = k3[j] > 0 ? fresnel_conductor(c, n3[j], k3[j]) : fresnel_dielectric(c, n3[j]);
+    return bare * (1 - coverage) + r * coverage;
+  }
+  U film_reflectance(Float cos1, const U& n3, const U& k3) const {
     if constexpr (std::is_same_v<U, Color>) {
       if (table) return table->lookup(cos1);
     }
@@ -172,11 +187,22 @@ struct ThinFilmT {
     return out;
   }
   // The Mueller shape of the reflection (from inside a dielectric substrate when back) or
-  // of the transmission, per channel at its wavelength.
+  // of the transmission, per channel at its wavelength; the bare part's is the Airy sum of
+  // a film of thickness 0, which is the bare interface (r = (r12 + r23)/(1 + r12 r23) = r13).
   MuellerT<U> mueller(Float cos1, const U& n3, const U& k3, bool reflection, bool back) const {
+    const MuellerT<U> m = film_mueller(cos1, n3, k3, reflection, back);
+    if (!(coverage < 1)) return m;
+    return shape(cos1, n3, k3, reflection, back, 0) * (1 - coverage) + m * coverage;
+  }
+  MuellerT<U> film_mueller(Float cos1, const U& n3, const U& k3, bool reflection, bool back) const {
+    return shape(cos1, n3, k3, reflection, back, thickness);
+  }
+
+ private:
+  MuellerT<U> shape(Float cos1, const U& n3, const U& k3, bool reflection, bool back, Float d) const {
     MuellerT<U> m;
     for (int j = 0; j < U::size(); ++j) {
-      const auto a = airy_film<double>(cos1, eta, thickness, n3[j], k3[j], lambda[j], back);
+      const auto a = airy_film<double>(cos1, eta, d, n3[j], k3[j], lambda[j], back);
       const MuellerT<double> one = reflection ? film_reflection_mueller(a) : film_transmission_mueller(a);
       for (int r = 0; r < 4; ++r)
         for (int c = 0; c < 4; ++c) m(r, c)[j] = Float(one(r, c));

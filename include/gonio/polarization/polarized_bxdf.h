@@ -46,7 +46,7 @@ class PolarizedBxDFT {
             polar_ = ThinDielectricBxDFT<P>{m.eta, m.film};
           else if constexpr (std::is_same_v<M, OpenPbrBxDFT<C>>) {
             const openpbr::Solved solved = m.solved();
-            polar_ = OpenPbrBxDFT<P>::make(m.params, m.film, &solved);
+            polar_ = OpenPbrBxDFT<P>::make(m.params, m.film, &solved, {m.metal.fresnel.film, m.glass.film});
           }
         },
         model.models());
