@@ -172,5 +172,14 @@ BENCHMARK_CAPTURE(to_spectral_model, roughconductor_au_ms,
                   R"({"type":"roughconductor","material":"Au","alpha":0.2,"multiscatter":true})");
 BENCHMARK_CAPTURE(to_spectral_model, plastic_rough, R"({"type":"plastic","reflectance":[0.1,0.25,0.7],"alpha":0.12})");
 BENCHMARK_CAPTURE(to_spectral_model, dielectric_sf11, R"({"type":"roughdielectric","eta":"SF11","alpha":0.2})");
+// openpbr's metal, bare and under a film (the effective index solved per wavelength, and
+// the film's F̄ for the Kulla–Conty lobe), and its glass under a film.
+BENCHMARK_CAPTURE(to_spectral_model, openpbr_metal,
+                  R"({"type":"openpbr","base_metalness":1,"base_color":[0.95,0.64,0.3],"specular_roughness":0.4})");
+BENCHMARK_CAPTURE(to_spectral_model, openpbr_metal_film,
+                  R"({"type":"openpbr","base_metalness":1,"base_color":[0.95,0.64,0.3],"specular_roughness":0.4,)"
+                  R"("thin_film_weight":1,"thin_film_thickness":0.4})");
+BENCHMARK_CAPTURE(to_spectral_model, openpbr_glass_film,
+                  R"({"type":"openpbr","transmission_weight":1,"specular_roughness":0.4,"thin_film_weight":1,"thin_film_thickness":0.4})");
 
 BENCHMARK_MAIN();

@@ -68,8 +68,14 @@ inline DeltaReference dielectric_reference(const Vec3& wo, double eta, Transport
     const double c1 = wo.z > 0 ? (std::sin(std::acos(std::min(1.0, double(wo.z)))) >= eta ? -1 : double(wo.z))
                                : reference_outside_cos(wo.z, eta);
     r.reflection = film_reference(c1, *film);
+    // Where the film covers a share w < 1 (openpbr's thin_film_weight), the rest is bare.
+    const double w = std::clamp(double(film->coverage), 0.0, 1.0);
+    const double bare = reference_fresnel_dielectric(wo.z, e);
     const double scale = mode == TransportMode::Radiance ? 1 / (e * e) : 1;
-    for (size_t c = 0; c < r.reflection.size(); ++c) r.transmission[c] = (1 - r.reflection[c]) * scale;
+    for (size_t c = 0; c < r.reflection.size(); ++c) {
+      r.reflection[c] = (1 - w) * bare + w * r.reflection[c];
+      r.transmission[c] = (1 - r.reflection[c]) * scale;
+    }
     return r;
   }
   const double F = reference_fresnel_dielectric(wo.z, e);
@@ -115,7 +121,7 @@ inline DeltaReference conductor_reference(const Vec3& wo, const ConductorFresnel
 // layers seen from wo (α (1 − F E_fuzz) lerp(1, T_coat^(2/μt) (1 − E_coat), C) Δ, with
 // E_fuzz the fuzz's fitted albedo, a smooth coat's E its Fresnel and a rough one's its
 // tables, Δ = lerp(1, (1 − K)/(1 − E_b K), C δ)) the smooth coat's F, a smooth metal's
-// ξ F82, a smooth specular layer's tinted F (or its film's), and the glass's (tinted
+// ξ F82 (or its film's), a smooth specular layer's tinted F (or its film's), and the glass's (tinted
 // reflection F from outside, (1 − F) times the mode's scaling through the layers at the
 // outside direction, bare from inside, where it is the only lobe) or the thin sheet's.
 inline DeltaReference openpbr_reference(const OpenPbrBxDF& m, const Vec3& wo, TransportMode mode) {
@@ -165,6 +171,15 @@ inline DeltaReference openpbr_reference(const OpenPbrBxDF& m, const Vec3& wo, Tr
   const double K = 1 - (1 - ebar) / (eta_c * eta_c);
   const double C = p.coat_weight, M = p.base_metalness, T = p.transmission_weight, S = p.subsurface_weight;
   const double xi_m = std::clamp(double(p.specular_weight), 0.0, 1.0);
+  // The film covers thin_film_weight of the specular layer, the metal and the glass; its
+  // reflectance is the validator's own Airy sum over each one's substrate table (the metal's
+  // the F82 curve's effective index, the glass's its index).
+  const double film_w = p.thin_film_thickness > 0 ? std::clamp(double(p.thin_film_weight), 0.0, 1.0) : 0.0;
+  const auto metal_f = [&](double x, int c) {
+    const double f = reference_fresnel_f82(x, std::clamp(double(p.base_color[c] * p.base_weight), 0.0, 1.0),
+                                           std::clamp(double(p.specular_color[c]), 0.0, 1.0));
+    return film_w > 0 ? (1 - film_w) * f + film_w * film_reference(x, m.metal.fresnel.film)[size_t(c)] : f;
+  };
   const auto layer = [&](const Vec3& w, double mu_o, double mu_i, int c) {
     const double efz = p.fuzz_weight * double(sheen_albedo(w.z, std::max(p.fuzz_roughness, Float(0.01))));
     const double ec = C > 0 ? coat_e(w) : 0.0;
@@ -173,7 +188,7 @@ inline DeltaReference openpbr_reference(const OpenPbrBxDF& m, const Vec3& wo, Tr
     const double a = tc >= 1 ? 1.0 : std::pow(tc, 1 / mut(mu_o) + (mu_i > 0 ? 1 / mut(mu_i) : 0.0));
     const double rho = std::clamp(double(p.base_color[c] * p.base_weight), 0.0, 1.0);
     const double eb = ((1 - S) * rho + S * std::clamp(double(p.subsurface_color[c]), 0.0, 1.0)) * (1 - T) + T;
-    const double e_b = eb * (1 - M) + std::clamp(double(p.base_color[c] * p.base_weight), 0.0, 1.0) * xi_m * M;
+    const double e_b = eb * (1 - M) + (M > 0 ? metal_f(1, c) : 0.0) * xi_m * M;
     const double delta = (1 - K) / std::max(1e-6, 1 - e_b * K);
     const double dark = 1 + (delta - 1) * C * std::clamp(double(p.coat_darkening), 0.0, 1.0);
     return alpha * (1 - efz) * (1 - C * (1 - a * (1 - ec))) * dark;
@@ -187,9 +202,6 @@ inline DeltaReference openpbr_reference(const OpenPbrBxDF& m, const Vec3& wo, Tr
                     double(p.specular_weight)));
   const double eta_glass = modulated(double(p.specular_ior), double(p.specular_weight));
   const bool glass_smooth = spec_smooth || alpha_spec * std::abs(eta_glass - 1) < smooth_alpha;
-  // The film covers thin_film_weight of the specular layer; its reflectance is the validator's
-  // own Airy sum over the film's substrate table.
-  const double film_w = p.thin_film_thickness > 0 ? double(p.thin_film_weight) : 0.0;
   const bool outside = wo.z > 0;
   // From inside a transmitting shape (wo below, not thin-walled) light meets the glass's
   // bare interface only: the layers and the opaque parts are outside it.
@@ -202,9 +214,7 @@ inline DeltaReference openpbr_reference(const OpenPbrBxDF& m, const Vec3& wo, Tr
               reference_fresnel_dielectric(mu, eta_c);
     const double base = layer(up, mu, mu, c);
     if (spec_smooth && !bare_inside) {
-      refl += base * M * xi_m *
-              reference_fresnel_f82(mu, std::clamp(double(p.base_color[c] * p.base_weight), 0.0, 1.0),
-                                    std::clamp(double(p.specular_color[c]), 0.0, 1.0));
+      if (M > 0) refl += base * M * xi_m * metal_f(mu, c);
       if (T < 1 && (eta_spec != 1 || film_w > 0)) {
         double F = reference_fresnel_dielectric(mu, eta_spec);
         if (film_w > 0) F = (1 - film_w) * F + film_w * film_reference(mu, m.film)[size_t(c)];
@@ -228,14 +238,17 @@ inline DeltaReference openpbr_reference(const OpenPbrBxDF& m, const Vec3& wo, Tr
           trans += base * (1 - M) * T * tint * Tr;
         }
       } else if (glass_smooth) {
-        const DeltaReference g = dielectric_reference(wo, eta_glass, mode);
+        ThinFilmT<Color> glass_film = m.glass.film;  // its table: the glass's substrate
+        glass_film.coverage = Float(film_w);
+        const DeltaReference g = dielectric_reference(wo, eta_glass, mode, film_w > 0 ? &glass_film : nullptr);
         if (outside) {
           refl += base * (1 - M) * T * p.specular_color[c] * g.reflection[size_t(c)];
           trans += layer(up, mu, 0, c) * (1 - M) * T * tint * g.transmission[size_t(c)];
         } else {
           refl += alpha * (1 - M) * T * g.reflection[size_t(c)];
           // Out through the layers at the refracted outside direction.
-          const double e = 1 / eta_glass, st2 = e * e * (1 - mu * mu);
+          // Snell from inside: sin θ_out = η sin θ_in (η = n_inside / n_outside).
+          const double e = eta_glass, st2 = e * e * (1 - mu * mu);
           if (st2 < 1) {
             const double mo = std::sqrt(1 - st2);
             const Vec3 w_out{Float(-wo.x * e), Float(-wo.y * e), Float(mo)};

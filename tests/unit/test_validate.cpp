@@ -494,6 +494,22 @@ TEST(Validate, Delta_ACutOutOverAGlassPasses) {
   EXPECT_TRUE(r.pass) << r.detail;
 }
 
+// From inside an openpbr glass the delta refraction leaves at sin θ_out = η sin θ_in, and
+// goes out through the coat there: until 2026-12-05 the reference took sin θ_in / η, which
+// failed a glass of index below 1 (its outside direction wrongly beyond grazing) and a
+// coated glass (the coat's albedo at the wrong angle). And the film on the glass and on the
+// metal, covering thin_film_weight of each (the reference's own Airy sums).
+TEST(Validate, Delta_OpenPbrGlassFromInsideAndFilmedSubstratesPass) {
+  for (const char* json :
+       {R"({"type":"openpbr","transmission_weight":1,"specular_roughness":0,"specular_ior":0.8})",
+        R"({"type":"openpbr","transmission_weight":1,"specular_roughness":0,"coat_weight":1,"coat_ior":1.8})",
+        R"({"type":"openpbr","transmission_weight":1,"specular_roughness":0,"thin_film_weight":0.5,"thin_film_thickness":0.3,"thin_film_ior":2.0,"specular_ior":0.8})",
+        R"({"type":"openpbr","base_metalness":1,"base_color":[0.95,0.64,0.3],"specular_color":[0.9,0.7,0.6],"specular_roughness":0,"thin_film_weight":0.6,"thin_film_thickness":0.35,"thin_film_ior":1.5,"coat_weight":0.5})"}) {
+    const auto r = check_consistency(parse_material(json), options());
+    EXPECT_TRUE(r.pass) << json << ": " << r.detail;
+  }
+}
+
 TEST(Validate, Delta_CatchesADielectricWithoutTheRadianceFactor) {
   const auto r = check_consistency(make_user_bxdf<DielectricWithoutRadianceScale>(), options());
   EXPECT_FALSE(r.pass) << r.detail;

@@ -116,10 +116,11 @@ struct ConductorFresnelT {
 
 using ConductorFresnel = ConductorFresnelT<Color>;
 
-// F_avg = 2 ∫ F(μ) μ dμ per channel (Kulla & Conty 2017; 64 Simpson panels: F is smooth
-// in μ). F82-tint without a film has its closed form (fresnel_f82_average; SPEC §2).
+// F_avg = 2 ∫ F(μ) μ dμ per channel (Kulla & Conty 2017; Simpson's rule, 64 panels by
+// default: F is smooth in μ; openpbr's spectral film, made per shading point, takes 16).
+// F82-tint without a film has its closed form (fresnel_f82_average; SPEC §2).
 template <typename C>
-C conductor_average_fresnel(const ConductorFresnelT<C>& fr) {
+C conductor_average_fresnel(const ConductorFresnelT<C>& fr, int panels = 64) {
   if (fr.model == FresnelModel::F82 && !fr.film.active()) return fresnel_f82_average(fr.f0, fr.f82);
   const auto avg = cosine_weighted_average(
       [&](double mu) {
@@ -128,7 +129,7 @@ C conductor_average_fresnel(const ConductorFresnelT<C>& fr) {
         for (int i = 0; i < C::size(); ++i) v[size_t(i)] = f[i];
         return v;
       },
-      64);
+      panels);
   C out;
   for (int i = 0; i < C::size(); ++i) out[i] = Float(avg[size_t(i)]);
   return out;
