@@ -38,6 +38,8 @@ parameter group meets a single standalone lobe):
   coat over a bare Lambertian base (specular_weight 0) with darkening 1 and 0.5.
 * fuzz over the metal (the sheen lobe of models_reference.sheen, E_fuzz its fitted albedo).
 * thin film on the specular layer over a black base (thin_film_reference.film_rgb).
+* anisotropy on the metal (α_t, α_b of SPEC-OPB's formula, the tangent turned by
+  specular_rotation; no compensation lobe there).
 * thin film on the metal, grey colours (one effective index (n, k) at every wavelength,
   Gulbrandsen's member matching F82-tint at μ = 1/7), with the mixture's F̄ in Kulla–Conty.
 
@@ -58,7 +60,7 @@ Measured against the C++ on 2026-12-05 every record is within 0.2 of its toleran
 largest relative differences: 8.6e-3 where the glass's compensation term dominates, seen
 from inside; 1.1e-3 on the coated metal (its compensation term); ≤ 7.3e-4 elsewhere).
 
-Not covered yet (left for later): subsurface but the thin-walled Lambertian case, anisotropy, a rough thin-walled sheet (gonio's is smooth),
+Not covered yet (left for later): subsurface but the thin-walled Lambertian case, anisotropy but on the metal, a rough thin-walled sheet,
 specular_color on the dielectric lobes, the dielectric base under a coat (the index ratio
 η_s = n_b/n_c), darkening over any base but a bare Lambertian (E_b, the base's albedo, is
 exact only there), the film on the dielectric base's diffuse scaling (per-channel E_s),
@@ -646,6 +648,35 @@ def metal_film_records(opb, rng, n):
     return recs
 
 
+# --- anisotropy: the metal's anisotropic, rotated lobe -----------------------------------------
+def aniso_metal_records(opb, rng, n):
+    """SPEC-OPB "Anisotropy", eq. `openpbr-anisotropy-formula`: α_t = r² sqrt(2/(1 + (1 − a)²))
+    along the tangent and α_b = (1 − a) α_t, a = specular_roughness_anisotropy, the tangent
+    turned by specular_rotation (gonio's extension, docs/openpbr.md: a fraction of a turn
+    counterclockwise about the normal, so a direction's coordinates in the lobe's frame are
+    (c x + s y, −s x + c y, z)). An anisotropic metal has no Kulla–Conty lobe
+    (docs/openpbr.md, "What is missing"): f = ξ f_single with F82-tint. Both modes."""
+    r, a = opb["specular_roughness"], opb["specular_roughness_anisotropy"]
+    at = r * r * math.sqrt(2 / (1 + (1 - a) ** 2))
+    ab = (1 - a) * at
+    turn = 2 * math.pi * opb.get("specular_rotation", 0.0)
+    c, s = math.cos(turn), math.sin(turn)
+    rot = lambda w: (c * w[0] + s * w[1], -s * w[0] + c * w[1], w[2])
+    bw = opb.get("base_weight", 1.0)
+    cond = {"type": "roughconductor", "alpha": [at, ab], "fresnel": "f82",
+            "f0": [bw * x for x in R.col(opb.get("base_color", 0.8))], "f82": R.col(opb.get("specular_color", 1.0))}
+    xi = opb.get("specular_weight", 1.0)
+    recs = []
+    while len(recs) < n:
+        wo, wi = upper_direction(rng), upper_direction(rng)
+        single = R.roughconductor_single(cond, rot(wo), rot(wi))
+        sens = sensitivity_of(lambda u, v: R.roughconductor_single(cond, rot(u), rot(v))[0], wo, wi, rng)
+        mode = "radiance" if len(recs) % 2 == 0 else "importance"
+        recs.append({"material": opb, "mode": mode, "wo": vec12(wo), "wi": vec12(wi), "f": vec12([xi * x for x in single]),
+                     "rtol": r12(max(1e-4, 20 * sens)), "atol": 1e-7})
+    return recs
+
+
 # --- thin-walled diffuse transmission: the thin-walled subsurface over Lambert -------------
 def thin_diffuse_records(opb, rng, n):
     """geometry_thin_walled, subsurface_weight 1, subsurface_color 1, transmission 0,
@@ -748,6 +779,11 @@ def main():
                   {"thin_film_weight": 0.6, "thin_film_thickness": 0.5, "thin_film_ior": 2.0, "specular_weight": 0.7}):
         recs += metal_film_records({"type": "openpbr", "base_metalness": 1, "base_color": 0.7, "specular_color": 0.85,
                                     "specular_roughness": 0.5, **extra}, rng, 10)
+    # anisotropy on the metal, with and without a rotated tangent
+    for extra in ({"specular_roughness": 0.5, "specular_roughness_anisotropy": 0.7},
+                  {"specular_roughness": 0.6, "specular_roughness_anisotropy": 0.4, "specular_rotation": 0.15,
+                   "specular_weight": 0.8}):
+        recs += aniso_metal_records({"type": "openpbr", **tint, **extra}, rng, 12)
     with open(OUT, "w") as fh:
         for rec in recs:
             fh.write(json.dumps(rec, sort_keys=True) + "\n")
