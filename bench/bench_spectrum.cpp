@@ -179,6 +179,8 @@ BENCHMARK_CAPTURE(to_spectral_model, openpbr_metal,
 BENCHMARK_CAPTURE(to_spectral_model, openpbr_metal_film,
                   R"({"type":"openpbr","base_metalness":1,"base_color":[0.95,0.64,0.3],"specular_roughness":0.4,)"
                   R"("thin_film_weight":1,"thin_film_thickness":0.4})");
+BENCHMARK_CAPTURE(to_spectral_model, openpbr_base_film,
+                  R"({"type":"openpbr","base_diffuse_roughness":0.5,"thin_film_weight":1,"thin_film_thickness":0.4})");
 BENCHMARK_CAPTURE(to_spectral_model, openpbr_glass_film,
                   R"({"type":"openpbr","transmission_weight":1,"specular_roughness":0.4,"thin_film_weight":1,"thin_film_thickness":0.4})");
 

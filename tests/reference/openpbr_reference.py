@@ -38,6 +38,8 @@ parameter group meets a single standalone lobe):
   coat over a bare Lambertian base (specular_weight 0) with darkening 1 and 0.5.
 * fuzz over the metal (the sheen lobe of models_reference.sheen, E_fuzz its fitted albedo).
 * thin film on the specular layer over a black base (thin_film_reference.film_rgb).
+* coat over the dielectric base's specular layer alone (base_weight 0), whose index is
+  seen through the coat (η_s = n_b/n_c with the TIR fix, lerped by coat_weight).
 * anisotropy on the metal (α_t, α_b of SPEC-OPB's formula, the tangent turned by
   specular_rotation; no compensation lobe there).
 * thin film on the metal, grey colours (one effective index (n, k) at every wavelength,
@@ -61,8 +63,7 @@ largest relative differences: 8.6e-3 where the glass's compensation term dominat
 from inside; 1.1e-3 on the coated metal (its compensation term); ≤ 7.3e-4 elsewhere).
 
 Not covered yet (left for later): subsurface but the thin-walled Lambertian case, anisotropy but on the metal, a rough thin-walled sheet,
-specular_color on the dielectric lobes, the dielectric base under a coat (the index ratio
-η_s = n_b/n_c), darkening over any base but a bare Lambertian (E_b, the base's albedo, is
+specular_color on the dielectric lobes (but under a coat), the dielectric base's diffuse under a coat, darkening over any base but a bare Lambertian (E_b, the base's albedo, is
 exact only there), the film on the dielectric base's diffuse scaling (per-channel E_s),
 geometry_opacity between 0 and 1 over anything but the metal, fuzz over coat, and pdfs.
 """
@@ -507,6 +508,47 @@ def coat_records(opb, rng, n):
     return recs
 
 
+def coat_over_specular_records(opb, rng, n):
+    """The coat over the dielectric base's specular layer alone (base_weight 0: a black
+    diffuse; coat_darkening 0: Δ = 1), so that the base's Fresnel sees the coat
+    (SPEC-OPB "Coat", eq. `specular_ior_ratio_with_tir_fix`):
+      η_s = tirfix(modulated(lerp(n_b, tirfix(n_b/n_c), C), ξ)),  r' = lerp(r, min(1, r⁴ + 2 r_c⁴)^¼, C),
+      f = C f_coat + lerp(1, A (1 − E_c(v)), C) specular_color F(h·wo; η_s) D G2/(4 μo μi) (α = r'²),
+    f_coat, E_c and A as in coat_records. Both modes."""
+    C = opb.get("coat_weight", 0.0)
+    rc = opb.get("coat_roughness", 0.0)
+    ac, eta_c = rc * rc, tirfix(opb.get("coat_ior", 1.6))
+    coat_lobe = {"type": "roughconductor", "alpha": ac, "eta": [eta_c] * 3, "k": [0.0] * 3}
+    kappa = R.col(opb.get("coat_color", 1.0))
+    rb = opb.get("specular_roughness", 0.3)
+    rr = rb + (min(1.0, rb ** 4 + 2 * rc ** 4) ** 0.25 - rb) * C
+    nb = opb.get("specular_ior", 1.5)
+    eta_s = tirfix(modulated_ior(nb + (tirfix(nb / opb.get("coat_ior", 1.6)) - nb) * C, opb.get("specular_weight", 1.0)))
+    spec_lobe = {"type": "roughconductor", "alpha": rr * rr, "eta": [eta_s] * 3, "k": [0.0] * 3}
+    tint = R.col(opb.get("specular_color", 1.0))
+
+    def mu_t(mu): return math.sqrt(1 - (1 - mu * mu) / (eta_c * eta_c))
+    recs = []
+    while len(recs) < n:
+        mode = "radiance" if len(recs) % 2 == 0 else "importance"
+        wo, wi = upper_direction(rng), upper_direction(rng)
+        v = wo if mode == "radiance" else wi
+        ec = dielectric_albedo(ac, v[2], eta_c, transmit=False)
+        A = [k ** ((1 / mu_t(wo[2]) + 1 / mu_t(wi[2])) / 2) for k in kappa]
+        through = [1 - C + C * a * (1 - ec) for a in A]
+        fc = C * R.roughconductor_single(coat_lobe, wo, wi)[0]
+        fs = R.roughconductor_single(spec_lobe, wo, wi)[0]
+        f = [fc + th * t * fs for th, t in zip(through, tint)]
+        # E_c(v) goes through gonio's table (DE): the through factor moves by C·A·DE.
+        atol = [C * a * DE * t * fs + 1e-7 for a, t in zip(A, tint)]
+        sc = sensitivity_of(lambda a, b: R.roughconductor_single(coat_lobe, a, b)[0], wo, wi, rng)
+        ss = sensitivity_of(lambda a, b: R.roughconductor_single(spec_lobe, a, b)[0], wo, wi, rng)
+        rel = max(sc * fc / min(f), ss * max(th * t * fs for th, t in zip(through, tint)) / min(f))
+        recs.append({"material": opb, "mode": mode, "wo": vec12(wo), "wi": vec12(wi), "f": vec12(f),
+                     "rtol": r12(max(1e-4, 20 * rel)), "atol": [r12(x) for x in atol]})
+    return recs
+
+
 # --- fuzz over a base --------------------------------------------------------------------
 def fuzz_records(opb, rng, n):
     """docs/openpbr.md "Structure" with C = 0 over the metal (SPEC-OPB "Fuzz", eq.
@@ -784,6 +826,14 @@ def main():
                   {"specular_roughness": 0.6, "specular_roughness_anisotropy": 0.4, "specular_rotation": 0.15,
                    "specular_weight": 0.8}):
         recs += aniso_metal_records({"type": "openpbr", **tint, **extra}, rng, 12)
+    # coat over the dielectric base's specular layer (its index seen through the coat)
+    for extra in ({"coat_weight": 1, "coat_roughness": 0.3, "coat_ior": 1.6, "specular_ior": 1.5,
+                   "specular_roughness": 0.4},
+                  {"coat_weight": 0.6, "coat_roughness": 0.2, "coat_ior": 1.8, "specular_ior": 1.4,
+                   "specular_roughness": 0.5, "specular_color": [1.0, 0.8, 0.6], "coat_color": [0.9, 0.8, 0.7]},
+                  {"coat_weight": 1, "coat_roughness": 0.25, "coat_ior": 1.3, "specular_ior": 2.0,
+                   "specular_roughness": 0.3, "specular_weight": 0.6}):
+        recs += coat_over_specular_records({"type": "openpbr", "base_weight": 0, "coat_darkening": 0, **extra}, rng, 10)
     with open(OUT, "w") as fh:
         for rec in recs:
             fh.write(json.dumps(rec, sort_keys=True) + "\n")
