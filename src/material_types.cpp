@@ -233,7 +233,7 @@ constexpr ParamSpec kOpenPbr[] = {
     {"fuzz_weight", K::Number, "0", kUnit, "", "", false, "Coverage of the fuzz (sheen) layer."},
     {"fuzz_color", K::Colour, "1", kUnit, "", "", false, "Colour of the fuzz lobe."},
     {"fuzz_roughness", K::Number, "0.5", kUnit, "", "", false, "Roughness of the fuzz (0 is the sheen fits' smallest, 0.01)."},
-    {"thin_film_weight", K::Number, "0", kUnit, "", "", false, "Coverage of the thin film on the dielectric reflection."},
+    {"thin_film_weight", K::Number, "0", kUnit, "", "", false, "Coverage of the thin film on the base substrate: the specular layer, the metal and the glass."},
     {"thin_film_thickness", K::Number, "0.5", closed(0, 10), "um", "", false, "Film thickness in micrometres (OpenPBR's unit)."},
     {"thin_film_ior", K::Number, "1.4", closed(1, 1e4), "", "", false, "Index of the film."},
     {"emission_luminance", K::Number, "0", kUnbounded, "", "", false, "Emitted luminance (scenes; not in the BSDF)."},
