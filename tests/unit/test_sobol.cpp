@@ -95,6 +95,22 @@ TEST(Sobol, ScrambledCoordinatesAreUniform) {
   EXPECT_LT(gonio::fraction_to_float(0xffffffffu), 1.0f);
 }
 
+TEST(Sobol, FusedPairIsTheTwoScrambledCoordinates) {
+  // The sampler's 2-D draw (one 64-bit reversal for both outputs, dimension 1 read from the
+  // reversed index) against the two one-dimensional formulas above; the 64-bit reversal
+  // against its definition, bit by bit.
+  for (int b = 0; b < 64; ++b) EXPECT_EQ(gonio::reverse_bits64(1ULL << b), 1ULL << (63 - b)) << b;
+  std::uint32_t r = 0x12345678u;
+  for (int k = 0; k < 2000; ++k) {
+    r = r * 1664525u + 1013904223u;
+    const std::uint32_t s0 = r ^ 0xa5a5a5a5u, s1 = r * 0x9e3779b9u + 7u;
+    const std::uint64_t index = gonio::reverse_bits32(r);
+    const auto p = gonio::sobol_owen_2d_of_reversed(r, s0, s1);
+    ASSERT_EQ(p[0], gonio::sobol_owen_dim0(index, s0)) << r;
+    ASSERT_EQ(p[1], gonio::sobol_owen_dim1(index, s1)) << r;
+  }
+}
+
 TEST(Sobol, MortonInterleavesXInTheEvenBits) {
   EXPECT_EQ(gonio::morton2(0, 0), 0u);
   EXPECT_EQ(gonio::morton2(1, 0), 1u);

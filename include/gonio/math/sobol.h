@@ -24,6 +24,13 @@ constexpr std::uint32_t reverse_bits32(std::uint32_t v) {
   return ((v >> 4) & 0x0f0f0f0fu) | ((v & 0x0f0f0f0fu) << 4);
 }
 
+constexpr std::uint64_t reverse_bits64(std::uint64_t v) {
+  v = __builtin_bswap64(v);
+  v = ((v >> 1) & 0x5555555555555555ULL) | ((v & 0x5555555555555555ULL) << 1);
+  v = ((v >> 2) & 0x3333333333333333ULL) | ((v & 0x3333333333333333ULL) << 2);
+  return ((v >> 4) & 0x0f0f0f0f0f0f0f0fULL) | ((v & 0x0f0f0f0f0f0f0f0fULL) << 4);
+}
+
 namespace sobol_detail {
 
 // Sobol's second dimension (primitive polynomial x + 1, m_k = 1): generator column k is
@@ -51,6 +58,22 @@ constexpr std::uint32_t sobol_dim1_reversed(std::uint64_t index) {
   const auto i = std::uint32_t(index);
   const auto& t = kDim1Reversed;
   return t[0][i & 0xff] ^ t[1][(i >> 8) & 0xff] ^ t[2][(i >> 16) & 0xff] ^ t[3][i >> 24];
+}
+
+// The same, indexed by the bytes of the index's bit reversal r: byte b of r is byte 3 − b of
+// the index with its bits reversed. The sampler's shuffled index comes bit-reversed (r), so
+// its second dimension needs no reversal of its own.
+constexpr std::array<std::array<std::uint32_t, 256>, 4> make_dim1_tables_of_reversed() {
+  std::array<std::array<std::uint32_t, 256>, 4> t{};
+  for (int byte = 0; byte < 4; ++byte)
+    for (std::uint32_t b = 0; b < 256; ++b) t[std::size_t(byte)][b] = kDim1Reversed[std::size_t(3 - byte)][reverse_bits32(b) >> 24];
+  return t;
+}
+inline constexpr auto kDim1ReversedOfReversed = make_dim1_tables_of_reversed();
+
+constexpr std::uint32_t sobol_dim1_reversed_of_reversed(std::uint32_t r) {
+  const auto& t = kDim1ReversedOfReversed;
+  return t[0][r & 0xff] ^ t[1][(r >> 8) & 0xff] ^ t[2][(r >> 16) & 0xff] ^ t[3][r >> 24];
 }
 
 // A permutation of 32-bit words in which each bit is flipped by a function of the bits
@@ -91,6 +114,18 @@ constexpr Float sobol_owen_dim0(std::uint64_t index, std::uint32_t seed) {
 }
 constexpr Float sobol_owen_dim1(std::uint64_t index, std::uint32_t seed) {
   return fraction_to_float(reverse_bits32(sobol_detail::lk_hash(sobol_detail::sobol_dim1_reversed(index), seed)));
+}
+
+// Both coordinates at once, for the index whose low 32 bits are reverse(r): equal to
+// {sobol_owen_dim0(i, seed0), sobol_owen_dim1(i, seed1)}, with the two final reversals made
+// by one 64-bit reversal and the second dimension's first one folded into its tables (the
+// renderer draws a 2-D point per decision: this is its cost per number, docs/benchmarks.md).
+constexpr std::array<Float, 2> sobol_owen_2d_of_reversed(std::uint32_t r, std::uint32_t seed0, std::uint32_t seed1) {
+  const std::uint32_t w0 = sobol_detail::lk_hash(reverse_bits32(r), seed0);
+  const std::uint32_t w1 = sobol_detail::lk_hash(sobol_detail::sobol_dim1_reversed_of_reversed(r), seed1);
+  // reverse(w0) lands in the high half, reverse(w1) in the low half.
+  const std::uint64_t both = reverse_bits64(std::uint64_t(w1) << 32 | w0);
+  return {fraction_to_float(std::uint32_t(both >> 32)), fraction_to_float(std::uint32_t(both))};
 }
 
 // Morton (Z-order) index of a pixel: the bits of x and y interleaved, x in the even bits.

@@ -74,11 +74,11 @@ class PixelSampler {
   std::array<Float, 2> get2d(int dim) const {
     const std::uint64_t h = dimension_hash(dim);
     if (type_ == SamplerType::Independent) return {fraction_to_float(std::uint32_t(h >> 32)), fraction_to_float(std::uint32_t(h))};
-    const std::uint64_t i = shuffled_index(std::uint32_t(h));
     // The second coordinate's scramble: another function of the same 64 hashed bits (the
     // two coordinates are different Sobol' dimensions, so even equal seeds would not make
     // them equal).
-    return {sobol_owen_dim0(i, std::uint32_t(h >> 32)), sobol_owen_dim1(i, std::uint32_t(h >> 32) * 0x9e3779b9u ^ std::uint32_t(h))};
+    return sobol_owen_2d_of_reversed(shuffled_index_reversed(std::uint32_t(h)), std::uint32_t(h >> 32),
+                                     std::uint32_t(h >> 32) * 0x9e3779b9u ^ std::uint32_t(h));
   }
 
   // For the draws of unbounded count (random walks): this sample's own stream.
@@ -96,9 +96,13 @@ class PixelSampler {
   // The scramble is reverse(lk(reverse(i))) (owen_scramble); the first reversal is made
   // once per sample, in start().
   std::uint64_t shuffled_index(std::uint32_t seed) const {
+    return (index_ >> 32 << 32) | reverse_bits32(shuffled_index_reversed(seed));
+  }
+  // Its low 32 bits, bit-reversed (as the 2-D points take it).
+  std::uint32_t shuffled_index_reversed(std::uint32_t seed) const {
     const std::uint64_t high = index_ >> 32;
     if (high != 0) seed ^= std::uint32_t(mix64(high + seed));
-    return (high << 32) | reverse_bits32(sobol_detail::lk_hash(index_reversed_, seed));
+    return sobol_detail::lk_hash(index_reversed_, seed);
   }
 
  private:
