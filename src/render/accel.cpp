@@ -6,6 +6,7 @@
 
 #include <embree3/rtcore.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -76,6 +77,28 @@ void sphere_occluded(const RTCOccludedFunctionNArguments* args) {
   float t;
   if (hit_sphere(s, {r->org_x, r->org_y, r->org_z}, {r->dir_x, r->dir_y, r->dir_z}, r->tnear, r->tfar, t))
     r->tfar = -std::numeric_limits<float>::infinity();
+}
+
+// Squared distance from p to the segment [a, b].
+Float segment_distance2(const Vec3& p, const Vec3& a, const Vec3& b) {
+  const Vec3 ab = b - a;
+  const Float len2 = length_squared(ab);
+  const Float t = len2 > 0 ? std::clamp(dot(p - a, ab) / len2, Float(0), Float(1)) : Float(0);
+  return length_squared(p - (a + ab * t));
+}
+
+// Squared distance from p to the triangle abc: to its plane when p projects inside it (on
+// the inner side of all three edges), else to the nearest of its edges (the nearest point
+// of a convex polygon to a point projecting outside it lies on its boundary; Ericson 2005,
+// "Real-Time Collision Detection", §5.1.5).
+Float triangle_distance2(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
+  const Vec3 n = cross(b - a, c - a);
+  const Float n2 = length_squared(n);
+  if (n2 > 0 && dot(cross(b - a, p - a), n) >= 0 && dot(cross(c - b, p - b), n) >= 0 && dot(cross(a - c, p - c), n) >= 0) {
+    const Float h = dot(p - a, n);
+    return h * h / n2;
+  }
+  return std::min({segment_distance2(p, a, b), segment_distance2(p, b, c), segment_distance2(p, c, a)});
 }
 
 }  // namespace
@@ -202,6 +225,51 @@ bool Accel::intersect_after(const Ray& ray, Float tnear, SurfaceHit& hit) const 
   hit.material = m.material;
   hit.area_light = m.area_light;
   return true;
+}
+
+namespace {
+
+struct ClosestPointQuery {
+  const Scene* scene;
+  unsigned sphere_base;
+};
+
+// Embree's point-query callback: shrinks the query's radius to the primitive's distance
+// when it is nearer.
+bool closest_point_visit(RTCPointQueryFunctionArguments* args) {
+  const auto& q = *static_cast<const ClosestPointQuery*>(args->userPtr);
+  const Vec3 p{args->query->x, args->query->y, args->query->z};
+  const Float r = args->query->radius;
+  Float d;
+  if (args->geomID == q.sphere_base) {
+    const Sphere& s = q.scene->spheres[args->primID];
+    d = std::abs(length(p - s.center) - s.radius);
+  } else {
+    const Mesh& m = q.scene->meshes[args->geomID];
+    const unsigned* tri = &m.indices[3 * static_cast<size_t>(args->primID)];
+    const Float d2 = triangle_distance2(p, m.positions[tri[0]], m.positions[tri[1]], m.positions[tri[2]]);
+    if (!(d2 < r * r)) return false;
+    d = std::sqrt(d2);
+  }
+  if (!(d < r)) return false;
+  args->query->radius = float(d);
+  return true;
+}
+
+}  // namespace
+
+Float Accel::distance_to_surface(const Vec3& p, Float max_distance) const {
+  RTCPointQuery query;
+  query.x = p.x;
+  query.y = p.y;
+  query.z = p.z;
+  query.time = 0;
+  query.radius = max_distance;
+  RTCPointQueryContext ctx;
+  rtcInitPointQueryContext(&ctx);
+  ClosestPointQuery user{&impl_->scene, impl_->sphere_base};
+  rtcPointQuery(impl_->rtc, &query, &ctx, closest_point_visit, &user);
+  return query.radius;
 }
 
 bool Accel::occluded(const Vec3& o, const Vec3& d, Float tmax) const {

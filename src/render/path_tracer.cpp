@@ -249,6 +249,7 @@ PathTracer::PathTracer(const Scene& scene, const Accel& accel)
       walk_dwivedi_[i][c + 3] = dwivedi_pdf_mu(0, walk_dwivedi_[i][c]);
     }
   }
+  make_walk_grid();
   if (scene.settings.polarized) {
     for (const Material& m : scene.materials)
       if (m.subsurface && !m.subsurface_bsdf_fallback)
@@ -605,6 +606,35 @@ std::array<SampledSpectrum, 4> PathTracer::stokes(Ray ray, SampledWavelengths& w
   return trace(ray, sampler, stats, shading);
 }
 
+// The distance bound of the random walks' steps (walk_distance_grid.h): over the box of the
+// shapes whose material walks, in voxels of four of the longest mean free path among them
+// (a step is an exponential flight of that scale: a voxel much larger would leave its
+// outer steps near the surface a bound too small, a smaller one costs more queries).
+void PathTracer::make_walk_grid() {
+  const auto walks = [&](int material) {
+    if (material < 0 || size_t(material) >= scene_.materials.size()) return false;
+    const Material& m = scene_.materials[size_t(material)];
+    return m.subsurface && !m.subsurface_bsdf_fallback && m.subsurface->method == SubsurfaceMethod::RandomWalk;
+  };
+  Vec3 lo{std::numeric_limits<Float>::max(), std::numeric_limits<Float>::max(), std::numeric_limits<Float>::max()};
+  Vec3 hi = -lo;
+  Float mfp = 0;
+  const auto add = [&](const Vec3& a, const Vec3& b, int material) {
+    lo = {std::min(lo.x, a.x), std::min(lo.y, a.y), std::min(lo.z, a.z)};
+    hi = {std::max(hi.x, b.x), std::max(hi.y, b.y), std::max(hi.z, b.z)};
+    const Color sigma_t = scene_.materials[size_t(material)].subsurface->medium.sigma_t();
+    const Float smallest = std::min({sigma_t[0], sigma_t[1], sigma_t[2]});
+    if (smallest > 0) mfp = std::max(mfp, 1 / smallest);
+  };
+  for (const Mesh& m : scene_.meshes)
+    if (walks(m.material))
+      for (const Vec3& p : m.positions) add(p, p, m.material);
+  for (const Sphere& s : scene_.spheres)
+    if (walks(s.material)) add(s.center - Vec3{s.radius, s.radius, s.radius}, s.center + Vec3{s.radius, s.radius, s.radius}, s.material);
+  if (!(mfp > 0) || !(hi.x >= lo.x)) return;
+  walk_grid_ = std::make_unique<WalkDistanceGrid>(accel_, lo, hi, 4 * mfp);
+}
+
 template <typename Shading>
 typename Shading::Radiance PathTracer::trace(Ray ray, PixelSampler& sampler, PathStats& stats, Shading& shading) const {
   using C = typename Shading::C;
@@ -732,7 +762,7 @@ typename Shading::Radiance PathTracer::trace(Ray ray, PixelSampler& sampler, Pat
           // Start just inside the surface, so that the walk's first query does not find
           // the surface it starts on.
           const Vec3 start = offset_ray_origin(hit.p, hit.ng, wi_world);
-          const SceneBoundary boundary(accel_, stats.rays);
+          const SceneBoundary boundary(accel_, stats.rays, walk_grid_.get());
           WalkStats ws;
           ++stats.walks;
           // guided_walk.h: the channel chosen once per walk and weighted over the whole
@@ -741,7 +771,7 @@ typename Shading::Radiance PathTracer::trace(Ray ray, PixelSampler& sampler, Pat
           // Next-event estimation from the walk's events (walk_nee) where the exit vertex
           // it stands for is within max_depth (its emitter at depth + 2).
           const bool nee = depth + 1 < max_depth && walk_nee_setup(material, hit, walk_nee_state);
-          const WalkGuide guide{hit.ng, material.subsurface->guide};
+          const WalkGuide guide{hit.ng, material.subsurface->guide, walk_dwivedi_[size_t(hit.material)].data()};
           bool reached;
           if (nee) {
             auto estimate = [&](const Vec3& x, const Vec3& d_in, const Color& b) {

@@ -21,6 +21,7 @@
 
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <vector>
 
@@ -31,6 +32,7 @@
 #include "gonio/render/accel.h"
 #include "gonio/render/light_sampler.h"
 #include "gonio/render/scene.h"
+#include "gonio/render/walk_distance_grid.h"
 
 namespace gonio::render {
 
@@ -84,8 +86,12 @@ class PathTracer {
   Float walk_exit_weight(const WalkNeeState& w, const Vec3& x, const Vec3& d_in, const SurfaceHit& y, const Vec3& d,
                          Float s) const;
 
+  void make_walk_grid();
+
   const Scene& scene_;
   const Accel& accel_;
+  // The random walks' distance bound (null when no shape walks).
+  std::unique_ptr<WalkDistanceGrid> walk_grid_;
   // Chooses the area light or the environment each next-event estimate samples (the
   // scene's "light_sampler"); its pmf is the selection's share of the MIS densities.
   LightSampler light_sampler_;

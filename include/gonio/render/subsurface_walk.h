@@ -9,6 +9,7 @@
 
 #include "gonio/render/accel.h"
 #include "gonio/render/scene.h"
+#include "gonio/render/walk_distance_grid.h"
 
 namespace gonio::render {
 
@@ -22,7 +23,9 @@ class SceneBoundary {
     SurfaceHit surface;
     Vec3 d;  // the walk's direction when it met the surface
   };
-  SceneBoundary(const Accel& accel, std::uint64_t& rays) : accel_(accel), rays_(rays) {}
+  // grid: the bound that lets a step skip its ray (walk_distance_grid.h), or null.
+  SceneBoundary(const Accel& accel, std::uint64_t& rays, const WalkDistanceGrid* grid = nullptr)
+      : accel_(accel), rays_(rays), grid_(grid) {}
 
   bool nearest(const Vec3& o, const Vec3& d, Hit& hit) const {
     ++rays_;
@@ -32,9 +35,17 @@ class SceneBoundary {
     return true;
   }
 
+  // Whether the walk's step from o along d over distance t meets a surface (the walk's
+  // boundary_within): no ray when the step is shorter than the grid's bound at o.
+  bool within(const Vec3& o, const Vec3& d, double t, Hit& hit) const {
+    if (grid_ && t < double(grid_->lower_bound(o))) return false;
+    return nearest(o, d, hit) && double(hit.t) <= t;
+  }
+
  private:
   const Accel& accel_;
   std::uint64_t& rays_;
+  const WalkDistanceGrid* grid_;
 };
 
 // A triangle mesh's edges, with vertices equal in position taken as one (an OBJ file

@@ -70,9 +70,12 @@ inline double dwivedi_pdf_mu(double mu, double kappa) {
 // μ from ξ ∈ [0, 1) by inverting F(μ) = ln((1 + κ)/(1 − κ μ)) / (2 atanh κ):
 // μ = (1 − (1 + κ) e^{−2 ξ atanh κ}) / κ, written with expm1 so that it tends to
 // 2ξ − 1 as κ → 0.
-inline double dwivedi_sample_mu(double xi, double kappa) {
+inline double dwivedi_sample_mu(double xi, double kappa, double two_atanh_kappa);
+inline double dwivedi_sample_mu(double xi, double kappa) { return dwivedi_sample_mu(xi, kappa, 2 * std::atanh(kappa)); }
+// two_atanh_kappa: 2 atanh κ, which a walk computes once for all its steps.
+inline double dwivedi_sample_mu(double xi, double kappa, double two_atanh_kappa) {
   if (kappa < 1e-7) return 2 * xi - 1;
-  const double a = 2 * xi * std::atanh(kappa);
+  const double a = xi * two_atanh_kappa;
   const double mu = (-std::expm1(-a) - kappa * std::exp(-a)) / kappa;
   return std::clamp(mu, -1.0, 1.0);
 }
@@ -82,6 +85,10 @@ inline double dwivedi_sample_mu(double xi, double kappa) {
 struct WalkGuide {
   Vec3 normal{0, 0, 1};
   Float probability = 0.5f;
+  // The medium's κ per channel, then dwivedi_pdf_mu(0, κ) per channel (2N values), made
+  // once per medium by the caller (dwivedi_kappa bisects: 60 atanh per channel); null: the
+  // walk makes them.
+  const double* dwivedi = nullptr;
 };
 
 // What a caller may learn of a walk's last segment (the one that reached the boundary):
@@ -127,11 +134,17 @@ bool walk_to_boundary_guided(const MediumT<C>& medium, const Boundary& boundary,
   const double q = std::clamp(double(guide.probability), 0.0, 1.0);
   const Vec3 n = normalize(guide.normal);
   const Frame frame = Frame::from_normal(n);
-  double kappa[N], dwivedi_norm[N];
+  double kappa[N], dwivedi_norm[N], two_atanh[N];
   for (int c = 0; c < N; ++c) {
-    const double albedo = sigma_t[c] > 0 ? double(medium.sigma_s[c]) / double(sigma_t[c]) : 0.0;
-    kappa[c] = dwivedi_kappa(albedo);
-    dwivedi_norm[c] = dwivedi_pdf_mu(0, kappa[c]);  // κ / (2 atanh κ): p(μ) = this / (1 − κμ)
+    if (guide.dwivedi) {
+      kappa[c] = guide.dwivedi[c];
+      dwivedi_norm[c] = guide.dwivedi[N + c];
+    } else {
+      const double albedo = sigma_t[c] > 0 ? double(medium.sigma_s[c]) / double(sigma_t[c]) : 0.0;
+      kappa[c] = dwivedi_kappa(albedo);
+      dwivedi_norm[c] = dwivedi_pdf_mu(0, kappa[c]);  // κ / (2 atanh κ): p(μ) = this / (1 − κμ)
+    }
+    two_atanh[c] = 2 * std::atanh(kappa[c]);
   }
   // Path-level spectral MIS: the channel whose σt (and κ) samples the whole walk is chosen
   // once, with p_c = β_c / Σβ at the entry, and the walk's weight in channel j is the
@@ -164,7 +177,7 @@ bool walk_to_boundary_guided(const MediumT<C>& medium, const Boundary& boundary,
     if (!given) {
       const Float u1 = rng.next_float(), u2 = rng.next_float();
       if (guided) {
-        const Float mu = Float(dwivedi_sample_mu(u1, kappa[ch]));
+        const Float mu = Float(dwivedi_sample_mu(u1, kappa[ch], two_atanh[ch]));
         const Float sin_t = std::sqrt(std::max(Float(0), 1 - mu * mu));
         const Float phi = 2 * kPi * u2;
         d = normalize(frame.to_world({sin_t * std::cos(phi), sin_t * std::sin(phi), mu}));
@@ -181,8 +194,7 @@ bool walk_to_boundary_guided(const MediumT<C>& medium, const Boundary& boundary,
     // the Dwivedi pdf; 1 for the given first direction.
     const double phase = given ? 1.0 : hg_sampled_pdf(dot(d_prev, d), medium.g);
 
-    const bool found = boundary.nearest(p, d, hit);
-    const bool to_boundary = found && double(hit.t) <= t;
+    const bool to_boundary = boundary_within(boundary, p, d, t, hit);
     const double s = to_boundary ? double(hit.t) : t;
     if (!to_boundary && !std::isfinite(t)) return false;
     if (!to_boundary && step == max_steps) return false;

@@ -58,6 +58,18 @@ struct WalkStats {
 // `capped` is given, it receives the last scattering point (beta is the path's weight
 // there): a caller that knows its geometry may estimate what the path would still bring
 // (the slab's diffusion tail, slab_path.h).
+// Whether the step from p along d over distance t meets the boundary (hit filled when it
+// does): the boundary's `within` when it has one (SceneBoundary's empty ball answers most
+// steps deep inside a medium without a ray), else its nearest crossing compared with t.
+template <typename Boundary>
+bool boundary_within(const Boundary& boundary, const Vec3& p, const Vec3& d, double t, typename Boundary::Hit& hit) {
+  if constexpr (requires { boundary.within(p, d, t, hit); }) {
+    return boundary.within(p, d, t, hit);
+  } else {
+    return boundary.nearest(p, d, hit) && double(hit.t) <= t;
+  }
+}
+
 struct WalkCapped {
   bool reached = false;
   Vec3 point;
@@ -88,8 +100,7 @@ bool walk_to_boundary_capped(const MediumT<C>& medium, const Boundary& boundary,
     // exactly 1. In float, β_k/Σβ = 1/3 rounded up made it 1 − 3e-8 per event: over the
     // ~1,300 events of a path in a conservative half-space, Rd fell 1.5–3.3e-5 short of 1.
     const double total_d = double(total);
-    const bool found = boundary.nearest(p, d, hit);
-    if (found && hit.t <= t) {
+    if (boundary_within(boundary, p, d, double(t), hit)) {
       // Reached the boundary: weight e^{−σt_c t_b} / Σ p_k e^{−σt_k t_b}.
       double denom = 0;
       C tr;
