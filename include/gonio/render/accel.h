@@ -60,7 +60,7 @@ class Accel {
   // True when anything lies on the segment o + t·d, 0 < t < tmax.
   bool occluded(const Vec3& o, const Vec3& d, Float tmax) const;
   // The distance from p to the nearest surface of the scene, or max_distance when none is
-  // nearer (Embree's closest-point query; the random walk's empty ball, subsurface_walk.h).
+  // nearer (Embree's closest-point query; the random walk's distance bound, walk_distance_grid.h).
   Float distance_to_surface(const Vec3& p, Float max_distance) const;
 
  private:

@@ -43,6 +43,19 @@ struct WalkStats {
   std::uint64_t steps = 0;  // scattering events (for the speed report)
 };
 
+// Whether the step from p along d over distance t meets the boundary (hit filled when it
+// does): the boundary's `within` when it has one (the renderer's SceneBoundary answers
+// most steps deep inside a medium without a ray: render/walk_distance_grid.h), else its
+// nearest crossing compared with t.
+template <typename Boundary>
+bool boundary_within(const Boundary& boundary, const Vec3& p, const Vec3& d, double t, typename Boundary::Hit& hit) {
+  if constexpr (requires { boundary.within(p, d, t, hit); }) {
+    return boundary.within(p, d, t, hit);
+  } else {
+    return boundary.nearest(p, d, hit) && double(hit.t) <= t;
+  }
+}
+
 // A Boundary has `using Hit = ...;` (with a member `Float t`, the distance along the ray)
 // and `bool nearest(const Vec3& o, const Vec3& d, Hit& hit) const` (the first boundary
 // crossing along o + t d, d unit; false if none).
@@ -58,18 +71,6 @@ struct WalkStats {
 // `capped` is given, it receives the last scattering point (beta is the path's weight
 // there): a caller that knows its geometry may estimate what the path would still bring
 // (the slab's diffusion tail, slab_path.h).
-// Whether the step from p along d over distance t meets the boundary (hit filled when it
-// does): the boundary's `within` when it has one (SceneBoundary's empty ball answers most
-// steps deep inside a medium without a ray), else its nearest crossing compared with t.
-template <typename Boundary>
-bool boundary_within(const Boundary& boundary, const Vec3& p, const Vec3& d, double t, typename Boundary::Hit& hit) {
-  if constexpr (requires { boundary.within(p, d, t, hit); }) {
-    return boundary.within(p, d, t, hit);
-  } else {
-    return boundary.nearest(p, d, hit) && double(hit.t) <= t;
-  }
-}
-
 struct WalkCapped {
   bool reached = false;
   Vec3 point;
