@@ -70,8 +70,6 @@ inline double dwivedi_pdf_mu(double mu, double kappa) {
 // μ from ξ ∈ [0, 1) by inverting F(μ) = ln((1 + κ)/(1 − κ μ)) / (2 atanh κ):
 // μ = (1 − (1 + κ) e^{−2 ξ atanh κ}) / κ, written with expm1 so that it tends to
 // 2ξ − 1 as κ → 0.
-inline double dwivedi_sample_mu(double xi, double kappa, double two_atanh_kappa);
-inline double dwivedi_sample_mu(double xi, double kappa) { return dwivedi_sample_mu(xi, kappa, 2 * std::atanh(kappa)); }
 // two_atanh_kappa: 2 atanh κ, which a walk computes once for all its steps.
 inline double dwivedi_sample_mu(double xi, double kappa, double two_atanh_kappa) {
   if (kappa < 1e-7) return 2 * xi - 1;
@@ -79,6 +77,7 @@ inline double dwivedi_sample_mu(double xi, double kappa, double two_atanh_kappa)
   const double mu = (-std::expm1(-a) - kappa * std::exp(-a)) / kappa;
   return std::clamp(mu, -1.0, 1.0);
 }
+inline double dwivedi_sample_mu(double xi, double kappa) { return dwivedi_sample_mu(xi, kappa, 2 * std::atanh(kappa)); }
 
 // The guide of a walk: the outward surface normal at the entry point and the probability
 // q of the guided technique at each event.
