@@ -184,3 +184,5 @@ std::optional<DirectionalAlbedoT<C>> BlendBxDFT<C>::albedo(const Vec3& wo, Trans
 
 // LayeredBxDF, now that BxDF is complete.
 #include "gonio/bxdf/layered_impl.h"  // IWYU pragma: export
+// Where the models' code is generated (once, in the library).
+#include "gonio/bxdf/instances.h"  // IWYU pragma: export

@@ -153,6 +153,11 @@ struct ConductorBxDFT {
                           true, Lobe::Reflection, 1};
   }
 
+  // Unpolarized only: a Mueller matrix's albedo is its M00, the unpolarized model's. A
+  // member template, so that the library's explicit instances for Mueller matrices
+  // (polarization/instances.h) leave it out (clang 14 ignores a plain member's requires).
+  template <typename U = C>
+    requires(!kPolarized<U>)
   DirectionalAlbedoT<C> albedo(const Vec3& wo, TransportMode = TransportMode::Radiance) const {
     return {wo.z != 0 ? fresnel(wo.z) : C{}, C{}};
   }

@@ -287,6 +287,11 @@ struct PlasticBxDFT : PlasticCoat {
   }
 
   // Closed form for the smooth coat: F(θo) + (1 − F(θo)) ρ (1 − F_dr) / (1 − ρ F_dr).
+  // Unpolarized only: a Mueller matrix's albedo is its M00, the unpolarized model's. A
+  // member template, so that the library's explicit instances for Mueller matrices
+  // (polarization/instances.h) leave it out (clang 14 ignores a plain member's requires).
+  template <typename U = C>
+    requires(!kPolarized<U>)
   std::optional<DirectionalAlbedoT<C>> albedo(const Vec3& wo, TransportMode = TransportMode::Radiance) const {
     if (!smooth()) return std::nullopt;
     if (wo.z == 0) return DirectionalAlbedoT<C>{};

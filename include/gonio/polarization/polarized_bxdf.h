@@ -100,3 +100,6 @@ using PolarizedBxDF = PolarizedBxDFT<Color>;
 using PolarizedSpectralBxDF = PolarizedBxDFT<SampledSpectrum>;
 
 }  // namespace gonio
+
+// Where the polarizing models' code is generated (once, in the library).
+#include "gonio/polarization/instances.h"  // IWYU pragma: export
