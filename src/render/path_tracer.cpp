@@ -62,7 +62,10 @@ struct ScalarTransport {
 struct RgbShading : ScalarTransport<Color> {
   using C = Color;
   using U = Color;
-  std::optional<BxDF> textured;  // the model at a textured shading point
+  // The model at a textured shading point: a slot of the calling thread's (radiance()),
+  // not a member: GCC 12 zero-filled a member std::optional's 3 KB of BxDF storage at every
+  // construction of this state, even list-initialized, a memset per camera sample.
+  std::optional<BxDF>* textured = nullptr;
   // Whether media are walked (RGB; not as the base of polarized shading): then a material
   // with a volume form (Material::subsurface) shades with its boundary.
   bool walks = true;
@@ -70,7 +73,7 @@ struct RgbShading : ScalarTransport<Color> {
   const BxDF& bxdf(const Material& m, const Vec2& uv, bool inside) {
     if (inside && m.inside && (walks || !m.subsurface_bsdf_fallback)) return *m.inside;
     if (walks && m.subsurface) return m.subsurface->boundary;
-    return m.at(uv, textured);
+    return m.at(uv, *textured);
   }
   // An emitting surface's radiance, given in linear sRGB (surface_emission below).
   Color surface(const Color& rgb) const { return rgb; }
@@ -577,7 +580,9 @@ typename Shading::C PathTracer::direct_light(const SurfaceHit& hit, const Frame&
 }
 
 Color PathTracer::radiance(Ray ray, PixelSampler& sampler, PathStats& stats) const {
+  thread_local std::optional<BxDF> textured;
   RgbShading shading;
+  shading.textured = &textured;
   return trace(ray, sampler, stats, shading);
 }
 
@@ -591,6 +596,8 @@ std::array<Color, 4> PathTracer::stokes(Ray ray, PixelSampler& sampler, PathStat
   PolarizedShading<RgbShading> shading{{}, scene_.camera.image_x(), scene_.camera.polarizer_deg ? &polarizer_rgb_ : nullptr,
                                        &polarized_models_, {}, {}, scene_.materials.data()};
   shading.base.walks = false;  // media are not carried with Stokes vectors: BSDF forms
+  thread_local std::optional<BxDF> textured;
+  shading.base.textured = &textured;
   return trace(ray, sampler, stats, shading);
 }
 

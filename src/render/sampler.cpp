@@ -38,15 +38,22 @@ PixelSampler::PixelSampler(SamplerType type, std::int64_t samples_per_pixel, std
 }
 
 void PixelSampler::start(int x, int y, std::uint64_t sample) {
-  const std::uint64_t morton = morton2(std::uint32_t(x), std::uint32_t(y));
-  const std::uint64_t pixel_key = mix64(seed_ ^ mix64(morton + 0x632be59bd9b4e019ULL));
-  rng_.seed_stream(splitmix64(pixel_key + sample), morton);
+  morton_ = morton2(std::uint32_t(x), std::uint32_t(y));
+  sample_ = sample;
+  rng_seeded_ = false;
   switch (type_) {
-    case SamplerType::ZSobol: index_ = (morton << log2_spp_) | sample; break;
-    case SamplerType::Sobol: index_ = sample, key_ = pixel_key; break;
-    case SamplerType::Independent: index_ = sample, key_ = splitmix64(pixel_key ^ mix64(sample)); break;
+    case SamplerType::ZSobol: index_ = (morton_ << log2_spp_) | sample; break;
+    case SamplerType::Sobol: index_ = sample, key_ = pixel_key(); break;
+    case SamplerType::Independent: index_ = sample, key_ = splitmix64(pixel_key() ^ mix64(sample)); break;
   }
   index_reversed_ = reverse_bits32(std::uint32_t(index_));
+}
+
+std::uint64_t PixelSampler::pixel_key() const { return mix64(seed_ ^ mix64(morton_ + 0x632be59bd9b4e019ULL)); }
+
+void PixelSampler::seed_rng() {
+  rng_.seed_stream(splitmix64(pixel_key() + sample_), morton_);
+  rng_seeded_ = true;
 }
 
 }  // namespace gonio::render

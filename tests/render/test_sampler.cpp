@@ -118,10 +118,16 @@ TEST(Sampler, NumbersDependOnlyOnPixelSampleAndDimension) {
     a.start(7, 9, 33);
     b.start(1, 1, 2);
     (void)b.get2d(3);
+    const std::uint32_t other_stream = b.rng().next_u32();  // another sample's stream, begun
     b.start(7, 9, 33);
     EXPECT_EQ(a.get1d(20), b.get1d(20));
     EXPECT_EQ(a.get2d(4), b.get2d(4));
-    EXPECT_EQ(a.rng().next_u32(), b.rng().next_u32());
+    // The stream is seeded on first use: start() must still restart it.
+    const std::uint32_t first = a.rng().next_u32();
+    EXPECT_EQ(first, b.rng().next_u32());
+    EXPECT_NE(first, other_stream);
+    a.start(7, 9, 34);
+    EXPECT_NE(a.rng().next_u32(), first) << "each sample its own stream";
     c.start(7, 9, 33);
     EXPECT_NE(a.get1d(21), c.get1d(21)) << "the seed must matter";
     for (int dim = 0; dim < 200; ++dim) {

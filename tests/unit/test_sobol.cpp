@@ -96,10 +96,9 @@ TEST(Sobol, ScrambledCoordinatesAreUniform) {
 }
 
 TEST(Sobol, FusedPairIsTheTwoScrambledCoordinates) {
-  // The sampler's 2-D draw (one 64-bit reversal for both outputs, dimension 1 read from the
-  // reversed index) against the two one-dimensional formulas above; the 64-bit reversal
-  // against its definition, bit by bit.
-  for (int b = 0; b < 64; ++b) EXPECT_EQ(gonio::reverse_bits64(1ULL << b), 1ULL << (63 - b)) << b;
+  // The sampler's 2-D draw (both hashes' inputs from one set of lookups by the reversed
+  // index's bytes, both outputs to floats by lookups) against the two one-dimensional
+  // formulas above, which reverse bit by bit.
   std::uint32_t r = 0x12345678u;
   for (int k = 0; k < 2000; ++k) {
     r = r * 1664525u + 1013904223u;
@@ -109,6 +108,24 @@ TEST(Sobol, FusedPairIsTheTwoScrambledCoordinates) {
     ASSERT_EQ(p[0], gonio::sobol_owen_dim0(index, s0)) << r;
     ASSERT_EQ(p[1], gonio::sobol_owen_dim1(index, s1)) << r;
   }
+}
+
+TEST(Sobol, ReversedFractionByTablesIsTheReversalsFloat) {
+  // Every byte value in each of the four positions (the tables' every entry, and the top
+  // byte that must not count), then random words; against the float of the reversal made
+  // bit by bit, compared exactly.
+  for (int b = 0; b < 32; ++b) ASSERT_EQ(gonio::reverse_bits32(1u << b), 1u << (31 - b)) << b;
+  for (int byte = 0; byte < 4; ++byte)
+    for (std::uint32_t b = 0; b < 256; ++b) {
+      const std::uint32_t w = b << (8 * byte) | (byte == 0 ? 0x00ff0000u : 0x1u);
+      ASSERT_EQ(gonio::reversed_fraction_to_float(w), gonio::fraction_to_float(gonio::reverse_bits32(w))) << std::hex << w;
+    }
+  std::uint32_t w = 1;
+  for (int k = 0; k < 100000; ++k) {
+    w = w * 1664525u + 1013904223u;
+    ASSERT_EQ(gonio::reversed_fraction_to_float(w), gonio::fraction_to_float(gonio::reverse_bits32(w))) << std::hex << w;
+  }
+  EXPECT_LT(gonio::reversed_fraction_to_float(0xffffffffu), 1.0f);
 }
 
 TEST(Sobol, MortonInterleavesXInTheEvenBits) {

@@ -24,13 +24,6 @@ constexpr std::uint32_t reverse_bits32(std::uint32_t v) {
   return ((v >> 4) & 0x0f0f0f0fu) | ((v & 0x0f0f0f0fu) << 4);
 }
 
-constexpr std::uint64_t reverse_bits64(std::uint64_t v) {
-  v = __builtin_bswap64(v);
-  v = ((v >> 1) & 0x5555555555555555ULL) | ((v & 0x5555555555555555ULL) << 1);
-  v = ((v >> 2) & 0x3333333333333333ULL) | ((v & 0x3333333333333333ULL) << 2);
-  return ((v >> 4) & 0x0f0f0f0f0f0f0f0fULL) | ((v & 0x0f0f0f0f0f0f0f0fULL) << 4);
-}
-
 namespace sobol_detail {
 
 // Sobol's second dimension (primitive polynomial x + 1, m_k = 1): generator column k is
@@ -60,21 +53,40 @@ constexpr std::uint32_t sobol_dim1_reversed(std::uint64_t index) {
   return t[0][i & 0xff] ^ t[1][(i >> 8) & 0xff] ^ t[2][(i >> 16) & 0xff] ^ t[3][i >> 24];
 }
 
-// The same, indexed by the bytes of the index's bit reversal r: byte b of r is byte 3 − b of
-// the index with its bits reversed. The sampler's shuffled index comes bit-reversed (r), so
-// its second dimension needs no reversal of its own.
-constexpr std::array<std::array<std::uint32_t, 256>, 4> make_dim1_tables_of_reversed() {
-  std::array<std::array<std::uint32_t, 256>, 4> t{};
+// Both coordinates' inputs to the output scramble, indexed by the bytes of r, the index's
+// bit reversal (the sampler's shuffled index comes reversed): the low 32 bits of the xor
+// of the four entries are reverse(r), dimension 0's value of the index bit-reversed; the
+// high 32 bits are dimension 1's value bit-reversed (byte k of r is byte 3 − k of the index
+// with its bits reversed). One set of four lookups replaces a 32-bit reversal and the
+// second dimension's own lookups.
+constexpr std::array<std::array<std::uint64_t, 256>, 4> make_pair_tables_of_reversed() {
+  std::array<std::array<std::uint64_t, 256>, 4> t{};
   for (int byte = 0; byte < 4; ++byte)
-    for (std::uint32_t b = 0; b < 256; ++b) t[std::size_t(byte)][b] = kDim1Reversed[std::size_t(3 - byte)][reverse_bits32(b) >> 24];
+    for (std::uint32_t b = 0; b < 256; ++b) {
+      const std::uint32_t dim0 = reverse_bits32(b << (8 * byte));
+      const std::uint32_t dim1 = kDim1Reversed[std::size_t(3 - byte)][reverse_bits32(b) >> 24];
+      t[std::size_t(byte)][b] = std::uint64_t(dim1) << 32 | dim0;
+    }
   return t;
 }
-inline constexpr auto kDim1ReversedOfReversed = make_dim1_tables_of_reversed();
+inline constexpr auto kPairOfReversed = make_pair_tables_of_reversed();
 
-constexpr std::uint32_t sobol_dim1_reversed_of_reversed(std::uint32_t r) {
-  const auto& t = kDim1ReversedOfReversed;
+constexpr std::uint64_t sobol_pair_reversed_of_reversed(std::uint32_t r) {
+  const auto& t = kPairOfReversed;
   return t[0][r & 0xff] ^ t[1][(r >> 8) & 0xff] ^ t[2][(r >> 16) & 0xff] ^ t[3][r >> 24];
 }
+
+// fraction_to_float(reverse_bits32(w)) as a sum of three terms, one per byte of w that
+// reaches the float's 24 bits: byte k of w, reversed, is bits 8k … 8k + 7 below the
+// point. Every partial sum is a multiple of 2^−24 below 1, so the sum is exact and equal to
+// the conversion bit for bit; three lookups cost less than a reversal and a conversion.
+inline constexpr auto kReversedByteFraction = [] {
+  std::array<std::array<Float, 256>, 3> t{};
+  for (int byte = 0; byte < 3; ++byte)
+    for (std::uint32_t b = 0; b < 256; ++b)
+      t[std::size_t(byte)][b] = Float(reverse_bits32(b) >> 24) / Float(1u << (8 * (byte + 1)));
+  return t;
+}();
 
 // A permutation of 32-bit words in which each bit is flipped by a function of the bits
 // below it only: Laine & Karras 2011's hash, with the constants of Vegdahl's 2021
@@ -107,6 +119,12 @@ constexpr std::uint32_t owen_scramble(std::uint32_t v, std::uint32_t seed) {
 // A 32-bit fraction as a float in [0, 1): its top 24 bits, so it never rounds up to 1.
 constexpr Float fraction_to_float(std::uint32_t v) { return Float(v >> 8) * 0x1p-24f; }
 
+// fraction_to_float(reverse_bits32(w)), from the tables above.
+constexpr Float reversed_fraction_to_float(std::uint32_t w) {
+  const auto& t = sobol_detail::kReversedByteFraction;
+  return (t[0][w & 0xff] + t[1][(w >> 8) & 0xff]) + t[2][(w >> 16) & 0xff];
+}
+
 // Scrambled points in [0, 1). Dimension 0 is bit-reversal, so its scramble needs no
 // reversal of its own: reverse(lk(reverse(reverse(i)))) = reverse(lk(i)).
 constexpr Float sobol_owen_dim0(std::uint64_t index, std::uint32_t seed) {
@@ -117,15 +135,14 @@ constexpr Float sobol_owen_dim1(std::uint64_t index, std::uint32_t seed) {
 }
 
 // Both coordinates at once, for the index whose low 32 bits are reverse(r): equal to
-// {sobol_owen_dim0(i, seed0), sobol_owen_dim1(i, seed1)}, with the two final reversals made
-// by one 64-bit reversal and the second dimension's first one folded into its tables (the
-// renderer draws a 2-D point per decision: this is its cost per number, docs/benchmarks.md).
+// {sobol_owen_dim0(i, seed0), sobol_owen_dim1(i, seed1)}. Both hashes' inputs come from one
+// set of lookups by the bytes of r, and both outputs go to floats by lookups instead of
+// reversals (the renderer draws a 2-D point per decision: this is its cost per number,
+// docs/benchmarks.md).
 constexpr std::array<Float, 2> sobol_owen_2d_of_reversed(std::uint32_t r, std::uint32_t seed0, std::uint32_t seed1) {
-  const std::uint32_t w0 = sobol_detail::lk_hash(reverse_bits32(r), seed0);
-  const std::uint32_t w1 = sobol_detail::lk_hash(sobol_detail::sobol_dim1_reversed_of_reversed(r), seed1);
-  // reverse(w0) lands in the high half, reverse(w1) in the low half.
-  const std::uint64_t both = reverse_bits64(std::uint64_t(w1) << 32 | w0);
-  return {fraction_to_float(std::uint32_t(both >> 32)), fraction_to_float(std::uint32_t(both))};
+  const std::uint64_t inputs = sobol_detail::sobol_pair_reversed_of_reversed(r);
+  return {reversed_fraction_to_float(sobol_detail::lk_hash(std::uint32_t(inputs), seed0)),
+          reversed_fraction_to_float(sobol_detail::lk_hash(std::uint32_t(inputs >> 32), seed1))};
 }
 
 // Morton (Z-order) index of a pixel: the bits of x and y interleaved, x in the even bits.

@@ -69,7 +69,9 @@ class PixelSampler {
   Float get1d(int dim) const {
     const std::uint64_t h = dimension_hash(dim);
     if (type_ == SamplerType::Independent) return fraction_to_float(std::uint32_t(h >> 32));
-    return sobol_owen_dim0(shuffled_index(std::uint32_t(h)), std::uint32_t(h >> 32));
+    // Dimension 0 of the shuffled index (sobol_owen_dim0), the last reversal by tables.
+    const std::uint32_t value_reversed = reverse_bits32(shuffled_index_reversed(std::uint32_t(h)));
+    return reversed_fraction_to_float(sobol_detail::lk_hash(value_reversed, std::uint32_t(h >> 32)));
   }
   std::array<Float, 2> get2d(int dim) const {
     const std::uint64_t h = dimension_hash(dim);
@@ -81,8 +83,12 @@ class PixelSampler {
                                      std::uint32_t(h >> 32) * 0x9e3779b9u ^ std::uint32_t(h));
   }
 
-  // For the draws of unbounded count (random walks): this sample's own stream.
-  Pcg32& rng() { return rng_; }
+  // For the draws of unbounded count (random walks): this sample's own stream, seeded on
+  // first use (most samples never draw from it).
+  Pcg32& rng() {
+    if (!rng_seeded_) seed_rng();
+    return rng_;
+  }
 
   // The index of the point a dimension uses: the sample's index scrambled by a nested
   // (Owen) scramble in base 2 — each bit flipped by a hash of the bits above it and the
@@ -94,11 +100,8 @@ class PixelSampler {
   // Bits above the 32 the points use are folded into the seed, so that pixels far apart
   // still differ.
   // The scramble is reverse(lk(reverse(i))) (owen_scramble); the first reversal is made
-  // once per sample, in start().
-  std::uint64_t shuffled_index(std::uint32_t seed) const {
-    return (index_ >> 32 << 32) | reverse_bits32(shuffled_index_reversed(seed));
-  }
-  // Its low 32 bits, bit-reversed (as the 2-D points take it).
+  // once per sample, in start(), and the last is left to the caller: this is the index's
+  // low 32 bits, bit-reversed, as the points' tables take it (sobol_owen_2d_of_reversed).
   std::uint32_t shuffled_index_reversed(std::uint32_t seed) const {
     const std::uint64_t high = index_ >> 32;
     if (high != 0) seed ^= std::uint32_t(mix64(high + seed));
@@ -121,13 +124,19 @@ class PixelSampler {
   static constexpr unsigned kTabulatedDims = unsigned(dims::bounce(16));
   std::array<std::uint64_t, kTabulatedDims> zsobol_dim_hash_{};
 
+  std::uint64_t pixel_key() const;
+  void seed_rng();
+
   SamplerType type_;
   int log2_spp_ = 0;
   std::uint64_t seed_ = 0;
   std::uint64_t key_ = 0;    // hashed from (seed) for zsobol, (seed, pixel) for sobol, (seed, pixel, sample) for independent
   std::uint64_t index_ = 0;  // zsobol: morton(x, y)·2^k + i; sobol: i
   std::uint32_t index_reversed_ = 0;  // the low 32 bits of index_, bit-reversed
+  std::uint64_t morton_ = 0;  // of the sample's pixel
+  std::uint64_t sample_ = 0;
   Pcg32 rng_;
+  bool rng_seeded_ = false;
 };
 
 }  // namespace gonio::render

@@ -200,16 +200,18 @@ bool walk_to_boundary_guided(const MediumT<C>& medium, const Boundary& boundary,
     double pdf[N], f[N];
     for (int k = 0; k < N; ++k) {
       const double st = sigma_t[k], sg = st * (1 - kappa[k] * mu);
-      const double tr = std::exp(-st * s), tr_g = std::exp(-sg * s);
+      // In float, as the walk's weights (six per step; expf is the cheaper call).
+      const double tr = std::exp(-float(st * s)), tr_g = std::exp(-float(sg * s));
       const double dir_g = given ? 1.0 : dwivedi_norm[k] / (1 - kappa[k] * mu) * double(kInv2Pi);
       pdf[k] = (1 - q) * phase * (to_boundary ? tr : st * tr) + q * dir_g * (to_boundary ? tr_g : sg * tr_g);
       f[k] = phase * (to_boundary ? tr : double(medium.sigma_s[k]) * tr);
     }
     if (!(pdf[ch] > 0)) return false;
     double rmax = 0;
+    const double inv_pdf_ch = 1 / pdf[ch];
     for (int k = 0; k < N; ++k) {
-      R[k] *= pdf[k] / pdf[ch];
-      W[k] *= f[k] / pdf[ch];
+      R[k] *= pdf[k] * inv_pdf_ch;
+      W[k] *= f[k] * inv_pdf_ch;
       rmax = std::max(rmax, R[k]);
     }
     if (rmax > 1e150) {  // a common factor of W and R cancels: keep them in range
@@ -218,7 +220,8 @@ bool walk_to_boundary_guided(const MediumT<C>& medium, const Boundary& boundary,
     double denom = 0;
     for (int k = 0; k < N; ++k) denom += b0[k] * R[k];
     if (!(denom > 0) || !std::isfinite(denom)) return false;
-    for (int k = 0; k < N; ++k) beta[k] = Float(b0[k] * W[k] * total / denom);
+    const double scale = total / denom;
+    for (int k = 0; k < N; ++k) beta[k] = Float(b0[k] * W[k] * scale);
     given = false;
     if (to_boundary) {
       if (d_out) *d_out = d;
