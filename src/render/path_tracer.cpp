@@ -90,16 +90,19 @@ struct SpectralShading : ScalarTransport<SampledSpectrum> {
   using U = SampledSpectrum;
   SampledWavelengths& w;
   SpectralScratch& scratch;
-  std::optional<BxDF> textured;
-  SpectralBxDF model;
+  // The textured model and the vertex's spectral model: slots of the calling thread's
+  // (SpectralSlots), for the reason RgbShading::textured gives (6 KB zero-filled per camera
+  // sample when they were members).
+  std::optional<BxDF>* textured;
+  SpectralBxDF* model;
   // The previous vertex's model is no longer needed when the next one is made, so the
   // scratch space of blends is reused.
   const SpectralBxDF& bxdf(const Material& m, const Vec2& uv, bool inside) {
     scratch.reset();
     // A volume form is RGB-only: its inside model only with an absorbing interior.
     const bool in = inside && m.inside && !m.subsurface_bsdf_fallback;
-    model = to_spectral(in ? *m.inside : m.at(uv, textured), m.spectra, w, scratch, m.textured_colours);
-    return model;
+    *model = to_spectral(in ? *m.inside : m.at(uv, *textured), m.spectra, w, scratch, m.textured_colours);
+    return *model;
   }
   // Upsampled as an illuminant, as a light given in RGB is (lights.h).
   C surface(const Color& rgb) const { return rgb_illuminant(rgb, w); }
@@ -114,6 +117,11 @@ struct SpectralShading : ScalarTransport<SampledSpectrum> {
   C point(const PointLight& l) const { return emission_spectrum(l.spectrum, l.intensity, w); }
   C area(const AreaLight& l, const Color&) const { return area_light_spectrum(l, w); }
   C environment(const Environment& e, const Vec3& dir, const Color&) const { return e.radiance(dir, w); }
+};
+
+struct SpectralSlots {
+  std::optional<BxDF> textured;
+  SpectralBxDF model;
 };
 
 // Polarized transport (issue 15; docs/polarization.md, "Polarized rendering"). The
@@ -588,7 +596,8 @@ Color PathTracer::radiance(Ray ray, PixelSampler& sampler, PathStats& stats) con
 
 SampledSpectrum PathTracer::radiance(Ray ray, SampledWavelengths& w, PixelSampler& sampler, PathStats& stats,
                                      SpectralScratch& scratch) const {
-  SpectralShading shading{{}, w, scratch, {}, {}};
+  thread_local SpectralSlots slots;
+  SpectralShading shading{{}, w, scratch, &slots.textured, &slots.model};
   return trace(ray, sampler, stats, shading);
 }
 
@@ -603,7 +612,8 @@ std::array<Color, 4> PathTracer::stokes(Ray ray, PixelSampler& sampler, PathStat
 
 std::array<SampledSpectrum, 4> PathTracer::stokes(Ray ray, SampledWavelengths& w, PixelSampler& sampler, PathStats& stats,
                                                   SpectralScratch& scratch) const {
-  PolarizedShading<SpectralShading> shading{{{}, w, scratch, {}, {}},
+  thread_local SpectralSlots slots;
+  PolarizedShading<SpectralShading> shading{{{}, w, scratch, &slots.textured, &slots.model},
                                             scene_.camera.image_x(),
                                             scene_.camera.polarizer_deg ? &polarizer_spectral_ : nullptr,
                                             nullptr,
