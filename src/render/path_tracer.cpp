@@ -591,14 +591,18 @@ Color PathTracer::radiance(Ray ray, PixelSampler& sampler, PathStats& stats) con
   thread_local std::optional<BxDF> textured;
   RgbShading shading;
   shading.textured = &textured;
-  return trace(ray, sampler, stats, shading);
+  const Color L = trace(ray, sampler, stats, shading);
+  textured.reset();  // not to keep a material's model (and its tables) alive past the render
+  return L;
 }
 
 SampledSpectrum PathTracer::radiance(Ray ray, SampledWavelengths& w, PixelSampler& sampler, PathStats& stats,
                                      SpectralScratch& scratch) const {
   thread_local SpectralSlots slots;
   SpectralShading shading{{}, w, scratch, &slots.textured, &slots.model};
-  return trace(ray, sampler, stats, shading);
+  const SampledSpectrum L = trace(ray, sampler, stats, shading);
+  slots.textured.reset();  // as in the RGB radiance()
+  return L;
 }
 
 std::array<Color, 4> PathTracer::stokes(Ray ray, PixelSampler& sampler, PathStats& stats) const {
@@ -607,7 +611,9 @@ std::array<Color, 4> PathTracer::stokes(Ray ray, PixelSampler& sampler, PathStat
   shading.base.walks = false;  // media are not carried with Stokes vectors: BSDF forms
   thread_local std::optional<BxDF> textured;
   shading.base.textured = &textured;
-  return trace(ray, sampler, stats, shading);
+  const auto S = trace(ray, sampler, stats, shading);
+  textured.reset();  // as in radiance()
+  return S;
 }
 
 std::array<SampledSpectrum, 4> PathTracer::stokes(Ray ray, SampledWavelengths& w, PixelSampler& sampler, PathStats& stats,
@@ -620,7 +626,9 @@ std::array<SampledSpectrum, 4> PathTracer::stokes(Ray ray, SampledWavelengths& w
                                             {},
                                             {},
                                             scene_.materials.data()};
-  return trace(ray, sampler, stats, shading);
+  const auto S = trace(ray, sampler, stats, shading);
+  slots.textured.reset();  // as in the RGB radiance()
+  return S;
 }
 
 // The distance bound of the random walks' steps (walk_distance_grid.h): over the box of the
