@@ -79,26 +79,26 @@ void sphere_occluded(const RTCOccludedFunctionNArguments* args) {
     r->tfar = -std::numeric_limits<float>::infinity();
 }
 
-// Squared distance from p to the segment [a, b].
-Float segment_distance2(const Vec3& p, const Vec3& a, const Vec3& b) {
+// The point of the segment [a, b] nearest to p.
+Vec3 segment_closest_point(const Vec3& p, const Vec3& a, const Vec3& b) {
   const Vec3 ab = b - a;
   const Float len2 = length_squared(ab);
   const Float t = len2 > 0 ? std::clamp(dot(p - a, ab) / len2, Float(0), Float(1)) : Float(0);
-  return length_squared(p - (a + ab * t));
+  return a + ab * t;
 }
 
-// Squared distance from p to the triangle abc: to its plane when p projects inside it (on
-// the inner side of all three edges), else to the nearest of its edges (the nearest point
-// of a convex polygon to a point projecting outside it lies on its boundary; Ericson 2005,
-// "Real-Time Collision Detection", §5.1.5).
-Float triangle_distance2(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
+// The point of the triangle abc nearest to p: p's projection on its plane when that falls
+// inside it (on the inner side of all three edges), else the nearest point of its edges
+// (the nearest point of a convex polygon to a point projecting outside it lies on its
+// boundary; Ericson 2005, "Real-Time Collision Detection", §5.1.5).
+Vec3 triangle_closest_point(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
   const Vec3 n = cross(b - a, c - a);
   const Float n2 = length_squared(n);
-  if (n2 > 0 && dot(cross(b - a, p - a), n) >= 0 && dot(cross(c - b, p - b), n) >= 0 && dot(cross(a - c, p - c), n) >= 0) {
-    const Float h = dot(p - a, n);
-    return h * h / n2;
-  }
-  return std::min({segment_distance2(p, a, b), segment_distance2(p, b, c), segment_distance2(p, c, a)});
+  if (n2 > 0 && dot(cross(b - a, p - a), n) >= 0 && dot(cross(c - b, p - b), n) >= 0 && dot(cross(a - c, p - c), n) >= 0)
+    return p - n * (dot(p - a, n) / n2);
+  const Vec3 e[3] = {segment_closest_point(p, a, b), segment_closest_point(p, b, c), segment_closest_point(p, c, a)};
+  const Float d2[3] = {length_squared(p - e[0]), length_squared(p - e[1]), length_squared(p - e[2])};
+  return e[d2[1] < d2[0] ? (d2[2] < d2[1] ? 2 : 1) : (d2[2] < d2[0] ? 2 : 0)];
 }
 
 }  // namespace
@@ -232,33 +232,48 @@ namespace {
 struct ClosestPointQuery {
   const Scene* scene;
   unsigned sphere_base;
+  Vec3 point;
+  bool found = false;
 };
 
-// Embree's point-query callback: shrinks the query's radius to the primitive's distance
-// when it is nearer.
+// Embree's point-query callback: where the primitive's nearest point is nearer than the
+// query's radius, keeps it and shrinks the radius to its distance.
 bool closest_point_visit(RTCPointQueryFunctionArguments* args) {
-  const auto& q = *static_cast<const ClosestPointQuery*>(args->userPtr);
+  auto& q = *static_cast<ClosestPointQuery*>(args->userPtr);
   const Vec3 p{args->query->x, args->query->y, args->query->z};
-  const Float r = args->query->radius;
-  Float d;
+  Vec3 nearest;
   if (args->geomID == q.sphere_base) {
     const Sphere& s = q.scene->spheres[args->primID];
-    d = std::abs(length(p - s.center) - s.radius);
+    const Vec3 r = p - s.center;
+    const Float len = length(r);
+    nearest = s.center + (len > 0 ? r * (s.radius / len) : Vec3{s.radius, 0, 0});
   } else {
     const Mesh& m = q.scene->meshes[args->geomID];
     const unsigned* tri = &m.indices[3 * static_cast<size_t>(args->primID)];
-    const Float d2 = triangle_distance2(p, m.positions[tri[0]], m.positions[tri[1]], m.positions[tri[2]]);
-    if (!(d2 < r * r)) return false;
-    d = std::sqrt(d2);
+    const Vec3 &a = m.positions[tri[0]], &b = m.positions[tri[1]], &c = m.positions[tri[2]];
+    // No point of the triangle is nearer than its plane: most of the triangles whose boxes
+    // the query's sphere meets are rejected by that alone.
+    const Vec3 n = cross(b - a, c - a);
+    const Float h = dot(p - a, n), r = args->query->radius;
+    if (!(h * h < r * r * length_squared(n))) return false;
+    nearest = triangle_closest_point(p, a, b, c);
   }
-  if (!(d < r)) return false;
+  const Float d = length(p - nearest);
+  if (!(d < args->query->radius)) return false;
   args->query->radius = float(d);
+  q.point = nearest;
+  q.found = true;
   return true;
 }
 
 }  // namespace
 
 Float Accel::distance_to_surface(const Vec3& p, Float max_distance) const {
+  Vec3 nearest;
+  return closest_point(p, max_distance, nearest);
+}
+
+Float Accel::closest_point(const Vec3& p, Float max_distance, Vec3& nearest) const {
   RTCPointQuery query;
   query.x = p.x;
   query.y = p.y;
@@ -267,8 +282,9 @@ Float Accel::distance_to_surface(const Vec3& p, Float max_distance) const {
   query.radius = max_distance;
   RTCPointQueryContext ctx;
   rtcInitPointQueryContext(&ctx);
-  ClosestPointQuery user{&impl_->scene, impl_->sphere_base};
+  ClosestPointQuery user{&impl_->scene, impl_->sphere_base, {}};
   rtcPointQuery(impl_->rtc, &query, &ctx, closest_point_visit, &user);
+  if (user.found) nearest = user.point;
   return query.radius;
 }
 

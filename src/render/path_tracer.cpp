@@ -296,9 +296,9 @@ bool PathTracer::occluded(const Vec3& p, const Vec3& ng, const Vec3& dir, Float 
 // can be sampled. From each scattering event x of the walk a second strategy proposes
 // the direction d towards a light, in the spirit of Koerner, Novák, Kutz, Habel & Jarosz
 // 2016 ("Subdivision next-event estimation for path-traced subsurface scattering",
-// EGSR), who connect a walk's vertices to the lights through the boundary: the entry
-// point's tangent plane (p0, n) stands in for the boundary near x; a light point is
-// sampled as seen from y0, x's projection on that plane, giving ω outside; d is the
+// EGSR), who connect a walk's vertices to the lights through the boundary: the tangent
+// plane at x's nearest surface point (walk_nee_plane) stands in for the boundary near x; a
+// light point is sampled as seen from y0, x's projection on that plane, giving ω outside; d is the
 // direction inside that Snell's law (through the plane) refracts into ω. Along d the true
 // boundary is then found (y, its normal), the true Fresnel transmission and refraction
 // are taken there, and a ray from y finds what emits along the refracted direction. The
@@ -326,15 +326,30 @@ bool PathTracer::occluded(const Vec3& p, const Vec3& ng, const Vec3& dir, Float 
 // estimate is divided by it. The floor keeps q_rr > 0 where the plane is a poor guide to
 // the true boundary (a walk that wandered round a corner), so nothing is left out.
 inline constexpr Float kWalkNeeFloor = 1.0f / 32;
+// How far (in the medium's longest mean free path) an event looks for its nearest surface:
+// deeper events estimate rarely and little (the transmittance e^{−σt s} to the boundary),
+// and a smaller reach makes the query cheaper.
+inline constexpr int kWalkNeePlaneReach = 4;
+// Events this near the entry point (in the same unit) take the entry point's tangent plane
+// without a query: on a surface of curvature radius ρ it stands within r²/(2ρ) of the
+// surface, a tenth of a mean free path on marble's bunny (r = 2 mean free paths ≈ 0.9 mm,
+// ρ ≈ 1 cm), and these are most of the estimates.
+inline constexpr int kWalkNeeEntryRadius = 2;
 
 struct WalkNeeState {
   int material = -1;
-  Vec3 p0, n;       // the entry point and its outward normal (the proposal's plane)
+  Vec3 p0, n;       // the entry point and its outward normal (the walk's guide; the fallback plane)
   Float eta = 1;    // n_inside / n_outside of the smooth boundary
   Color sigma_t;
   Float sigma_min = 0;
   Float g = 0, q = 0;
   double kappa[3] = {}, dnorm[3] = {};
+};
+
+// The plane through which an event's estimate is proposed: y0, x's projection on it, and
+// its normal n, pointing out of the medium.
+struct WalkNeePlane {
+  Vec3 y0, n;
 };
 
 namespace {
@@ -437,6 +452,26 @@ Float walk_nee_probability(const WalkNeeState& w, const Vec3& x) {
 
 }  // namespace
 
+// The plane of the event x's proposal: the tangent plane at x's nearest surface point q,
+// its normal the direction from x to q (for x inside a closed surface, x − q lies along
+// the surface's normal at q wherever it is smooth, and it points out of the medium). A walk
+// that has wandered to another side of the shape is guided by the surface it is near,
+// not by the one it entered through. The entry point's tangent plane near the entry point,
+// where no surface is within reach (x deep inside: its estimates are rare), or where x
+// lies on the surface.
+WalkNeePlane PathTracer::walk_nee_plane(const WalkNeeState& w, const Vec3& x) const {
+  const Float reach = Float(kWalkNeePlaneReach) / w.sigma_min;
+  const Float near_entry = Float(kWalkNeeEntryRadius) / w.sigma_min;
+  if (length_squared(x - w.p0) < near_entry * near_entry) return {x + w.n * dot(w.p0 - x, w.n), w.n};
+  Vec3 q;
+  const Float dist = accel_.closest_point(x, reach, q);
+  if (dist < reach && dist > 0) {
+    const Vec3 n = (q - x) / dist;
+    if (is_finite(n)) return {q, n};
+  }
+  return {x + w.n * dot(w.p0 - x, w.n), w.n};
+}
+
 bool PathTracer::walk_nee_setup(const Material& material, const SurfaceHit& entry, WalkNeeState& w) const {
   if (!material.subsurface || !material.subsurface->nee || material.inside || light_sampler_.count() == 0) return false;
   const Subsurface& ss = *material.subsurface;
@@ -455,31 +490,30 @@ bool PathTracer::walk_nee_setup(const Material& material, const SurfaceHit& entr
   return true;
 }
 
-// p_nee(d) for the event x (without q_rr): 0 where the plane proposal cannot give d.
-Float PathTracer::walk_nee_density(const WalkNeeState& w, const Vec3& x, const Vec3& d) const {
+// p_nee(d) for an event whose plane is `plane` (without q_rr): 0 where the plane proposal
+// cannot give d.
+Float PathTracer::walk_nee_density(const WalkNeeState& w, const WalkNeePlane& plane, const Vec3& d) const {
   Vec3 omega;
   Float jacobian;
-  if (!walk_plane_out(d, w.n, w.eta, omega, jacobian)) return 0;
-  const Vec3 y0 = x + w.n * dot(w.p0 - x, w.n);
+  if (!walk_plane_out(d, plane.n, w.eta, omega, jacobian)) return 0;
+  const Vec3& y0 = plane.y0;
   double p = 0;
   for (size_t i = 0; i < scene_.area_lights.size(); ++i) {
     Vec3 on, n_light;
     if (!walk_ray_hits_light(scene_.area_lights[i], y0, omega, on, n_light)) continue;
-    const Float pmf = light_sampler_.pmf(y0, w.n, int(i));
+    const Float pmf = light_sampler_.pmf(y0, plane.n, int(i));
     if (pmf > 0) p += double(pmf) * double(area_light_pdf(scene_.area_lights[i], y0, on, n_light));
   }
   if (!scene_.environment.is_black())
-    p += double(light_sampler_.pmf(y0, w.n, light_sampler_.environment_index())) * double(scene_.environment.pdf(omega));
+    p += double(light_sampler_.pmf(y0, plane.n, light_sampler_.environment_index())) * double(scene_.environment.pdf(omega));
   return Float(p * double(jacobian));
 }
 
-// The weight w_walk of the emission found by the walk's exit: x and d_in the last event
-// and the direction it was reached in, y the boundary point the segment of direction d
-// and length s reached. 1 where next-event estimation does not cover the path.
-Float PathTracer::walk_exit_weight(const WalkNeeState& w, const Vec3& x, const Vec3& d_in, const SurfaceHit& y,
-                                   const Vec3& d, Float s) const {
-  if (y.material != w.material) return 1;
-  const double p_nee = double(walk_nee_probability(w, x)) * double(walk_nee_density(w, x, d));
+// The weight w_walk of the emission found by the walk's exit through its own material's
+// boundary: x and d_in the last event and the direction it was reached in, d and s the
+// direction and length of the segment that reached the boundary.
+Float PathTracer::walk_exit_weight(const WalkNeeState& w, const Vec3& x, const Vec3& d_in, const Vec3& d, Float s) const {
+  const double p_nee = double(walk_nee_probability(w, x)) * double(walk_nee_density(w, walk_nee_plane(w, x), d));
   const double p_walk = walk_exit_pdf(w, d_in, d, s);
   return p_nee + p_walk > 0 ? Float(p_walk / (p_nee + p_walk)) : Float(1);
 }
@@ -492,15 +526,15 @@ Color PathTracer::walk_nee(const WalkNeeState& w, const Vec3& x, const Vec3& d_i
   const Float q_rr = walk_nee_probability(w, x);
   if (rng.next_float() >= q_rr) return Color(0);
   const Float u_pick = rng.next_float(), u1 = rng.next_float(), u2 = rng.next_float();
-  const Vec3 y0 = x + w.n * dot(w.p0 - x, w.n);
-  const LightSampler::Choice choice = light_sampler_.sample(y0, w.n, u_pick);
+  const WalkNeePlane plane = walk_nee_plane(w, x);
+  const LightSampler::Choice choice = light_sampler_.sample(plane.y0, plane.n, u_pick);
   if (choice.light < 0) return Color(0);
   const bool env = choice.light == light_sampler_.environment_index();
   const LightSample ls = env ? scene_.environment.sample(u1, u2)
-                             : sample_area_light(scene_.area_lights[static_cast<size_t>(choice.light)], y0, u1, u2);
+                             : sample_area_light(scene_.area_lights[static_cast<size_t>(choice.light)], plane.y0, u1, u2);
   Vec3 d;
-  if (!(ls.pdf > 0) || !walk_plane_in(ls.wi, w.n, w.eta, d)) return Color(0);
-  const Float p_nee = walk_nee_density(w, x, d);
+  if (!(ls.pdf > 0) || !walk_plane_in(ls.wi, plane.n, w.eta, d)) return Color(0);
+  const Float p_nee = walk_nee_density(w, plane, d);
   if (!(p_nee > 0)) return Color(0);
 
   // The true boundary along d, and the light leaving it.
@@ -676,19 +710,23 @@ typename Shading::Radiance PathTracer::trace(Ray ray, PixelSampler& sampler, Pat
   SceneBoundary::Hit walked;
   bool have_walked = false;
   // Next-event estimation from the walk (walk_nee): the walk's setup and last event, for
-  // the MIS weight of the emission its exit finds (`emit_weight`, for the next hit only).
+  // the MIS weight of the emission its exit finds (`emit_weight`, for the next hit only;
+  // taken only where that hit emits, as it needs a closest-point query).
   WalkNeeState walk_nee_state;
   WalkLastEvent walk_last;
   bool walk_nee_pending = false;
-  Float emit_weight_next = 1;
+  bool exit_mis_next = false;
   // The absorbing interior (an openpbr material's, Material::absorption) the current ray
   // travels through, or null.
   const Material* absorber = nullptr;
   for (int depth = 0;; ++depth) {
     SurfaceHit hit;
     Vec3 wo_world;
-    const Float emit_weight = emit_weight_next;
-    emit_weight_next = 1;
+    const bool exit_mis = exit_mis_next;
+    exit_mis_next = false;
+    auto emit_weight = [&] {
+      return exit_mis ? walk_exit_weight(walk_nee_state, walk_last.point, walk_last.d_in, walked.d, walked.t) : Float(1);
+    };
     if (have_walked) {
       // Inside the medium there is nothing to collect: light enters only through the
       // boundary, whose vertex this is.
@@ -710,7 +748,7 @@ typename Shading::Radiance PathTracer::trace(Ray ray, PixelSampler& sampler, Pat
           const Color rgb = scene_.environment.radiance(ray.d);
           const Float w = specular ? 1 : power_heuristic(prev_pdf, light_sampler_.pmf(prev_p, prev_n, light_sampler_.environment_index()) *
                                                                             scene_.environment.pdf(ray.d));
-          if (!rgb.is_black()) shading.add(L, beta, shading.environment(scene_.environment, ray.d, rgb), w * emit_weight);
+          if (!rgb.is_black()) shading.add(L, beta, shading.environment(scene_.environment, ray.d, rgb), w * emit_weight());
         }
         break;
       }
@@ -726,7 +764,7 @@ typename Shading::Radiance PathTracer::trace(Ray ray, PixelSampler& sampler, Pat
         if (!rgb.is_black()) {
           const Float w = specular ? 1 : power_heuristic(prev_pdf, light_sampler_.pmf(prev_p, prev_n, hit.area_light) *
                                                                             area_light_pdf(light, prev_p, hit.p, n));
-          shading.add(L, beta, own ? shading.surface(rgb) : shading.area(light, rgb), w * emit_weight);
+          shading.add(L, beta, own ? shading.surface(rgb) : shading.area(light, rgb), w * emit_weight());
         }
         if (surface.black_body) break;
       } else if (surface.emits) {
@@ -759,8 +797,7 @@ typename Shading::Radiance PathTracer::trace(Ray ray, PixelSampler& sampler, Pat
     // shares the weight with those estimates.
     if (walk_nee_pending) {
       walk_nee_pending = false;
-      if (s->delta && s->lobe == Lobe::Transmission)
-        emit_weight_next = walk_exit_weight(walk_nee_state, walk_last.point, walk_last.d_in, hit, walked.d, walked.t);
+      exit_mis_next = s->delta && s->lobe == Lobe::Transmission && hit.material == walk_nee_state.material;
     }
     beta *= s->weight;
     if (!(shading.magnitude(beta) > 0)) break;

@@ -271,15 +271,21 @@ struct WalkNeeMean {
   double mean[3] = {}, err[3] = {};
   std::uint64_t walks = 0;
 };
-WalkNeeMean walk_nee_mean(bool nee, std::uint64_t n, Float alpha = 0) {
-  const std::string material = std::string(R"({"type": "subsurface", "eta": 2.0, "sigma_s": [0.3, 0.6, 1.2],
-      "sigma_a": [0.1, 0.05, 0.02], "g": 0.3, "nee": )") + (nee ? "true" : "false") +
+// The quad light above the sphere, or (`behind`) facing the sphere's back, which the
+// camera does not see.
+WalkNeeMean walk_nee_mean(bool nee, std::uint64_t n, Float alpha = 0, Float density = 1, bool behind = false) {
+  const auto coefficients = [density](double a, double b, double c) {
+    return "[" + std::to_string(a * density) + ", " + std::to_string(b * density) + ", " + std::to_string(c * density) + "]";
+  };
+  const std::string material = std::string(R"({"type": "subsurface", "eta": 2.0, "sigma_s": )") + coefficients(0.3, 0.6, 1.2) +
+                               R"(, "sigma_a": )" + coefficients(0.1, 0.05, 0.02) + R"(, "g": 0.3, "nee": )" + (nee ? "true" : "false") +
                                (alpha > 0 ? R"(, "alpha": )" + std::to_string(alpha) : std::string()) + "}";
   const Scene scene = parse_scene(R"({"camera": {"position": [0, 0, 5], "look_at": [0, 0, 0]},
       "render": {"max_depth": 64},
       "shapes": [{"type": "sphere", "center": [0, 0, 0], "radius": 1, "material": )" + material + R"(}],
-      "lights": [{"type": "quad", "corner": [-1, 2.5, -1], "edge1": [2, 0, 0], "edge2": [0, 0, 2], "radiance": 2}],
-      "environment": {"radiance": 0.2}})", "nee.json", "");
+      "lights": [)" + std::string(behind ? R"({"type": "quad", "corner": [-1, -1, -2.5], "edge1": [2, 0, 0], "edge2": [0, 2, 0], "radiance": 2})"
+                                         : R"({"type": "quad", "corner": [-1, 2.5, -1], "edge1": [2, 0, 0], "edge2": [0, 0, 2], "radiance": 2})") +
+                           R"(], "environment": {"radiance": 0.2}})", "nee.json", "");
   const Accel accel(scene);
   const PathTracer tracer(scene, accel);
   PixelSampler sampler(SamplerType::Independent, 1, nee ? 11 : 12);
@@ -303,15 +309,25 @@ WalkNeeMean walk_nee_mean(bool nee, std::uint64_t n, Float alpha = 0) {
   return m;
 }
 
-TEST(SubsurfaceRender, WalkNextEventEstimationIsUnbiased) {
-  const std::uint64_t n = scaled(600000, 20000);
-  const WalkNeeMean on = walk_nee_mean(true, n), off = walk_nee_mean(false, n);
+void expect_walk_nee_unbiased(std::uint64_t n, Float density, bool behind) {
+  const WalkNeeMean on = walk_nee_mean(true, n, 0, density, behind), off = walk_nee_mean(false, n, 0, density, behind);
   EXPECT_GT(on.walks, n / 2);
   for (int c = 0; c < 3; ++c) {
     const double err = std::hypot(on.err[c], off.err[c]);
     EXPECT_NEAR(on.mean[c], off.mean[c], 4 * err) << "channel " << c << ": with " << on.mean[c] << " ± " << on.err[c]
                                                   << ", without " << off.mean[c] << " ± " << off.err[c];
   }
+}
+
+TEST(SubsurfaceRender, WalkNextEventEstimationIsUnbiased) { expect_walk_nee_unbiased(scaled(600000, 20000), 1, false); }
+
+// The same medium six times denser (mean free paths 0.14–0.42 radii) and the light behind
+// the sphere: the light the camera sees crosses the sphere, and events farther than two
+// mean free paths from the entry point propose through the tangent plane at their nearest
+// surface point (walk_nee_plane), so the walk's exit and the events' estimates must weigh
+// each other with that plane.
+TEST(SubsurfaceRender, WalkNextEventEstimationIsUnbiasedThroughNearestSurfacePlanes) {
+  expect_walk_nee_unbiased(scaled(1600000, 8000), 6, true);
 }
 
 }  // namespace

@@ -1,5 +1,6 @@
 // The random walk's distance bound (walk_distance_grid.h) and the closest-point query under
-// it (Accel::distance_to_surface), against the closed-form distance to a cube and a sphere;
+// it (Accel::distance_to_surface, Accel::closest_point), against the closed-form distance
+// to a cube and a sphere;
 // and the walk's boundary with the bound against the same boundary without it (the bound
 // may only spare rays, never change an answer).
 
@@ -62,6 +63,39 @@ TEST(WalkDistanceGrid, ClosestPointQueryIsTheClosedFormDistance) {
     // A nearer cap is returned as it is.
     ASSERT_NEAR(double(accel.distance_to_surface(p, 0.05f)), std::min(expected, 0.05), 2e-6);
   }
+}
+
+// The nearest point itself (the random walk's next-event planes, path_tracer.cpp): on the
+// surface (the cube's max-norm 1, the sphere's radius), at the closed-form distance from p;
+// for p inside the cube, the direction to it is the nearest face's outward normal.
+TEST(WalkDistanceGrid, ClosestPointIsOnTheSurfaceAtTheDistance) {
+  const Scene scene = cube_and_sphere();
+  const Accel accel(scene);
+  Pcg32 rng(7, 3);
+  for (int i = 0; i < 4000; ++i) {
+    const Vec3 p = uniform_point(rng, {-2, -2, -2}, {4.5f, 2, 2});
+    const double expected = exact_distance(p);
+    Vec3 q{1e9f, 1e9f, 1e9f};
+    const Float d = accel.closest_point(p, 100, q);
+    ASSERT_NEAR(double(d), expected, 2e-6);
+    ASSERT_NEAR(double(length(p - q)), expected, 2e-6) << p.x << " " << p.y << " " << p.z;
+    const double on_cube = std::max({std::abs(double(q.x)), std::abs(double(q.y)), std::abs(double(q.z))});
+    const double dx = double(q.x) - 3, on_sphere = std::sqrt(dx * dx + double(q.y) * q.y + double(q.z) * q.z);
+    ASSERT_LT(std::min(std::abs(on_cube - 1), std::abs(on_sphere - 0.5)), 2e-6) << q.x << " " << q.y << " " << q.z;
+    const double ax = std::abs(double(p.x)), ay = std::abs(double(p.y)), az = std::abs(double(p.z));
+    const double gap = std::min({1 - ax, 1 - ay, 1 - az});
+    // Inside the cube, away from the ties between faces: the nearest face's normal.
+    if (gap > 0.01 && std::abs(std::max({ax, ay, az}) - std::min({std::max(ax, ay), std::max(ay, az), std::max(ax, az)})) > 0.01) {
+      const Vec3 n = (q - p) / d;
+      const int axis = ax >= ay && ax >= az ? 0 : ay >= az ? 1 : 2;
+      const double along[3] = {double(n.x), double(n.y), double(n.z)}, sign[3] = {double(p.x), double(p.y), double(p.z)};
+      ASSERT_NEAR(along[axis], sign[axis] > 0 ? 1.0 : -1.0, 1e-5) << p.x << " " << p.y << " " << p.z;
+    }
+  }
+  // Nothing within the radius: the radius, and the point left as it was.
+  Vec3 q{7, 8, 9};
+  EXPECT_FLOAT_EQ(accel.closest_point({0, 0, 0}, 0.5f, q), 0.5f);
+  EXPECT_EQ(q.x, 7);
 }
 
 TEST(WalkDistanceGrid, ClosestPointQueryOnATriangleFromEverySide) {

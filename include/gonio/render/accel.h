@@ -62,6 +62,9 @@ class Accel {
   // The distance from p to the nearest surface of the scene, or max_distance when none is
   // nearer (Embree's closest-point query; the random walk's distance bound, walk_distance_grid.h).
   Float distance_to_surface(const Vec3& p, Float max_distance) const;
+  // The same query, also giving the nearest surface point (left as it is when no surface
+  // is nearer than max_distance).
+  Float closest_point(const Vec3& p, Float max_distance, Vec3& nearest) const;
 
  private:
   struct Impl;

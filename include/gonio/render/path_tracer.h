@@ -45,6 +45,7 @@ struct PathStats {
 };
 
 struct WalkNeeState;  // path_tracer.cpp
+struct WalkNeePlane;  // path_tracer.cpp
 
 class PathTracer {
  public:
@@ -82,9 +83,9 @@ class PathTracer {
   // from inside a medium"); WalkNeeState holds what one walk's estimates share.
   bool walk_nee_setup(const Material& material, const SurfaceHit& entry, WalkNeeState& w) const;
   Color walk_nee(const WalkNeeState& w, const Vec3& x, const Vec3& d_in, Pcg32& rng, PathStats& stats) const;
-  Float walk_nee_density(const WalkNeeState& w, const Vec3& x, const Vec3& d) const;
-  Float walk_exit_weight(const WalkNeeState& w, const Vec3& x, const Vec3& d_in, const SurfaceHit& y, const Vec3& d,
-                         Float s) const;
+  WalkNeePlane walk_nee_plane(const WalkNeeState& w, const Vec3& x) const;
+  Float walk_nee_density(const WalkNeeState& w, const WalkNeePlane& plane, const Vec3& d) const;
+  Float walk_exit_weight(const WalkNeeState& w, const Vec3& x, const Vec3& d_in, const Vec3& d, Float s) const;
 
   void make_walk_grid();
 
