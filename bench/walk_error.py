@@ -4,7 +4,8 @@ and 5; docs/benchmarks.md, "Guided random walk"), on scenes/marble.json scaled d
 Error: the MSE of N-spp images against a reference of many more samples (another seed);
 time: the renderer's own samples/s figure (`gonio render`, one thread unless --threads);
 efficiency = 1 / (time per sample x MSE). Sparkles: the fraction of pixels with luminance
-> 0.05 whose hue is more than 30 degrees from the median hue of their 3x3 neighbourhood.
+> 0.05 whose hue is more than 30 degrees from the median hue of their 3x3 neighbourhood,
+also counted by the reference's HSV saturation. --seeds 0 only makes the reference.
 
     /usr/bin/python3 bench/walk_error.py [--scene scenes/marble.json] [--width 100 --height 75]
         [--spp 16] [--reference-spp 1024] [--seeds 3] [--sparkle-spp 384] [--walk '{"guided": false}']
@@ -94,7 +95,9 @@ def hue(img):
     return np.degrees(np.arctan2(np.sqrt(3) * (g - b), 2 * r - g - b)) % 360
 
 
-def sparkle_fraction(img):
+def sparkle_pixels(img):
+    """The flagged pixels (hue > 30 degrees from the 3x3 neighbourhood's median hue) and the
+    bright ones (luminance > 0.05), as boolean images."""
     lum = 0.2126 * img[..., 0] + 0.7152 * img[..., 1] + 0.0722 * img[..., 2]
     h = hue(img)
     H, W = h.shape
@@ -103,9 +106,31 @@ def sparkle_fraction(img):
     # median of angles: the median of the neighbours' hues unwrapped around the centre's
     d = (nb - h[..., None] + 180) % 360 - 180
     med = np.median(d, axis=-1)
-    far = np.abs(med) > 30
     bright = lum > 0.05
-    return float(np.count_nonzero(far & bright)) / max(1, int(np.count_nonzero(bright))), int(np.count_nonzero(far & bright)), int(np.count_nonzero(bright))
+    return (np.abs(med) > 30) & bright, bright
+
+
+def sparkle_fraction(img):
+    far, bright = sparkle_pixels(img)
+    return float(np.count_nonzero(far)) / max(1, int(np.count_nonzero(bright))), int(np.count_nonzero(far)), int(np.count_nonzero(bright))
+
+
+def saturation(img):
+    """HSV saturation, (max - min) / max."""
+    mx, mn = img.max(axis=-1), img.min(axis=-1)
+    return np.where(mx > 0, (mx - mn) / np.maximum(mx, 1e-30), 0)
+
+
+def sparkles_by_saturation(img, ref):
+    """The flagged share among the bright pixels, by the reference's saturation: hue is noise
+    where the colour is near grey, whatever the estimator (docs/subsurface.md)."""
+    far, bright = sparkle_pixels(img)
+    sat = saturation(ref)
+    rows = []
+    for lo, hi in [(0, 0.02), (0.02, 0.05), (0.05, 0.1), (0.1, 0.2), (0.2, 1.01)]:
+        m = bright & (sat >= lo) & (sat < hi)
+        rows.append("[%.2f, %.2f): %d of %d" % (lo, hi, int(np.count_nonzero(far & m)), int(np.count_nonzero(m))))
+    return "; ".join(rows)
 
 
 def main():
@@ -146,17 +171,19 @@ def main():
             img, t = render(a, scene, a.spp, seed + 1, out)
             errs.append(float(np.mean((img - ref) ** 2)))
             times.append(t)
-        mse = float(np.mean(errs))
-        t = float(np.median(times))
-        print("walk %s: %d spp MSE %.4e (seeds: %s)  time per sample %.4g s  efficiency 1/(t MSE) %.4g  image mean %s" % (
-            a.walk or "(scene's)", a.spp, mse, " ".join("%.3e" % e for e in errs), t, 1 / (t * mse),
-            " ".join("%.5f" % m for m in img.mean(axis=(0, 1)))))
+        if errs:
+            mse = float(np.mean(errs))
+            t = float(np.median(times))
+            print("walk %s: %d spp MSE %.4e (seeds: %s)  time per sample %.4g s  efficiency 1/(t MSE) %.4g  image mean %s" % (
+                a.walk or "(scene's)", a.spp, mse, " ".join("%.3e" % e for e in errs), t, 1 / (t * mse),
+                " ".join("%.5f" % m for m in img.mean(axis=(0, 1)))))
         if a.sparkle_spp:
             img, t = render(a, scene, a.sparkle_spp, 7, out)
             if a.save:
                 np.save(a.save, img)
             frac, n, nb = sparkle_fraction(img)
             print("sparkles at %d spp: %.3f %% (%d of %d pixels with luminance > 0.05)" % (a.sparkle_spp, 100 * frac, n, nb))
+            print("  flagged by the reference's saturation: " + sparkles_by_saturation(img, ref))
     return 0
 
 
