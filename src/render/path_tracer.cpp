@@ -296,13 +296,14 @@ bool PathTracer::occluded(const Vec3& p, const Vec3& ng, const Vec3& dir, Float 
 // can be sampled. From each scattering event x of the walk a second strategy proposes
 // the direction d towards a light, in the spirit of Koerner, Novák, Kutz, Habel & Jarosz
 // 2016 ("Subdivision next-event estimation for path-traced subsurface scattering",
-// EGSR), who connect a walk's vertices to the lights through the boundary: the tangent
-// plane at x's nearest surface point (walk_nee_plane) stands in for the boundary near x; a
-// light point is sampled as seen from y0, x's projection on that plane, giving ω outside; d is the
-// direction inside that Snell's law (through the plane) refracts into ω. Along d the true
-// boundary is then found (y, its normal), the true Fresnel transmission and refraction
-// are taken there, and a ray from y finds what emits along the refracted direction. The
-// plane only shapes the proposal: its density over d is exact,
+// EGSR), who connect a walk's vertices to the lights through the boundary: a plane
+// (walk_nee_plane: the tangent plane at x's nearest surface point) stands in for the
+// boundary near x; a light point is sampled as seen from y0, x's projection on that plane,
+// giving ω outside; d is the direction inside that Snell's law (through the plane)
+// refracts into ω. Along d the true boundary is then found (y, its normal), the true
+// Fresnel transmission and refraction are taken there, and a ray from y finds what emits
+// along the refracted direction. The plane only shapes the proposal: its density over d
+// is exact,
 //   p_nee(d) = p_light(y0 → ω(d)) · |dω/dd|,  |dω/dd| = η² cos θ_d / cos θ_ω
 // (the solid-angle form of Snell's law, n_in² cos θ_in dω_in = n_out² cos θ_out dω_out;
 // Veach 1997, §5.2), with p_light the mixture over every light the sampler could have
@@ -333,7 +334,7 @@ inline constexpr int kWalkNeePlaneReach = 4;
 // Events this near the entry point (in the same unit) take the entry point's tangent plane
 // without a query: on a surface of curvature radius ρ it stands within r²/(2ρ) of the
 // surface, a tenth of a mean free path on marble's bunny (r = 2 mean free paths ≈ 0.9 mm,
-// ρ ≈ 1 cm), and these are most of the estimates.
+// ρ ≈ 1 cm).
 inline constexpr int kWalkNeeEntryRadius = 2;
 
 struct WalkNeeState {
