@@ -252,10 +252,11 @@ bool closest_point_visit(RTCPointQueryFunctionArguments* args) {
     const unsigned* tri = &m.indices[3 * static_cast<size_t>(args->primID)];
     const Vec3 &a = m.positions[tri[0]], &b = m.positions[tri[1]], &c = m.positions[tri[2]];
     // No point of the triangle is nearer than its plane: most of the triangles whose boxes
-    // the query's sphere meets are rejected by that alone.
+    // the query's sphere meets are rejected by that alone (a degenerate one, without a
+    // plane, by its edges below).
     const Vec3 n = cross(b - a, c - a);
-    const Float h = dot(p - a, n), r = args->query->radius;
-    if (!(h * h < r * r * length_squared(n))) return false;
+    const Float h = dot(p - a, n), r = args->query->radius, n2 = length_squared(n);
+    if (n2 > 0 && !(h * h < r * r * n2)) return false;
     nearest = triangle_closest_point(p, a, b, c);
   }
   const Float d = length(p - nearest);
