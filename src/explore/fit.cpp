@@ -9,6 +9,7 @@
 #include "explore/api.h"
 #include "explore/material_request.h"
 #include "gonio/error.h"
+#include "gonio/json_text.h"
 
 #ifdef GONIO_EXPLORE_HAVE_FIT
 #include "gonio/fit/fit.h"

@@ -13,6 +13,7 @@
 #include "explore/api.h"
 #include "explore/material_request.h"
 #include "gonio/error.h"
+#include "gonio/json_text.h"
 #include "gonio/render/renderer.h"
 #include "gonio/render/scene_loader.h"
 
