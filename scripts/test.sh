@@ -27,12 +27,14 @@ echo "== Release build and tests ==" >&2
 # seen. Ninja in a new build directory: Make holds a target's compiles until every target it
 # links has been built, Ninja only until the headers it includes are generated, so the two
 # cores have work to the end. (CC, CXX and the generator count only when the directory is
-# configured the first time: a directory configured before keeps its own.)
+# configured the first time: a directory configured before keeps its own.) Its own
+# directory, build-test: build/ is the main command's (scripts/run.sh: GCC, file by file,
+# which checks that each file includes what it uses), and a user types that command first.
 fresh_dir() { if [ -f "$1/CMakeCache.txt" ]; then :; elif command -v ninja >/dev/null; then echo "-GNinja"; fi; }
-CC=clang CXX=clang++ cmake -S . -B build $(fresh_dir build) -DCMAKE_BUILD_TYPE=Release -DGONIO_BUILD_BENCHMARKS=OFF \
+CC=clang CXX=clang++ cmake -S . -B build-test $(fresh_dir build-test) -DCMAKE_BUILD_TYPE=Release -DGONIO_BUILD_BENCHMARKS=OFF \
   -DCMAKE_UNITY_BUILD=ON -DGONIO_WERROR=ON >/dev/null
-cmake --build build -j"$jobs"
-ctest --test-dir build --output-on-failure -j"$jobs"
+cmake --build build-test -j"$jobs"
+ctest --test-dir build-test --output-on-failure -j"$jobs"
 
 echo "== ASan + UBSan build (clang, with the libFuzzer targets) and tests ==" >&2
 # One clang build serves the sanitizer tests and the fuzz targets: GONIO_FUZZ compiles
@@ -47,7 +49,7 @@ echo "== ASan + UBSan build (clang, with the libFuzzer targets) and tests ==" >&
 # through the CLI and the unit tests.
 # The albedo tables are data, the same for every build type: generated once, by the
 # Release build (a minute of CPU per build otherwise).
-tables="$PWD/build/generated/microfacet_albedo_tables.cpp"
+tables="$PWD/build-test/generated/microfacet_albedo_tables.cpp"
 CC=clang CXX=clang++ cmake -S . -B build-sanitize $(fresh_dir build-sanitize) -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_FLAGS_RELEASE="-O1" \
   -DGONIO_FUZZ=ON -DGONIO_BUILD_BENCHMARKS=OFF -DGONIO_REUSE_ALBEDO_TABLES="$tables" \
   -DGONIO_BUILD_PYTHON=OFF -DCMAKE_UNITY_BUILD=ON -DGONIO_WERROR=ON >/dev/null
