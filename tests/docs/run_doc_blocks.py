@@ -2,7 +2,7 @@
 """Runs every fenced block of README.md and docs/*.md as a reader would paste it (issue 55).
 
 Usage: run_doc_blocks.py --source SOURCE_DIR --build BUILD_DIR [--jobs N] [--keep] [--list]
-                         [--only FILE.md ...]
+                         [--only FILE.md ...] [--languages sh python ...]
 
 Which blocks, and how each runs:
   * Every fence in README.md and docs/*.md (docs/design/*.md too) must name its language,
@@ -282,6 +282,8 @@ def main():
     p.add_argument("--keep", action="store_true", help="keep the scratch directories")
     p.add_argument("--list", action="store_true", help="list the blocks, run nothing")
     p.add_argument("--only", nargs="+", help="only these documents (paths relative to the source)")
+    p.add_argument("--languages", nargs="+", choices=LANGUAGES, default=list(LANGUAGES),
+                   help="only blocks of these languages (default: all)")
     args = p.parse_args()
 
     errors = []
@@ -292,7 +294,7 @@ def main():
             print(f"run_doc_blocks: not a checked document: {', '.join(unknown)}", file=sys.stderr)
             return 2
         docs = args.only
-    per_doc = {d: extract(args.source, d, errors) for d in docs}
+    per_doc = {d: [b for b in extract(args.source, d, errors) if b.lang in args.languages] for d in docs}
     blocks = [b for d in docs for b in per_doc[d]]
     if args.list:
         for b in blocks:
