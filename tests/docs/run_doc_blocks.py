@@ -2,7 +2,7 @@
 """Runs every fenced block of README.md and docs/*.md as a reader would paste it (issue 55).
 
 Usage: run_doc_blocks.py --source SOURCE_DIR --build BUILD_DIR [--jobs N] [--keep] [--list]
-                         [--only FILE.md ...] [--languages sh python ...]
+                         [--only FILE.md ...] [--languages sh python ...] [--verbose]
 
 Which blocks, and how each runs:
   * Every fence in README.md and docs/*.md (docs/design/*.md too) must name its language,
@@ -281,6 +281,7 @@ def main():
     p.add_argument("--jobs", type=int, default=2)
     p.add_argument("--keep", action="store_true", help="keep the scratch directories")
     p.add_argument("--list", action="store_true", help="list the blocks, run nothing")
+    p.add_argument("--verbose", action="store_true", help="print every block's output")
     p.add_argument("--only", nargs="+", help="only these documents (paths relative to the source)")
     p.add_argument("--languages", nargs="+", choices=LANGUAGES, default=list(LANGUAGES),
                    help="only blocks of these languages (default: all)")
@@ -320,6 +321,8 @@ def main():
         what = "checked, not run" if b.skip_reason is not None else ("parsed" if b.lang == "json" else
                                                                     "not code" if b.lang == "text" else "ran")
         print(f"{b.where()} {b.lang} {what}: {state} ({seconds:.1f} s)")
+        if args.verbose and passed and out.strip():
+            print("    " + out.rstrip().replace("\n", "\n    "))
     for b, out in failed:
         print(f"\n==== {b.where()} ```{b.lang} FAILED\n{b.text}---- output:\n{out.rstrip()}\n")
     for e in errors:
