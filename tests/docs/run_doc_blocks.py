@@ -3,6 +3,7 @@
 
 Usage: run_doc_blocks.py --source SOURCE_DIR --build BUILD_DIR [--jobs N] [--keep] [--list]
                          [--only FILE.md ...] [--languages sh python ...] [--verbose]
+                         [--timeout SECONDS]
 
 Which blocks, and how each runs:
   * Every fence in README.md and docs/*.md (docs/design/*.md too) must name its language,
@@ -49,6 +50,7 @@ import json
 import os
 import re
 import shutil
+import signal
 import subprocess
 import sys
 import tempfile
@@ -139,6 +141,7 @@ class Runner:
         self.cmake = shutil.which("cmake") or "cmake"
         self.tmp = tempfile.mkdtemp(prefix="gonio-docs.")
         self.keep = args.keep
+        self.timeout = args.timeout
         self.prefix = None
         self.prefix_lock = threading.Lock()
         bin_dir = os.path.join(self.tmp, "bin")
@@ -175,15 +178,20 @@ class Runner:
                 self.prefix = prefix
             return self.prefix
 
-    def run(self, cmd, cwd, env=None, timeout=BLOCK_TIMEOUT, stdin=None):
+    def run(self, cmd, cwd, env=None, timeout=None):
+        """(status, stdout + stderr) of cmd; on a timeout the whole process group (a server a
+        block started, say) is killed, and the status is -1."""
+        timeout = timeout or self.timeout
+        p = subprocess.Popen(cmd, cwd=cwd, env=env or self.env, stdin=subprocess.DEVNULL,
+                             stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
+                             errors="replace", start_new_session=True)
         try:
-            r = subprocess.run(cmd, cwd=cwd, env=env or self.env, capture_output=True, text=True,
-                               timeout=timeout, stdin=subprocess.DEVNULL if stdin is None else stdin)
-            return r.returncode, r.stdout + r.stderr
-        except subprocess.TimeoutExpired as e:
-            out = (e.stdout or b"") + (e.stderr or b"")
-            return -1, (out.decode(errors="replace") if isinstance(out, bytes) else out) + \
-                f"\n(timed out after {timeout} s)"
+            out, _ = p.communicate(timeout=timeout)
+            return p.returncode, out
+        except subprocess.TimeoutExpired:
+            os.killpg(p.pid, signal.SIGKILL)
+            out, _ = p.communicate()
+            return -1, (out or "") + f"\n(timed out after {timeout} s)"
 
     def block_file(self, cwd, block, n, suffix):
         path = os.path.join(cwd, f".doc_block_{n}{suffix}")
@@ -282,6 +290,8 @@ def main():
     p.add_argument("--keep", action="store_true", help="keep the scratch directories")
     p.add_argument("--list", action="store_true", help="list the blocks, run nothing")
     p.add_argument("--verbose", action="store_true", help="print every block's output")
+    p.add_argument("--timeout", type=float, default=BLOCK_TIMEOUT,
+                   help=f"seconds a block may take (default {BLOCK_TIMEOUT})")
     p.add_argument("--only", nargs="+", help="only these documents (paths relative to the source)")
     p.add_argument("--languages", nargs="+", choices=LANGUAGES, default=list(LANGUAGES),
                    help="only blocks of these languages (default: all)")
