@@ -84,7 +84,7 @@ TEST(CliFresnelMaterial, MetalChannelsEqualTheirIndex) {
 }
 
 // --material METAL at 0°: R per channel is the colour (linear sRGB, D65, CIE 1931 2°) of
-// the metal's measured reflectance spectrum, capped at 0.999 (README, "Named metals"), as
+// the metal's measured reflectance spectrum, capped at 0.999 (docs/spectral.md, "Named metals in RGB mode"), as
 // tests/reference/models_reference.py computes it (metal_reflectance_rgb), not gonio. The
 // constants are floats: 1e-6.
 TEST(CliFresnelMaterial, MetalNormalIncidenceIsTheColourOfTheSpectrum) {

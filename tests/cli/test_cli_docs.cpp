@@ -2,6 +2,7 @@
 // for every subcommand and mentions every option its --help lists; README.md and docs/*.md
 // link only to files inside the repository that exist.
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <regex>
@@ -81,6 +82,24 @@ TEST(CliDocs, LinksStayInsideTheRepository) {
     }
   }
   EXPECT_GT(checked, 10u);
+}
+
+// A newcomer reads README.md through (issue 55): what gonio is, the two commands, a
+// picture, a short tour, the model table, at most 150 lines; the rest is in docs/. And
+// docs/benchmarks.md stays under 500 lines (older figures go to benchmarks-history.md).
+size_t count_doc_lines(const std::string& text) {
+  size_t lines = static_cast<size_t>(std::count(text.begin(), text.end(), '\n'));
+  if (!text.empty() && text.back() != '\n') ++lines;
+  return lines;
+}
+
+TEST(CliDocs, ReadmeAndBenchmarksStayShort) {
+  const std::string readme = read_source_file("README.md");
+  ASSERT_FALSE(readme.empty());
+  EXPECT_LE(count_doc_lines(readme), 150u) << "README.md is longer than 150 lines: move detail to docs/";
+  const std::string bench = read_source_file("docs/benchmarks.md");
+  ASSERT_FALSE(bench.empty());
+  EXPECT_LT(count_doc_lines(bench), 500u) << "docs/benchmarks.md has 500 lines or more: move older figures to docs/benchmarks-history.md";
 }
 
 // NOTICE names every data file, and every data file names its source in its first lines.

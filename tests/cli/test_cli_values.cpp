@@ -419,7 +419,7 @@ TEST(CliSample, ConductorWeightIsExactFresnel) {
 }
 
 // Gold's RGB index: n = data/metals/Au.csv at 650, 550 and 450 nm, k such that F0 is the
-// colour of gold's reflectance spectrum under D65 (README "Named metals"), as computed by
+// colour of gold's reflectance spectrum under D65 (docs/spectral.md, "Named metals in RGB mode"), as computed by
 // tests/reference/models_reference.py (metal_index), not by gonio.
 constexpr double kAuN[3] = {0.167789326, 0.350409967, 1.50846129};
 constexpr double kAuK[3] = {25.8803704, 2.14983999, 1.70193509};

@@ -163,7 +163,7 @@ def _f0(n, k):
 # IEC 61966-2-1:1999 eq. 5.2, XYZ (D65 white) -> linear sRGB.
 _XYZ_TO_SRGB = ((3.2406, -1.5372, -0.4986), (-0.9689, 1.8758, 0.0415), (0.0557, -0.2040, 1.0570))
 # F0 = 1 needs k = infinity: a channel's reflectance is capped here (gold's red is 1.02
-# before the clamp to [0, 1]); README, tools/make_metal_table.cpp.
+# before the clamp to [0, 1]); docs/spectral.md, tools/make_metal_table.cpp.
 METAL_MAX_REFLECTANCE = 0.999
 
 
@@ -190,7 +190,7 @@ def metal_index(name):
     (linear between the rows of data/metals/<name>.csv); k makes F0(n, k) equal the channel of
     metal_reflectance_rgb() (capped at METAL_MAX_REFLECTANCE): from F0 = ((n−1)² + k²)/((n+1)² + k²),
     k² = ((n+1)² R − (n−1)²)/(1 − R). If that is negative, k = 0 and n solves ((n−1)/(n+1))² = R on
-    the same side of 1 as the measured n (README: named metals)."""
+    the same side of 1 as the measured n (docs/spectral.md: named metals)."""
     metal = _read_columns(os.path.join(_DATA, "metals", name + ".csv"))
     out_n, out_k = [], []
     for lam, R in zip((650.0, 550.0, 450.0), metal_reflectance_rgb(name)):

@@ -1,4 +1,4 @@
-// The named metals' RGB-mode constants (tools/make_metal_table.cpp, README "Named metals")
+// The named metals' RGB-mode constants (tools/make_metal_table.cpp, docs/spectral.md "Named metals in RGB mode")
 // against the colour of their measured reflectance spectra, computed here: data/metals/*.csv
 // and data/cie/*.csv read by the tests' own reader (tests/data_csv.h), the spectrum
 // R(λ) = F0(n(λ), k(λ)) integrated against D65 and the CIE 1931 2° observer by composite
@@ -51,7 +51,7 @@ std::array<double, 3> spectral_rgb(const std::string& metal) {
   return rgb;
 }
 
-// The rule of README "Named metals": the colour clamped to [0, 1], then at most 0.999
+// The rule of docs/spectral.md, "Named metals in RGB mode": the colour clamped to [0, 1], then at most 0.999
 // (F0 = 1 needs k = ∞).
 double channel_target(double v) { return std::min(std::clamp(v, 0.0, 1.0), 0.999); }
 

@@ -466,7 +466,7 @@ TEST(SpectralMaterial, GoldSpectralAlbedoMatchesTheMeasuredSpectrum) {
   EXPECT_LT(worst, 1e-4) << "gonio's F0(λ) against the CSV interpolated linearly in n and k";
   for (int c = 0; c < 3; ++c) EXPECT_NEAR(spectral_rgb[size_t(c)], measured_rgb[size_t(c)], 5e-4) << "channel " << c;
   // Gold's red is outside the sRGB gamut (> 1 before a clamp); RGB mode's F0 is the colour
-  // clamped to [0, 1] (README "Named metals"), so compare after the same clamp.
+  // clamped to [0, 1] (docs/spectral.md, "Named metals in RGB mode"), so compare after the same clamp.
   EXPECT_GT(spectral_rgb[0], 1.0);
   const auto rgb = au.bxdf.exact_albedo(dir_deg(0, 0), TransportMode::Radiance);
   ASSERT_TRUE(rgb);
