@@ -180,6 +180,19 @@ std::optional<InterfaceIndex> interface_index(const json& m, std::optional<Float
     const std::string name = m["material"];
     return InterfaceIndex{named_index(name, nm), "material " + name};
   }
+  // OpenPBR (docs/openpbr.md): the first interface light meets is the coat's where there
+  // is a coat (coat_ior), else the base dielectric's (specular_ior); both are numbers.
+  if (type == "openpbr") {
+    const auto number = [&](const char* key, double fallback) {
+      const auto it = m.find(key);
+      return it != m.end() && it->is_number() ? it->get<double>() : fallback;
+    };
+    const bool coated = number("coat_weight", 0) > 0;
+    const char* key = coated ? "coat_ior" : "specular_ior";
+    const ParamSpec* p = find_param(*spec, key);
+    const double fallback = p && !p->default_json.empty() ? json::parse(p->default_json).get<double>() : 1.5;
+    return InterfaceIndex{{{number(key, fallback), 0.0}}, key};
+  }
   const ParamSpec* eta_spec = find_param(*spec, "eta");
   if (!eta_spec) return std::nullopt;
   json eta = m.contains("eta") ? m["eta"] : json();
@@ -436,11 +449,22 @@ std::string api_lobe(const std::string& body, const ApiContext& ctx) {
     wo[size_t(i)] = Vec3{Float(std::sin(t)), 0, Float(std::cos(t))};
   }
   return with_material(b, ctx, [&](const auto& bxdf) {
-    check_work(bxdf, double(wo.size()), "lobe");
+    // A material that transmits is also evaluated below the surface, wo at θo from the
+    // inward normal −z (θo < 0 on the −x side, where the refracted ray goes).
+    const bool transmits = is_transmissive(bxdf.flags());
+    check_work(bxdf, double(wo.size()) * (transmits ? 2 : 1), "lobe");
     using C = std::decay_t<decltype(bxdf.f(Vec3{}, Vec3{}))>;
     std::vector<C> f(wo.size());
     std::vector<Float> pdf(wo.size());
     eval_batch<C>(bxdf, wo, wis, mode, f, pdf);
+    std::vector<C> f_t;
+    if (transmits) {
+      std::vector<Vec3> below(wo);
+      for (Vec3& w : below) w.z = -w.z;
+      f_t.resize(n);
+      std::vector<Float> pdf_t(n);
+      eval_batch<C>(bxdf, below, wis, mode, f_t, pdf_t);
+    }
     std::string out = "{\"theta_i\":";
     put_number(out, theta_i, 17);
     out += ",\"mirror\":";
@@ -470,7 +494,20 @@ std::string api_lobe(const std::string& body, const ApiContext& ctx) {
       if (i) out += ',';
       put_float(out, pdf[i]);
     }
-    return out + "]}";
+    out += "],\"transmission\":";
+    out += transmits ? "true" : "false";
+    if (transmits) {
+      // f and f·|cos θo| below the surface, at the same θo.
+      for (const bool cosine : {false, true}) {
+        out += cosine ? "],\"f_cos_t\":[" : ",\"f_t\":[";
+        for (size_t i = 0; i < n; ++i) {
+          if (i) out += ',';
+          put_colour(out, cosine ? f_t[i] * Float(std::max(0.0, std::cos(theta_o[i] * kDegree))) : f_t[i]);
+        }
+      }
+      out += ']';
+    }
+    return out + "}";
   });
 }
 

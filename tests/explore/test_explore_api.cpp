@@ -932,3 +932,37 @@ TEST(ExploreLimits, WorkPastTheTimeLimitStopsWith400) {
   server.stop();
   serving.join();
 }
+
+// Issue 55 §5: an OpenPBR material with a coat has an interface, the coat's (coat_ior);
+// without a coat, the base dielectric's (specular_ior): R(0°) = ((n − 1)/(n + 1))².
+TEST_F(ExploreApi, FresnelOfACoatIsTheCoatsInterface) {
+  for (const auto& [m, source, n] : std::vector<std::tuple<json, std::string, double>>{
+           {{{"type", "openpbr"}, {"coat_weight", 1}, {"coat_ior", 1.7}}, "coat_ior", 1.7},
+           {{{"type", "openpbr"}, {"specular_ior", 1.4}}, "specular_ior", 1.4}}) {
+    const auto [status, d] = post("/api/fresnel", {{"bsdf", m}, {"count", 2}});
+    ASSERT_EQ(status, 200) << d;
+    ASSERT_EQ(d["interface"], source) << d;
+    EXPECT_NEAR(d["channels"][0]["outside"]["R"][0].get<double>(), std::pow((n - 1) / (n + 1), 2), 1e-12) << d;
+  }
+}
+
+// Issue 55 §5: the plane-of-incidence lobe of a material that transmits shows what it
+// transmits: a nearly smooth glass's f below the surface peaks at Snell's refracted
+// direction, θt = asin(sin θi / η) on the far side; an opaque material has none.
+TEST_F(ExploreApi, LobeOfAGlassShowsItsTransmission) {
+  const json glass = {{"type", "roughdielectric"}, {"alpha", 0.03}, {"eta", 1.5}};
+  const auto [status, d] = post("/api/lobe", {{"bsdf", glass}, {"theta_i", 40}, {"count", 361}});
+  ASSERT_EQ(status, 200) << d;
+  ASSERT_TRUE(d["transmission"].get<bool>());
+  ASSERT_EQ(d["f_t"].size(), 361u);
+  ASSERT_EQ(d["f_cos_t"].size(), 361u);
+  size_t peak = 0;
+  for (size_t i = 0; i < 361; ++i)
+    if (d["f_t"][i][1].get<double>() > d["f_t"][peak][1].get<double>()) peak = i;
+  const double theta_t = std::asin(std::sin(40 * kPi / 180) / 1.5) * 180 / kPi;  // 25.37°
+  EXPECT_NEAR(d["theta_o"][peak].get<double>(), -theta_t, 1.5) << d["theta_o"][peak];
+  EXPECT_GT(d["f_t"][peak][1].get<double>(), 0);
+  const auto opaque = post("/api/lobe", {{"bsdf", kLambert}, {"count", 3}});
+  EXPECT_FALSE(opaque.second["transmission"].get<bool>());
+  EXPECT_FALSE(opaque.second.contains("f_t"));
+}
