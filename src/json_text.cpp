@@ -17,6 +17,32 @@
 namespace gonio {
 namespace {
 
+// The length of the well-formed UTF-8 sequence at text[i], or 0 when the byte there
+// starts none. RFC 3629 §4's table: the second byte's range depends on the first (E0
+// needs A0..BF, ED 80..9F, F0 90..BF, F4 80..8F), which rules out overlong forms,
+// surrogates and code points past U+10FFFF.
+size_t utf8_sequence_length(std::string_view text, size_t i) {
+  const auto at = [&](size_t k) { return static_cast<unsigned char>(text[k]); };
+  const unsigned char c = at(i);
+  if (c < 0x80) return 1;
+  size_t n = 0;
+  unsigned char lo = 0x80, hi = 0xBF;
+  if (c >= 0xC2 && c <= 0xDF) n = 2;
+  else if (c == 0xE0) n = 3, lo = 0xA0;
+  else if (c >= 0xE1 && c <= 0xEC) n = 3;
+  else if (c == 0xED) n = 3, hi = 0x9F;
+  else if (c >= 0xEE && c <= 0xEF) n = 3;
+  else if (c == 0xF0) n = 4, lo = 0x90;
+  else if (c >= 0xF1 && c <= 0xF3) n = 4;
+  else if (c == 0xF4) n = 4, hi = 0x8F;
+  else return 0;
+  if (i + n > text.size()) return 0;
+  if (at(i + 1) < lo || at(i + 1) > hi) return 0;
+  for (size_t k = 2; k < n; ++k)
+    if (at(i + k) < 0x80 || at(i + k) > 0xBF) return 0;
+  return n;
+}
+
 // "16 MiB", or the byte count when the limit is not a whole number of MiB.
 std::string show_size(std::size_t bytes) {
   if (bytes % (std::size_t(1) << 20) == 0) return std::to_string(bytes >> 20) + " MiB";
@@ -148,21 +174,55 @@ nlohmann::json parse_json_text(std::string_view text, std::string_view source) {
     const auto dash = what.rfind(" - ");
     if (dash != std::string::npos) what = what.substr(dash + 3);
     // Byte offset → line and column, so the message points into the text.
-    throw InputError(std::string(source) + ": malformed JSON at " + line_column(text, e.byte == 0 ? 0 : e.byte - 1) +
-                     ": " + what);
+    // nlohmann quotes the bytes last read, which may be part of a multi-byte character
+    // ("last read: '\xc3'"): escaped, so that the message is valid UTF-8.
+    throw InputError(printable_utf8(std::string(source) + ": malformed JSON at " +
+                                    line_column(text, e.byte == 0 ? 0 : e.byte - 1) + ": " + what));
   } catch (const json::exception& e) {
     // e.g. out_of_range.406 "number overflow parsing '1e999'"; drop the "[json.exception...] ".
     std::string what = e.what();
     const auto bracket = what.find("] ");
     if (bracket != std::string::npos) what = what.substr(bracket + 2);
-    throw InputError(std::string(source) + ": malformed JSON: " + what);
+    throw InputError(printable_utf8(std::string(source) + ": malformed JSON: " + what));
   }
 }
 
 std::string json_excerpt(const nlohmann::json& value) {
-  std::string s = value.dump();
-  if (s.size() > 60) s = s.substr(0, 57) + "...";
+  // A string holding invalid UTF-8 (one built in code, not parsed) is shown with U+FFFD
+  // rather than making dump() throw.
+  std::string s = value.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+  if (s.size() > 60) s = std::string(utf8_prefix(s, 57)) + "...";
   return s;
+}
+
+std::string printable_utf8(std::string_view text) {
+  std::string out;
+  out.reserve(text.size());
+  for (size_t i = 0; i < text.size();) {
+    const size_t n = utf8_sequence_length(text, i);
+    if (n > 0) {
+      out.append(text.substr(i, n));
+      i += n;
+    } else {
+      constexpr char kHex[] = "0123456789abcdef";
+      const auto c = static_cast<unsigned char>(text[i]);
+      out += "\\x";
+      out += kHex[c >> 4];
+      out += kHex[c & 15];
+      ++i;
+    }
+  }
+  return out;
+}
+
+std::string_view utf8_prefix(std::string_view text, std::size_t max_bytes) {
+  size_t end = 0;
+  while (end < text.size()) {
+    const size_t n = std::max<size_t>(1, utf8_sequence_length(text, end));  // a stray byte is one
+    if (end + n > max_bytes) break;
+    end += n;
+  }
+  return text.substr(0, end);
 }
 
 }  // namespace gonio

@@ -13,6 +13,7 @@
 #include "cli_io.h"
 #include "cli_number.h"
 #include "commands.h"
+#include "cli_work.h"
 #include "gonio/hemispherical_average.h"
 #include "gonio/math/spherical.h"
 #include "gonio/math/warp.h"
@@ -56,6 +57,7 @@ template <typename Model>
 void run_albedo_with(const AlbedoArgs& a, const Model& bxdf) {
   const ReflectanceOptions opt{std::uint64_t(a.samples), std::uint64_t(a.seed)};
   if (a.hemispherical) {
+    check_cli_work(bxdf, double(a.samples), "albedo");
     std::cout << albedo_line(hemispherical_albedo(bxdf, a.inside, opt), "null");
     return;
   }
@@ -67,6 +69,7 @@ void run_albedo_with(const AlbedoArgs& a, const Model& bxdf) {
     checked_degrees(a.theta, 0, 90, "--theta");
     thetas.push_back(a.theta);
   }
+  check_cli_work(bxdf, double(a.samples) * double(thetas.size()), "albedo");
   // Each angle with the same seed, so a line equals the --theta run at its angle; every
   // line is formatted before anything is written.
   std::string out;

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "cli_io.h"
+#include "cli_work.h"
 #include "commands.h"
 #include "gonio/validate.h"
 
@@ -23,6 +24,7 @@ struct CheckArgs {
 
 void run_check(const CheckArgs& a) {
   const BxDF bxdf = load_bsdf(a.bsdf);
+  check_cli_work(bxdf, kValidationEvaluations, "check");
   const ValidationReport report = validate(bxdf, {std::uint64_t(a.seed), 1.0});
   if (a.json) {
     std::string out = std::string("{\"pass\":") + (report.pass() ? "true" : "false") + ",\"properties\":[";

@@ -7,8 +7,11 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <atomic>
+#include <chrono>
 #include <cstdint>
 #include <cstdio>
+#include <cstdlib>
 #include <iostream>
 #include <memory>
 #include <string>
@@ -24,6 +27,9 @@ extern char** environ;
 namespace gonio::cli {
 
 namespace {
+// How long the first SIGINT or SIGTERM waits for the requests at work to stop.
+constexpr int kStopGraceMs = 1500;
+
 struct ExploreArgs {
   std::int64_t port = 8080;
   std::string host = "127.0.0.1";
@@ -64,14 +70,26 @@ void run_explore(const ExploreArgs& a) {
   server.bind();  // InputError (exit 2) for --data, --host, --port
   std::cout << server.url() << std::endl;  // SPEC §3: the URL first, flushed at once
   if (a.open) open_browser(server.url());
-  bool served = true;
+  std::atomic<bool> served{true}, finished{false};
   std::thread serving([&] {
     served = server.run();
+    finished = true;
     if (!served) ::kill(::getpid(), SIGTERM);  // wakes the sigwait below
   });
   int sig = 0;
   sigwait(&stop_set, &sig);
-  server.stop();
+  // The first signal ends the process: the server stops listening and raises the stop
+  // signal of every request at work, which ends at its next step; whatever is still busy
+  // after kStopGraceMs (a step of a long computation) is abandoned with the process.
+  std::thread stopping([&] { server.stop(); });
+  const auto give_up = std::chrono::steady_clock::now() + std::chrono::milliseconds(kStopGraceMs);
+  while (!finished && std::chrono::steady_clock::now() < give_up) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  if (!finished) {
+    std::cout.flush();
+    std::fflush(stdout);
+    std::_Exit(served ? 0 : 2);
+  }
+  stopping.join();
   serving.join();
   if (!served) throw InputError("explore: the server stopped listening on " + server.url());
 }

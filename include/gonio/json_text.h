@@ -36,7 +36,19 @@ std::string read_text_file(const std::string& path, std::size_t limit, std::stri
 // the key).
 nlohmann::json parse_json_text(std::string_view text, std::string_view source);
 
-// A value as error messages show it: compact JSON, cut to 60 characters.
+// A value as error messages show it: compact JSON, at most 60 bytes, cut on a character
+// boundary (a multi-byte character is never split), "..." marking the cut.
 std::string json_excerpt(const nlohmann::json& value);
+
+// `text` as valid UTF-8 for a message: well-formed sequences kept, every other byte (a
+// lone continuation byte, an overlong form such as C0 AE, a surrogate, a sequence cut
+// short, F5..FF) written as \xNN. An error message that quotes bytes a user sent is then
+// printable on a terminal and representable in a JSON answer (nlohmann's dump() throws on
+// invalid UTF-8). Idempotent: the escapes are ASCII.
+std::string printable_utf8(std::string_view text);
+
+// The longest prefix of UTF-8 `text` of at most `max_bytes` bytes that ends on a
+// character boundary (a well-formed sequence is kept whole or dropped whole).
+std::string_view utf8_prefix(std::string_view text, std::size_t max_bytes);
 
 }  // namespace gonio

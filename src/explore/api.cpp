@@ -22,6 +22,7 @@
 
 #include "explore/material_request.h"
 #include "gonio/batch.h"
+#include "gonio/evaluation_cost.h"
 #include "gonio/error.h"
 #include "gonio/fresnel.h"
 #include "gonio/json_text.h"
@@ -90,18 +91,6 @@ double number_field(const json& body, const char* name, double fallback, double 
     throw InputError(std::string(name) + " must be in [" + format_number(lo) + ", " + format_number(hi) + "]" + unit +
                      ", got " + format_number(v));
   return v;
-}
-
-long long integer_field(const json& body, const char* name, long long fallback, long long lo, long long hi) {
-  const auto it = body.find(name);
-  if (it == body.end() || it->is_null()) return fallback;
-  if (!it->is_number_integer() && !(it->is_number_float() && std::floor(it->get<double>()) == it->get<double>()))
-    throw InputError(std::string(name) + " must be an integer, got " + json_excerpt(*it));
-  const double v = it->get<double>();
-  if (!(v >= double(lo) && v <= double(hi)))
-    throw InputError(std::string(name) + " must be an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) +
-                     "], got " + format_number(v));
-  return static_cast<long long>(v);
 }
 
 bool bool_field(const json& body, const char* name, bool fallback) {
@@ -191,6 +180,19 @@ std::optional<InterfaceIndex> interface_index(const json& m, std::optional<Float
     const std::string name = m["material"];
     return InterfaceIndex{named_index(name, nm), "material " + name};
   }
+  // OpenPBR (docs/openpbr.md): the first interface light meets is the coat's where there
+  // is a coat (coat_ior), else the base dielectric's (specular_ior); both are numbers.
+  if (type == "openpbr") {
+    const auto number = [&](const char* key, double fallback) {
+      const auto it = m.find(key);
+      return it != m.end() && it->is_number() ? it->get<double>() : fallback;
+    };
+    const bool coated = number("coat_weight", 0) > 0;
+    const char* key = coated ? "coat_ior" : "specular_ior";
+    const ParamSpec* p = find_param(*spec, key);
+    const double fallback = p && !p->default_json.empty() ? json::parse(p->default_json).get<double>() : 1.5;
+    return InterfaceIndex{{{number(key, fallback), 0.0}}, key};
+  }
   const ParamSpec* eta_spec = find_param(*spec, "eta");
   if (!eta_spec) return std::nullopt;
   json eta = m.contains("eta") ? m["eta"] : json();
@@ -259,12 +261,53 @@ json fresnel_side(double eta, double k, const std::vector<double>& thetas) {
   return side;
 }
 
-std::mutex& check_mutex() {
-  static std::mutex m;
-  return m;
+// One validation at a time (seconds of a core each: the views must stay live), and at
+// most 4 waiting: 70 pages asking at once get 429s, not 70 threads held for minutes.
+OneAtATime& check_gate() {
+  static OneAtATime gate(4);
+  return gate;
 }
 
+
 }  // namespace
+
+// ---- stopping and queueing -----------------------------------------------------------
+
+Stopped::Stopped(StopReason r)
+    : std::runtime_error(r == StopReason::Superseded     ? "superseded by a newer request of the same view"
+                         : r == StopReason::TimeLimit    ? "stopped at the explorer's time limit per request"
+                         : r == StopReason::ClientGone   ? "the client closed the connection"
+                         : r == StopReason::ShuttingDown ? "the server is stopping"
+                                                         : "stopped"),
+      reason(r) {}
+
+Busy::Busy(const std::string& what) : std::runtime_error(what) {}
+
+void OneAtATime::acquire(const ApiContext& ctx, const char* what) {
+  std::unique_lock<std::mutex> lock(mutex_);
+  if (busy_ && waiting_ >= max_waiting_)
+    throw Busy("busy: a " + std::string(what) + " is running and " + std::to_string(waiting_) +
+               " more wait; try again when they are done");
+  ++waiting_;
+  while (busy_) {
+    freed_.wait_for(lock, std::chrono::milliseconds(20));
+    if (ctx.stop && ctx.stop->stop.load()) {
+      --waiting_;
+      throw Stopped(ctx.stop->why());
+    }
+  }
+  --waiting_;
+  busy_ = true;
+}
+
+void OneAtATime::release() {
+  {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    busy_ = false;
+  }
+  freed_.notify_one();
+}
+
 
 // ---- endpoints -----------------------------------------------------------------------
 
@@ -369,6 +412,7 @@ std::string api_eval(const std::string& body, const ApiContext& ctx) {
     wi.push_back(*c);
   }
   return with_material(b, ctx, [&](const auto& bxdf) {
+    check_work(bxdf, double(wo.size()), "eval");
     using C = std::decay_t<decltype(bxdf.f(Vec3{}, Vec3{}))>;
     std::vector<C> f(wo.size());
     std::vector<Float> pdf(wo.size());
@@ -405,10 +449,22 @@ std::string api_lobe(const std::string& body, const ApiContext& ctx) {
     wo[size_t(i)] = Vec3{Float(std::sin(t)), 0, Float(std::cos(t))};
   }
   return with_material(b, ctx, [&](const auto& bxdf) {
+    // A material that transmits is also evaluated below the surface, wo at θo from the
+    // inward normal −z (θo < 0 on the −x side, where the refracted ray goes).
+    const bool transmits = is_transmissive(bxdf.flags());
+    check_work(bxdf, double(wo.size()) * (transmits ? 2 : 1), "lobe");
     using C = std::decay_t<decltype(bxdf.f(Vec3{}, Vec3{}))>;
     std::vector<C> f(wo.size());
     std::vector<Float> pdf(wo.size());
     eval_batch<C>(bxdf, wo, wis, mode, f, pdf);
+    std::vector<C> f_t;
+    if (transmits) {
+      std::vector<Vec3> below(wo);
+      for (Vec3& w : below) w.z = -w.z;
+      f_t.resize(n);
+      std::vector<Float> pdf_t(n);
+      eval_batch<C>(bxdf, below, wis, mode, f_t, pdf_t);
+    }
     std::string out = "{\"theta_i\":";
     put_number(out, theta_i, 17);
     out += ",\"mirror\":";
@@ -438,7 +494,20 @@ std::string api_lobe(const std::string& body, const ApiContext& ctx) {
       if (i) out += ',';
       put_float(out, pdf[i]);
     }
-    return out + "]}";
+    out += "],\"transmission\":";
+    out += transmits ? "true" : "false";
+    if (transmits) {
+      // f and f·|cos θo| below the surface, at the same θo.
+      for (const bool cosine : {false, true}) {
+        out += cosine ? "],\"f_cos_t\":[" : ",\"f_t\":[";
+        for (size_t i = 0; i < n; ++i) {
+          if (i) out += ',';
+          put_colour(out, cosine ? f_t[i] * Float(std::max(0.0, std::cos(theta_o[i] * kDegree))) : f_t[i]);
+        }
+      }
+      out += ']';
+    }
+    return out + "}";
   });
 }
 
@@ -462,6 +531,7 @@ std::string api_lobe3d(const std::string& body, const ApiContext& ctx) {
     }
   return with_material(b, ctx, [&](const auto& bxdf) {
     using C = std::decay_t<decltype(bxdf.f(Vec3{}, Vec3{}))>;
+    check_work(bxdf, double(n), "lobe3d");
     std::vector<C> f(n);
     std::vector<Float> pdf(n);
     eval_batch<C>(bxdf, wo, wis, mode, f, pdf);
@@ -490,6 +560,9 @@ std::string api_slice(const std::string& body, const ApiContext& ctx) {
   // With "compare", a second material on the same scale (as `gonio slice --compare`).
   std::optional<BxDF> other;
   if (b.contains("compare") && !b["compare"].is_null()) other = load_material(b, ctx, "compare");
+  const double pixels = double(o.size) * double(o.size);
+  check_work(bxdf, pixels, "slice");
+  if (other) check_work(*other, pixels, "slice: --compare");
   // The values and the automatic scale of `gonio slice` (render/slice.h).
   const std::vector<double> values = render::slice_values(bxdf, o);
   std::vector<std::vector<double>> panels = {values};
@@ -534,6 +607,7 @@ std::string api_slice_point(const std::string& body, const ApiContext& ctx) {
   // The directions of gonio slice's pixels (merl.h).
   const auto [wo, wi] = merl_directions(theta_h, theta_d, phi_d);
   const BxDF bxdf = load_material(b, ctx);
+  check_work(bxdf, 1, "slice_point");
   const bool above = wo.z > 0 && wi.z > 0;
   const Color f = above ? bxdf.f(wo, wi) : Color(0);
   std::string out = "{\"wo\":[";
@@ -562,6 +636,8 @@ std::string api_albedo(const std::string& body, const ApiContext& ctx) {
   const auto seed = std::uint64_t(integer_field(b, "seed", 1, 0, 2'147'483'647));
   const bool inside = bool_field(b, "inside", false);
   return with_material(b, ctx, [&](const auto& bxdf) {
+    // One sample (its weight, an evaluation) per sample and angle.
+    check_work(bxdf, double(count) * double(samples), "albedo");
     json theta = json::array(), refl = json::array(), trans = json::array(), alb = json::array(),
          se = json::array(), exact = json::array();
     const auto colour = [](const auto& c) {
@@ -578,7 +654,7 @@ std::string api_albedo(const std::string& body, const ApiContext& ctx) {
       const double t = 90.0 * i / (count - 1);
       const double z = std::cos(t * kDegree);
       const Vec3 wo{Float(std::sin(t * kDegree)), 0, Float(inside ? -z : z)};
-      ctx.check_stale();
+      ctx.check_stop();
       const auto e = directional_albedo(bxdf, wo, ReflectanceOptions{samples, seed});
       theta.push_back(t);
       refl.push_back(colour(e.reflectance));
@@ -642,11 +718,15 @@ std::string api_check(const std::string& body, const ApiContext& ctx) {
   const json b = parse_request(body);
   const auto seed = std::uint64_t(integer_field(b, "seed", 1, 0, 2'147'483'647));
   const BxDF bxdf = load_material(b, ctx);
-  // One validation at a time: it takes seconds of a core, and the views must stay live.
-  const std::lock_guard<std::mutex> lock(check_mutex());
-  // A newer validation of the same page stops this one between properties (the stale
-  // flag, looked at before each) instead of after seconds.
-  const ValidationReport report = validate(bxdf, {seed, 1.0}, [&] { ctx.check_stale(); });
+  check_work(bxdf, kValidationEvaluations, "check");
+  check_gate().acquire(ctx, "validation");
+  struct Release {
+    ~Release() { check_gate().release(); }
+  } release;
+  // A newer validation of the same page (or the time limit, or the client leaving) stops
+  // this one between properties (the signal, looked at before each) instead of after
+  // seconds.
+  const ValidationReport report = validate(bxdf, {seed, 1.0}, [&] { ctx.check_stop(); });
   // The object of `gonio check --json` (SPEC §3).
   json props = json::array();
   for (const auto& p : report.properties) {

@@ -6,16 +6,64 @@
 // server answers it with HTTP 400 {"error": message}). docs/explore.md documents each one.
 
 #include <atomic>
+#include <condition_variable>
 #include <memory>
+#include <mutex>
 #include <stdexcept>
 #include <string>
 
 namespace gonio::explore {
 
-// Thrown by an endpoint whose request a newer one of the same page and view replaced
-// (the server answers 409): a slider moved on, and the old answer would be stale.
-struct Superseded : std::runtime_error {
-  Superseded() : std::runtime_error("superseded by a newer request of the same view") {}
+// Why a request's work stopped before its end (the server answers each differently:
+// docs/explore.md, "Limits").
+enum class StopReason : int {
+  None = 0,
+  Superseded,    // a newer request of the same page and view arrived: 409
+  TimeLimit,     // past the server's time per request: 400
+  ClientGone,    // the client closed the connection: nobody to answer
+  ShuttingDown,  // the server is stopping (SIGINT): 503
+};
+
+// The flag the long endpoints poll between steps (the renderer between tiles, the
+// validator between properties, the albedo between angles); set from another thread
+// (the server's watchdog, a newer request), the first reason kept.
+struct StopSignal {
+  std::atomic<bool> stop{false};
+  std::atomic<int> reason{0};
+  void raise(StopReason r) noexcept {
+    int none = 0;
+    reason.compare_exchange_strong(none, int(r));
+    stop.store(true);
+  }
+  StopReason why() const noexcept { return StopReason(reason.load()); }
+};
+
+// Thrown by an endpoint whose StopSignal was raised.
+struct Stopped : std::runtime_error {
+  StopReason reason;
+  explicit Stopped(StopReason r);
+};
+
+// Thrown when a one-at-a-time endpoint (check, fit) has its queue full: the server
+// answers 429 at once rather than hold a thread for minutes.
+struct Busy : std::runtime_error {
+  explicit Busy(const std::string& what);
+};
+
+// One at a time, at most `max_waiting` more waiting; a waiting request leaves when its
+// StopSignal is raised (superseded, time limit, client gone, shutdown).
+class OneAtATime {
+ public:
+  explicit OneAtATime(int max_waiting) : max_waiting_(max_waiting) {}
+  void acquire(const struct ApiContext& ctx, const char* what);  // Busy, Stopped
+  void release();
+
+ private:
+  std::mutex mutex_;
+  std::condition_variable freed_;
+  bool busy_ = false;
+  int waiting_ = 0;
+  int max_waiting_;
 };
 
 // What every request may refer to: the --data directory (canonical, absolute; empty when
@@ -24,13 +72,21 @@ struct Superseded : std::runtime_error {
 // server read the rest of the disk.
 struct ApiContext {
   std::string data_dir;
-  // Set (by the server) when a newer request of the same page and view arrived; the long
-  // endpoints (albedo, sphere, check) poll it between steps and throw Superseded.
-  std::shared_ptr<const std::atomic<bool>> stale;
-  void check_stale() const {
-    if (stale && stale->load(std::memory_order_relaxed)) throw Superseded();
+  // Raised by the server (a newer request of the same page and view, the time limit, the
+  // client gone, shutdown); the long endpoints poll it between steps and throw Stopped.
+  std::shared_ptr<const StopSignal> stop;
+  void check_stop() const {
+    if (stop && stop->stop.load(std::memory_order_relaxed)) throw Stopped(stop->why());
   }
 };
+
+// The work a request may imply, in walk steps (evaluation_cost.h) times evaluations: a
+// request above it is refused up front with a 400 naming its estimate. Analytic models
+// stay far below; a layered material's max_depth × samples is what reaches it. A step
+// took 3–12 ns on the machine of docs/benchmarks.md (a default layered material's
+// validation, 4·10⁹ steps, 27 s; an albedo-1 medium walking to max_depth 10000, 3.4 ns),
+// so the bound is a minute or two of a core at worst; the time limit stops it sooner.
+inline constexpr double kMaxRequestWork = 1e10;
 
 // GET /api/materials: the registry behind `gonio materials` — every type with its
 // parameters (kind, default, range, choices, meaning), a valid example per type, the

@@ -48,9 +48,12 @@ std::string api_fit(const std::string& body, const ApiContext& ctx) {
   std::call_once(quiet, [] { quiet_solver_log(); });
   // One fit at a time (seconds of a core and a 35 MB table each); a newer request of the
   // same page replaces one still waiting.
-  static std::mutex one_at_a_time;
-  const std::lock_guard<std::mutex> lock(one_at_a_time);
-  ctx.check_stale();
+  static OneAtATime gate(2);
+  gate.acquire(ctx, "fit");
+  struct Release {
+    ~Release() { gate.release(); }
+  } release;
+  ctx.check_stop();
   const FitResult r = fit_merl(read_merl(path), options);
   return json({{"material", r.material},
                {"measured", measured},

@@ -1,6 +1,7 @@
 #include "explore/material_request.h"
 
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <list>
 #include <mutex>
@@ -8,6 +9,7 @@
 #include <string>
 
 #include "gonio/error.h"
+#include "gonio/evaluation_cost.h"
 #include "gonio/json_text.h"
 #include "gonio/material.h"
 
@@ -127,6 +129,40 @@ std::unique_ptr<MaterialAtWavelength> load_material_at_wavelength(const json& bo
   m->wavelengths = SampledWavelengths::single(nm);
   m->bxdf = to_spectral(m->material.bxdf, m->material.spectra, m->wavelengths, m->scratch);
   return m;
+}
+
+long long integer_field(const json& body, const char* name, long long fallback, long long lo, long long hi) {
+  const auto it = body.find(name);
+  if (it == body.end() || it->is_null()) return fallback;
+  if (!it->is_number_integer() && !(it->is_number_float() && std::floor(it->get<double>()) == it->get<double>()))
+    throw InputError(std::string(name) + " must be an integer, got " + json_excerpt(*it));
+  const double v = it->get<double>();
+  if (!(v >= double(lo) && v <= double(hi)))
+    throw InputError(std::string(name) + " must be an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) +
+                     "], got " + format_number(v));
+  return static_cast<long long>(v);
+}
+
+namespace {
+template <typename C>
+void check_work_of(const BxDFT<C>& bxdf, double evaluations, std::string_view what) {
+  const double cost = evaluation_cost(bxdf);
+  const double work = cost * evaluations;
+  if (work <= kMaxRequestWork) return;
+  char buf[200];
+  std::snprintf(buf, sizeof buf,
+                ": about %.2g evaluations of %.3g walk steps each (a layered material: 2 x samples x max_depth), "
+                "%.2g steps, above the explorer's limit of %.2g per request",
+                evaluations, cost, work, kMaxRequestWork);
+  throw InputError(std::string(what) + buf + "; lower max_depth or samples, or ask for less");
+}
+}  // namespace
+
+void check_work(const BxDF& bxdf, double evaluations, std::string_view what) {
+  check_work_of(bxdf, evaluations, what);
+}
+void check_work(const SpectralBxDF& bxdf, double evaluations, std::string_view what) {
+  check_work_of(bxdf, evaluations, what);
 }
 
 json example_material(std::string_view type) {

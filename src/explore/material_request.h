@@ -45,6 +45,16 @@ struct MaterialAtWavelength {
 std::unique_ptr<MaterialAtWavelength> load_material_at_wavelength(const nlohmann::json& body, const ApiContext& ctx,
                                                                   Float nm);
 
+// The integer `name` of a request in [lo, hi] (`fallback` when absent or null); a number
+// with a fraction, or one out of range, is an InputError naming it.
+long long integer_field(const nlohmann::json& body, const char* name, long long fallback, long long lo, long long hi);
+
+// Refuses (InputError, "`what`: about N evaluations of C walk steps each ...") a request
+// whose `evaluations` of the model, at evaluation_cost.h's steps each, exceed
+// kMaxRequestWork: decided before any work starts.
+void check_work(const BxDF& bxdf, double evaluations, std::string_view what);
+void check_work(const SpectralBxDF& bxdf, double evaluations, std::string_view what);
+
 // A valid material of each type, for the page's editor to start from (the registry's
 // defaults alone do not make a conductor, a blend or a layered material). `measured`
 // names a file, valid only with such a file in --data.

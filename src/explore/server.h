@@ -5,7 +5,9 @@
 // CLI compiles without it.
 
 #include <memory>
+#include <optional>
 #include <string>
+#include <string_view>
 
 namespace gonio::explore {
 
@@ -14,6 +16,12 @@ struct ServerOptions {
   int port = 8080;        // 0: any free port (the URL names the one chosen)
   std::string data_dir;   // --data, as given; empty: none
   int threads = 64;       // connections served at once (a browser keeps up to 6 open)
+  // The longest a request's work runs (its time limit, docs/explore.md "Limits"); past
+  // it the work stops at its next step and the answer is a 400.
+  double request_seconds = 30;
+  // How long an idle keep-alive connection is kept (seconds), when threads are free; once
+  // most are busy, idle connections are closed at once.
+  double keep_alive_seconds = 5;
 };
 
 class Server {
@@ -39,10 +47,13 @@ class Server {
   std::unique_ptr<Impl> impl_;
 };
 
-// Whether `name` (a Host header, or the authority of an Origin, without its port) is one of
-// the server's own names: 127.0.0.1, [::1], localhost, or the --host value `host`.
+// Whether `name` (the host of a Host header or of an Origin, as authority_host gives it) is
+// one of the server's own names: 127.0.0.1, [::1], localhost, or the --host value `host`.
 bool is_own_name(const std::string& name, const std::string& host);
-// The name part of a Host header value ("localhost:8080" -> "localhost", "[::1]:80" -> "[::1]").
-std::string host_name_of(const std::string& host_header);
+// The host of an authority (a Host header's value, an Origin after its "scheme://"),
+// lower-case, an IPv6 literal with its brackets: "LocalHost:8080" -> "localhost",
+// "[::1]:80" -> "[::1]". Nothing when the text is not host[:port] (RFC 9110 §7.2, RFC 3986
+// §3.2.2): text after "]" or the port ("[::1].evil.com"), userinfo, a path, an empty host.
+std::optional<std::string> authority_host(std::string_view authority);
 
 }  // namespace gonio::explore

@@ -80,9 +80,10 @@ render::Image studio_map() {
 std::string api_sphere(const std::string& body, const ApiContext& ctx) {
   using nlohmann::json;
   const json b = parse_request(body);
-  const int size = int(number_in(b, "size", 128, 16, kMaxSphereSize));
-  const int spp = int(number_in(b, "spp", 1, 1, kMaxSphereSpp));
-  const auto seed = std::int64_t(number_in(b, "seed", 0, 0, 2'147'483'647));
+  // Integers, as every endpoint's counts (a size of 16.5 is refused, not taken as 16).
+  const int size = int(integer_field(b, "size", 128, 16, kMaxSphereSize));
+  const int spp = int(integer_field(b, "spp", 1, 1, kMaxSphereSpp));
+  const auto seed = std::int64_t(integer_field(b, "seed", 0, 0, 2'147'483'647));
   // The light's direction from the sphere's centre, in the camera's frame: x right, y up,
   // z towards the camera; 5 radii away. Its intensity makes the irradiance at the sphere's
   // nearest point about π, so that a white Lambertian sphere faces it at radiance ~1.
@@ -112,13 +113,20 @@ std::string api_sphere(const std::string& body, const ApiContext& ctx) {
       {"environment", {{"radiance", env}}},
   };
   render::Scene s = render::parse_scene(scene.dump(), "--bsdf", "");
+  // A path of up to max_depth 8 vertices evaluates and samples the material at each.
+  check_work(load_material(b, ctx), double(size) * double(size) * double(spp) * 16, "sphere");
   if (env_map == "studio") s.environment = render::Environment(studio_map(), Float(env), 0);
   render::RenderOptions o;
   o.threads = 1;  // one core per request: the other views stay live
-  o.stop = ctx.stale.get();  // a newer pass of the same page stops this one between tiles
+  // A newer pass of the same page (the time limit, the client leaving) stops this one
+  // between tiles.
+  o.stop = ctx.stop ? &ctx.stop->stop : nullptr;
   render::RenderStats stats;
   const render::Image img = render::render(s, o, &stats);
-  if (stats.stopped) throw Superseded();
+  if (stats.stopped) {
+    ctx.check_stop();
+    throw Stopped(StopReason::Superseded);
+  }
   std::string bytes(size_t(img.width()) * size_t(img.height()) * 3 * sizeof(float), '\0');
   size_t at = 0;
   for (int y = 0; y < img.height(); ++y)

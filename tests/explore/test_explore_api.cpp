@@ -7,6 +7,7 @@
 #include <arpa/inet.h>
 #include <netinet/in.h>
 #include <poll.h>
+#include <sys/resource.h>
 #include <sys/socket.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -481,7 +482,7 @@ TEST_F(ExploreApi, ANewerRequestOfTheSameViewStopsTheOlder) {
                         {"bottom", {{"type", "diffuse"}}}};
   for (const auto& [endpoint, slow, quick] : std::vector<std::tuple<const char*, json, json>>{
            {"/api/albedo", {{"count", 91}, {"samples", 1 << 16}}, {{"count", 2}, {"samples", 16}}},
-           {"/api/sphere", {{"size", 256}, {"spp", 64}}, {{"size", 16}, {"spp", 1}}}}) {
+           {"/api/sphere", {{"size", 192}, {"spp", 64}}, {{"size", 16}, {"spp", 1}}}}) {
     const char* path = endpoint;  // a plain variable: lambdas may not capture a structured binding (C++20 in clang 14)
     json slow_body = slow, quick_body = quick;
     slow_body["bsdf"] = layered;
@@ -632,3 +633,336 @@ TEST_F(ExploreApi, ThePageIsServedAndFetchesNothingOutside) {
 }
 
 }  // namespace
+
+// ---- issue 56: limits, the Host guard on the wire, text ------------------------------
+
+// A raw connection that stays open: bytes sent, the answer read until `needle` shows or
+// the time passes.
+class RawConnection {
+ public:
+  explicit RawConnection(int port) : fd_(::socket(AF_INET, SOCK_STREAM, 0)) {
+    sockaddr_in a{};
+    a.sin_family = AF_INET;
+    a.sin_port = htons(std::uint16_t(port));
+    a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    connected_ = ::connect(fd_, reinterpret_cast<sockaddr*>(&a), sizeof a) == 0;
+  }
+  ~RawConnection() { close(); }
+  RawConnection(const RawConnection&) = delete;
+  RawConnection& operator=(const RawConnection&) = delete;
+  bool connected() const { return connected_; }
+  void send(const std::string& bytes) const { (void)::send(fd_, bytes.data(), bytes.size(), MSG_NOSIGNAL); }
+  // What arrived until `count` occurrences of `needle` (or the server closed, or the time passed).
+  std::string read_until(const std::string& needle, int count, int timeout_ms) {
+    const auto end = std::chrono::steady_clock::now() + std::chrono::milliseconds(timeout_ms);
+    const auto occurrences = [&] {
+      int n = 0;
+      for (size_t at = got_.find(needle); at != std::string::npos; at = got_.find(needle, at + 1)) ++n;
+      return n;
+    };
+    while (occurrences() < count) {
+      const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(end - std::chrono::steady_clock::now());
+      pollfd p{fd_, POLLIN, 0};
+      if (left.count() <= 0 || ::poll(&p, 1, int(left.count())) <= 0) break;
+      char buf[4096];
+      const ssize_t n = ::recv(fd_, buf, sizeof buf, 0);
+      if (n <= 0) break;
+      got_.append(buf, size_t(n));
+    }
+    return got_;
+  }
+  void close() {
+    if (fd_ >= 0) ::close(fd_);
+    fd_ = -1;
+  }
+
+ private:
+  int fd_;
+  bool connected_ = false;
+  std::string got_;
+};
+
+std::string post_request(const std::string& path, const std::string& body, const std::string& extra_headers = "") {
+  return "POST " + path + " HTTP/1.1\r\nHost: 127.0.0.1\r\nContent-Type: application/json\r\n" + extra_headers +
+         "Content-Length: " + std::to_string(body.size()) + "\r\n\r\n" + body;
+}
+
+// Whether `s` is valid UTF-8, by the RFC 3629 §4 table written out here.
+bool valid_utf8(const std::string& s) {
+  for (size_t i = 0; i < s.size();) {
+    const auto c = static_cast<unsigned char>(s[i]);
+    size_t n = c < 0x80 ? 1 : (c >= 0xC2 && c <= 0xDF) ? 2 : (c >= 0xE0 && c <= 0xEF) ? 3 : (c >= 0xF0 && c <= 0xF4) ? 4 : 0;
+    if (n == 0 || i + n > s.size()) return false;
+    const auto b1 = static_cast<unsigned char>(n > 1 ? s[i + 1] : 0x80);
+    if (n > 1) {
+      const unsigned char lo = c == 0xE0 ? 0xA0 : c == 0xF0 ? 0x90 : 0x80, hi = c == 0xED ? 0x9F : c == 0xF4 ? 0x8F : 0xBF;
+      if (b1 < lo || b1 > hi) return false;
+    }
+    for (size_t k = 2; k < n; ++k)
+      if ((static_cast<unsigned char>(s[i + k]) & 0xC0) != 0x80) return false;
+    i += n;
+  }
+  return true;
+}
+
+// docs/explore.md promises 413 for a body over 16 MiB (dropped as it arrives, never
+// stored): a valid lobe request padded past the limit is refused, one at the limit is
+// answered.
+TEST_F(ExploreApi, BodyOver16MiBIs413) {
+  for (const size_t size : {size_t(16) << 20, (size_t(16) << 20) + 1}) {
+    std::string body = json({{"bsdf", kLambert}, {"count", 3}, {"pad", ""}}).dump();
+    body.insert(body.size() - 2, size - body.size(), 'x');  // inside the pad's quotes
+    ASSERT_EQ(body.size(), size);
+    RawConnection c(server()->port());
+    ASSERT_TRUE(c.connected());
+    c.send(post_request("/api/lobe", body));
+    const std::string answer = c.read_until("\r\n", 1, 5000);
+    EXPECT_EQ(answer.rfind(size > (size_t(16) << 20) ? "HTTP/1.1 413" : "HTTP/1.1 200", 0), 0u)
+        << size << ": " << answer.substr(0, 80);
+  }
+}
+
+// The authority parser alone (RFC 9110 §7.2, RFC 3986 §3.2.2): the host of host[:port],
+// nothing for anything else.
+TEST(ExploreHost, AuthorityIsHostAndOptionalPortOnly) {
+  using gonio::explore::authority_host;
+  EXPECT_EQ(authority_host("localhost:8080"), "localhost");
+  EXPECT_EQ(authority_host("LocalHost"), "localhost");
+  EXPECT_EQ(authority_host("[::1]:80"), "[::1]");
+  EXPECT_EQ(authority_host("127.0.0.1:"), "127.0.0.1");  // RFC 3986: port = *DIGIT
+  for (const char* bad : {"[::1].evil.com", "[::1]evil", "[::1]:80.evil.com", "localhost@evil.com",
+                          "evil.com@localhost", "localhost/x", "localhost:80x", "localhost:123456", "", ":80",
+                          "[]", "[::1", "local host", "[::1%eth0]", "localhost:8080:1"})
+    EXPECT_FALSE(authority_host(bad)) << bad;
+}
+
+// The Host guard on the wire, without httplib's client in the way: a rebinding page's
+// Host, a Host that only starts like this server's, two Host headers, and Origins that
+// are empty, a look-alike or carry a path are all refused; the registry is not sent.
+TEST_F(ExploreApi, HostAndOriginGuardOnTheWire) {
+  const auto status_of = [&](const std::string& headers) {
+    const std::string answer =
+        raw_exchange(server()->port(), "GET /api/materials HTTP/1.1\r\n" + headers + "Connection: close\r\n\r\n");
+    EXPECT_EQ(answer.find("\"types\""), std::string::npos) << headers;
+    return answer.substr(0, 12);
+  };
+  EXPECT_EQ(status_of("Host: attacker.example\r\n"), "HTTP/1.1 403");
+  EXPECT_EQ(status_of("Host: [::1].evil.com\r\n"), "HTTP/1.1 400");
+  EXPECT_EQ(status_of("Host: localhost@evil.com\r\n"), "HTTP/1.1 400");
+  EXPECT_EQ(status_of("Host: 127.0.0.1\r\nHost: evil.example\r\n"), "HTTP/1.1 400");
+  EXPECT_EQ(status_of("Host: 127.0.0.1\r\nOrigin: \r\n"), "HTTP/1.1 403");
+  EXPECT_EQ(status_of("Host: 127.0.0.1\r\nOrigin: http://[::1].evil.com\r\n"), "HTTP/1.1 403");
+  EXPECT_EQ(status_of("Host: 127.0.0.1\r\nOrigin: http://localhost:80/x\r\n"), "HTTP/1.1 403");
+  EXPECT_EQ(status_of("Host: 127.0.0.1\r\nOrigin: http://localhost\r\nOrigin: http://evil.example\r\n"),
+            "HTTP/1.1 403");
+  // The same request with this server's names is answered.
+  const std::string ok = raw_exchange(server()->port(), "GET /api/materials HTTP/1.1\r\nHost: [::1]:1\r\n"
+                                                        "Origin: HTTP://LocalHost:1\r\nConnection: close\r\n\r\n");
+  EXPECT_EQ(ok.rfind("HTTP/1.1 200", 0), 0u) << ok.substr(0, 80);
+}
+
+// Error messages that quote invalid UTF-8 (a lone byte of a two-byte character in
+// nlohmann's "last read", an overlong "%c0%ae" path) are 400 and 404 with the bytes
+// escaped, not 500s; excerpts are cut between characters.
+TEST_F(ExploreApi, MessagesQuotingInvalidUtf8Are4xxAndValidUtf8) {
+  RawConnection c(server()->port());
+  ASSERT_TRUE(c.connected());
+  c.send(post_request("/api/validate", "{\"bsdf\": \"\xc3\xbf\"}", "Connection: close\r\n"));
+  const std::string answer = c.read_until("}", 1, 3000);
+  EXPECT_EQ(answer.rfind("HTTP/1.1 400", 0), 0u) << answer;
+  const size_t body = answer.find("\r\n\r\n");
+  ASSERT_NE(body, std::string::npos);
+  const json d = json::parse(answer.substr(body + 4), nullptr, false);
+  ASSERT_TRUE(d.is_object()) << answer;
+  const std::string e = d["error"];
+  EXPECT_TRUE(valid_utf8(e)) << e;
+  EXPECT_NE(e.find("\\xc3"), std::string::npos) << e;
+
+  const std::string page = raw_exchange(server()->port(), "GET /%c0%ae HTTP/1.1\r\nHost: 127.0.0.1\r\n\r\n");
+  EXPECT_EQ(page.rfind("HTTP/1.1 404", 0), 0u) << page.substr(0, 80);
+  EXPECT_NE(page.find("\\\\xc0\\\\xae"), std::string::npos) << page;  // "\xc0\xae" in JSON
+
+  // A long value of two-byte characters, cut for the message: whole characters only.
+  std::string name = "a";  // then the 57th byte of the excerpt is the first of an é
+  for (int i = 0; i < 40; ++i) name += "\xc3\xa9";
+  const auto [status, v] = post("/api/lobe", {{"bsdf", kLambert}, {"mode", name}});
+  EXPECT_EQ(status, 400);
+  const std::string m = v["error"];
+  EXPECT_TRUE(valid_utf8(m)) << m;
+  EXPECT_NE(m.find("..."), std::string::npos) << m;
+}
+
+// /api/sphere's counts are integers as every other endpoint's.
+TEST_F(ExploreApi, SphereRefusesAFractionalSize) {
+  for (const char* key : {"size", "spp", "seed"}) {
+    const auto [status, d] = post("/api/sphere", {{"bsdf", kLambert}, {key, 16.5}});
+    EXPECT_EQ(status, 400) << key;
+    EXPECT_NE(d["error"].get<std::string>().find(key), std::string::npos) << d;
+  }
+  EXPECT_EQ(post("/api/sphere", {{"bsdf", kLambert}, {"size", 16}}).first, 200);
+}
+
+// Requests pipelined on one connection are all answered, in order.
+TEST_F(ExploreApi, PipelinedRequestsAreAllAnswered) {
+  RawConnection c(server()->port());
+  ASSERT_TRUE(c.connected());
+  const std::string get = "GET /api/data HTTP/1.1\r\nHost: 127.0.0.1\r\n\r\n";
+  c.send(get + get + post_request("/api/validate", json({{"bsdf", kLambert}}).dump()));
+  const std::string answer = c.read_until("\"valid\":true", 1, 3000);
+  size_t n = 0;
+  for (size_t at = answer.find("HTTP/1.1 200"); at != std::string::npos; at = answer.find("HTTP/1.1 200", at + 1)) ++n;
+  EXPECT_EQ(n, 3u) << answer;
+  EXPECT_NE(answer.find("\"valid\":true"), std::string::npos);
+}
+
+// The work a request implies is bounded before it starts: a layered material with the
+// largest walks (in range: max_depth 10000, samples 64: 1.28e6 steps an evaluation) is
+// refused by the albedo, the validation, the sphere and the slice with one line naming
+// the estimate (hours of work otherwise).
+TEST_F(ExploreApi, LayeredWorkBeyondTheBoundIsRefusedUpFront) {
+  const json heavy = {{"type", "layered"},
+                      {"top", {{"type", "roughdielectric"}, {"alpha", 0.1}}},
+                      {"bottom", {{"type", "diffuse"}}},
+                      {"albedo", 1},
+                      {"thickness", 1e4},
+                      {"max_depth", 10000},
+                      {"samples", 64}};
+  for (const auto& [path, extra] : std::vector<std::pair<const char*, json>>{
+           {"/api/albedo", {{"samples", 4096}}}, {"/api/check", json::object()}, {"/api/sphere", {{"size", 64}}},
+           {"/api/slice", {{"size", 128}}}}) {
+    json body = extra;
+    body["bsdf"] = heavy;
+    const auto start = std::chrono::steady_clock::now();
+    const auto [status, d] = post(path, body);
+    EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 1.0) << path;
+    EXPECT_EQ(status, 400) << path << " " << d;
+    EXPECT_NE(d["error"].get<std::string>().find("walk steps"), std::string::npos) << d;
+  }
+  // The same material with a short walk is computed.
+  json light = heavy;
+  light["max_depth"] = 100;
+  light["samples"] = 1;
+  EXPECT_EQ(post("/api/albedo", {{"bsdf", light}, {"count", 3}, {"samples", 64}}).first, 200);
+}
+
+// Heavy clients cannot hold the server: 40 validations asked at once get one running, a
+// few waiting and 429s for the rest at once, and 40 idle connections besides, while a
+// light request is answered within a second; when the clients leave, the validations
+// stop and the next one is answered.
+TEST_F(ExploreApi, ManyValidationsAndIdleConnectionsLeaveTheServerResponsive) {
+  // Seconds of validation, each property well under one.
+  const json gold = {{"type", "roughconductor"}, {"alpha", 0.3}, {"material", "Au"}};
+  const std::string check = post_request("/api/check", json({{"bsdf", gold}}).dump());
+  std::vector<std::unique_ptr<RawConnection>> heavy, idle;
+  for (int i = 0; i < 40; ++i) {
+    heavy.push_back(std::make_unique<RawConnection>(server()->port()));
+    heavy.back()->send(check);
+  }
+  for (int i = 0; i < 40; ++i) idle.push_back(std::make_unique<RawConnection>(server()->port()));  // say nothing
+  int refused = 0;
+  for (auto& h : heavy) refused += h->read_until("HTTP/1.1 429", 1, 100).find("HTTP/1.1 429") != std::string::npos;
+  EXPECT_GE(refused, 30);
+  const auto start = std::chrono::steady_clock::now();
+  auto c = client();
+  const auto light = c.Get("/api/materials");
+  ASSERT_TRUE(light);
+  EXPECT_EQ(light->status, 200);
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 1.0);
+  heavy.clear();
+  idle.clear();
+  std::this_thread::sleep_for(std::chrono::milliseconds(200));  // the watchdog's look and the waiters' poll
+  const auto again = std::chrono::steady_clock::now();
+  const auto [status, d] = post("/api/check", {{"bsdf", kLambert}});
+  EXPECT_EQ(status, 200) << d;
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - again).count(), 5.0);
+}
+
+// The CPU time of this process so far, in seconds.
+double process_cpu_seconds() {
+  rusage u{};
+  ::getrusage(RUSAGE_SELF, &u);
+  return double(u.ru_utime.tv_sec + u.ru_stime.tv_sec) + 1e-6 * double(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
+}
+
+// Work whose client has closed the connection stops at its next step (an angle of the
+// albedo, a tenth of a second here) instead of running its ten seconds to the end.
+TEST_F(ExploreApi, WorkStopsWhenTheClientLeaves) {
+  const json body = {{"bsdf", {{"type", "roughconductor"}, {"alpha", 0.3}, {"material", "Au"}}},
+                     {"count", 91},
+                     {"samples", 1 << 20}};
+  const double quiet = process_cpu_seconds();
+  std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  ASSERT_LT(process_cpu_seconds() - quiet, 0.05) << "work of an earlier test is still running";
+  RawConnection c(server()->port());
+  ASSERT_TRUE(c.connected());
+  c.send(post_request("/api/albedo", body.dump()));
+  std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  const double working = process_cpu_seconds();
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  EXPECT_GT(process_cpu_seconds() - working, 0.05);  // it is at work
+  c.close();
+  std::this_thread::sleep_for(std::chrono::milliseconds(400));
+  const double after = process_cpu_seconds();
+  std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  EXPECT_LT(process_cpu_seconds() - after, 0.05);  // and then it is not
+}
+
+// A server with a short time limit per request: work past it stops at its next step
+// with a 400 that names the limit.
+TEST(ExploreLimits, WorkPastTheTimeLimitStopsWith400) {
+  gonio::explore::ServerOptions o;
+  o.port = 0;
+  o.request_seconds = 0.3;
+  gonio::explore::Server server(o);
+  server.bind();
+  std::thread serving([&] { server.run(); });
+  httplib::Client c("127.0.0.1", server.port());
+  c.set_read_timeout(60);
+  // 91 angles of 2^20 samples of a rough conductor: about ten seconds of work.
+  const json body = {{"bsdf", {{"type", "roughconductor"}, {"alpha", 0.3}, {"material", "Au"}}},
+                     {"count", 91},
+                     {"samples", 1 << 20}};
+  const auto start = std::chrono::steady_clock::now();
+  const auto r = c.Post("/api/albedo", body.dump(), "application/json");
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  ASSERT_TRUE(r);
+  EXPECT_EQ(r->status, 400) << r->body;
+  EXPECT_NE(r->body.find("time limit"), std::string::npos) << r->body;
+  EXPECT_LT(seconds, 1.5);
+  server.stop();
+  serving.join();
+}
+
+// Issue 55 §5: an OpenPBR material with a coat has an interface, the coat's (coat_ior);
+// without a coat, the base dielectric's (specular_ior): R(0°) = ((n − 1)/(n + 1))².
+TEST_F(ExploreApi, FresnelOfACoatIsTheCoatsInterface) {
+  for (const auto& [m, source, n] : std::vector<std::tuple<json, std::string, double>>{
+           {{{"type", "openpbr"}, {"coat_weight", 1}, {"coat_ior", 1.7}}, "coat_ior", 1.7},
+           {{{"type", "openpbr"}, {"specular_ior", 1.4}}, "specular_ior", 1.4}}) {
+    const auto [status, d] = post("/api/fresnel", {{"bsdf", m}, {"count", 2}});
+    ASSERT_EQ(status, 200) << d;
+    ASSERT_EQ(d["interface"], source) << d;
+    EXPECT_NEAR(d["channels"][0]["outside"]["R"][0].get<double>(), std::pow((n - 1) / (n + 1), 2), 1e-12) << d;
+  }
+}
+
+// Issue 55 §5: the plane-of-incidence lobe of a material that transmits shows what it
+// transmits: a nearly smooth glass's f below the surface peaks at Snell's refracted
+// direction, θt = asin(sin θi / η) on the far side; an opaque material has none.
+TEST_F(ExploreApi, LobeOfAGlassShowsItsTransmission) {
+  const json glass = {{"type", "roughdielectric"}, {"alpha", 0.03}, {"eta", 1.5}};
+  const auto [status, d] = post("/api/lobe", {{"bsdf", glass}, {"theta_i", 40}, {"count", 361}});
+  ASSERT_EQ(status, 200) << d;
+  ASSERT_TRUE(d["transmission"].get<bool>());
+  ASSERT_EQ(d["f_t"].size(), 361u);
+  ASSERT_EQ(d["f_cos_t"].size(), 361u);
+  size_t peak = 0;
+  for (size_t i = 0; i < 361; ++i)
+    if (d["f_t"][i][1].get<double>() > d["f_t"][peak][1].get<double>()) peak = i;
+  const double theta_t = std::asin(std::sin(40 * kPi / 180) / 1.5) * 180 / kPi;  // 25.37°
+  EXPECT_NEAR(d["theta_o"][peak].get<double>(), -theta_t, 1.5) << d["theta_o"][peak];
+  EXPECT_GT(d["f_t"][peak][1].get<double>(), 0);
+  const auto opaque = post("/api/lobe", {{"bsdf", kLambert}, {"count", 3}});
+  EXPECT_FALSE(opaque.second["transmission"].get<bool>());
+  EXPECT_FALSE(opaque.second.contains("f_t"));
+}

@@ -11,7 +11,9 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
+#include <cstdint>
 #include <regex>
 #include <string>
 #include <vector>
@@ -151,6 +153,87 @@ TEST(ExploreCli, BadOptionsAreOneLineAndStatus2) {
   const std::string port = std::to_string(ntohs(a.sin_port));
   expect_error({"--port", port}, "already in use");
   ::close(fd);
+}
+
+// Issue 56: the first SIGINT ends the server within seconds however much work it holds
+// (five validations of a layered material, half a minute each, one running and four
+// queued): the work at hand is told to stop, and what cannot is left behind.
+TEST(ExploreCli, FirstSigintEndsItDuringHeavyWork) {
+  RunningExplore g({"--port", "0"});
+  std::smatch m;
+  const std::string url = g.first_line();
+  ASSERT_TRUE(std::regex_match(url, m, std::regex(R"(http://127\.0\.0\.1:(\d+)/)"))) << url;
+  const int port = std::stoi(m[1].str());
+  const std::string body =
+      R"({"bsdf":{"type":"layered","top":{"type":"roughdielectric","alpha":0.1},"bottom":{"type":"diffuse"}}})";
+  const std::string request = "POST /api/check HTTP/1.1\r\nHost: 127.0.0.1\r\nContent-Type: application/json\r\n"
+                              "Content-Length: " + std::to_string(body.size()) + "\r\n\r\n" + body;
+  std::vector<int> sockets;
+  for (int i = 0; i < 5; ++i) {
+    const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
+    sockaddr_in a{};
+    a.sin_family = AF_INET;
+    a.sin_port = htons(std::uint16_t(port));
+    a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    ASSERT_EQ(::connect(fd, reinterpret_cast<sockaddr*>(&a), sizeof a), 0);
+    (void)::send(fd, request.data(), request.size(), MSG_NOSIGNAL);
+    sockets.push_back(fd);
+  }
+  ::usleep(300000);
+  const auto start = std::chrono::steady_clock::now();
+  EXPECT_EQ(g.stop_with(SIGINT), 0);
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 3.0);
+  for (const int fd : sockets) ::close(fd);
+}
+
+// Whether `s` is valid UTF-8 (RFC 3629 §4), written out here.
+bool is_utf8(const std::string& s) {
+  for (size_t i = 0; i < s.size();) {
+    const auto c = static_cast<unsigned char>(s[i]);
+    const size_t n = c < 0x80 ? 1 : (c >= 0xC2 && c <= 0xDF) ? 2 : (c >= 0xE0 && c <= 0xEF) ? 3 : (c >= 0xF0 && c <= 0xF4) ? 4 : 0;
+    if (n == 0 || i + n > s.size()) return false;
+    if (n > 1) {
+      const auto b = static_cast<unsigned char>(s[i + 1]);
+      const unsigned char lo = c == 0xE0 ? 0xA0 : c == 0xF0 ? 0x90 : 0x80, hi = c == 0xED ? 0x9F : c == 0xF4 ? 0x8F : 0xBF;
+      if (b < lo || b > hi) return false;
+    }
+    for (size_t k = 2; k < n; ++k)
+      if ((static_cast<unsigned char>(s[i + k]) & 0xC0) != 0x80) return false;
+    i += n;
+  }
+  return true;
+}
+
+// The CLI shares the explorer's messages: a parse error that quotes part of a two-byte
+// character prints it escaped, one valid UTF-8 line, status 2.
+TEST(ExploreCli, CliMessagesQuotingInvalidUtf8AreEscaped) {
+  const auto r = run_gonio({"eval", "--bsdf", "\xc3\xbf"}, "0 0 1 0 0 1\n");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  EXPECT_TRUE(is_utf8(r.err)) << r.err;
+  EXPECT_NE(r.err.find("\\xc3"), std::string::npos) << r.err;
+}
+
+// gonio albedo and gonio check refuse a layered material whose walks (max_depth 10000 ×
+// samples 64, in range) would take hours at the asked sample count: one line, status 2,
+// at once. The default walk is computed.
+TEST(ExploreCli, CliRefusesLayeredWorkBeyondTheBound) {
+  const std::string heavy =
+      R"({"type":"layered","top":{"type":"roughdielectric","alpha":0.1},"bottom":{"type":"diffuse"},)"
+      R"("albedo":1,"thickness":10000,"max_depth":10000,"samples":64})";
+  for (const std::vector<std::string>& args : {std::vector<std::string>{"albedo", "--bsdf", heavy, "--theta", "30"},
+                                               std::vector<std::string>{"check", "--bsdf", heavy}}) {
+    const auto start = std::chrono::steady_clock::now();
+    const auto r = run_gonio(args);
+    EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 2.0) << args[0];
+    EXPECT_EQ(r.status, 2) << args[0];
+    EXPECT_EQ(r.out, "");
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    EXPECT_NE(r.err.find("walk steps"), std::string::npos) << r.err;
+  }
+  // Fewer samples of the same material are within the bound.
+  const auto ok = run_gonio({"albedo", "--bsdf", heavy, "--theta", "30", "--samples", "16"});
+  EXPECT_EQ(ok.status, 0) << ok.err;
 }
 
 }  // namespace

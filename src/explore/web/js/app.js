@@ -264,7 +264,9 @@ window.gonioLatency = latency;
       const request = { theta_i: state.theta_i, count: 181 };
       const [d, db] = await Promise.all([api.post("/api/lobe", body(request), "lobe"),
         comparing() ? api.post("/api/lobe", body(request, true, state.material_b), "lobe_b") : null]);
-      plot.lobe($("lobe"), d, d[state.lobe], d.channels, db && { values: db[state.lobe], channels: db.channels });
+      // A material that transmits has its lobe below the surface too (f_t, f_cos_t).
+      plot.lobe($("lobe"), d, d[state.lobe], d.channels,
+        db && { values: db[state.lobe], channels: db.channels, below: db[state.lobe + "_t"] }, d[state.lobe + "_t"]);
       drawn("lobe");
       const i = d.theta_o.findIndex((t) => t >= d.mirror);
       $("lobe-readout").textContent = `${state.lobe === "f" ? "f" : "f·cos θo"} at the mirror direction θo = ${d.mirror}°: ` +

@@ -99,18 +99,26 @@ const plot = (() => {
   const grey = (rows) => rows.every((v) => v.every((x) => x === v[0]));
 
   // Polar plot of the lobe: radius ∝ value along θo in [−90°, 90°] (up is the normal),
-  // the light at +θi and the mirror direction −θi marked.
-  function lobe(canvas, data, values, channels, other) {
+  // the light at +θi and the mirror direction −θi marked. `below` (a material that
+  // transmits): the values under the surface at the same θo from the inward normal, drawn
+  // in the lower half.
+  function lobe(canvas, data, values, channels, other, below) {
     const ctx = begin(canvas);
-    const cx = canvas.width / 2, cy = canvas.height - 24, r = Math.min(cx - 90, cy - 30);
+    const both = !!below || !!(other && other.below);
+    const cx = canvas.width / 2, cy = both ? canvas.height / 2 : canvas.height - 24;
+    const r = Math.min(cx - 90, both ? cy - 14 : cy - 30);
     let max = 0;
-    for (const v of values) for (const c of v) max = Math.max(max, c);
-    if (other) for (const v of other.values) for (const c of v) max = Math.max(max, c);
+    for (const set of [values, below, other && other.values, other && other.below])
+      if (set) for (const v of set) for (const c of v) max = Math.max(max, c);
     ctx.strokeStyle = GRID;
-    for (const f of [0.25, 0.5, 0.75, 1]) { ctx.beginPath(); ctx.arc(cx, cy, r * f, Math.PI, 2 * Math.PI); ctx.stroke(); }
+    for (const f of [0.25, 0.5, 0.75, 1]) {
+      ctx.beginPath(); ctx.arc(cx, cy, r * f, Math.PI, 2 * Math.PI); ctx.stroke();
+      if (both) { ctx.beginPath(); ctx.arc(cx, cy, r * f, 0, Math.PI); ctx.stroke(); }
+    }
     for (let a = -90; a <= 90; a += 30) {
       const t = (a * Math.PI) / 180;
       ctx.beginPath(); ctx.moveTo(cx, cy); ctx.lineTo(cx + r * Math.sin(t), cy - r * Math.cos(t)); ctx.stroke();
+      if (both) { ctx.beginPath(); ctx.moveTo(cx, cy); ctx.lineTo(cx + r * Math.sin(t), cy + r * Math.cos(t)); ctx.stroke(); }
     }
     ctx.strokeStyle = INK;
     ctx.beginPath(); ctx.moveTo(cx - r - 10, cy); ctx.lineTo(cx + r + 10, cy); ctx.stroke();
@@ -130,7 +138,8 @@ const plot = (() => {
       return;
     }
     ctx.fillText("outer circle: " + fmt(max) + " (1/sr)", 8, 16);
-    const curves = (vals, n, dash) => {
+    // side −1: below the surface (y grows downwards on the canvas).
+    const curves = (vals, n, dash, side = 1) => {
       if (grey(vals)) n = 1;
       const colours = n === 1 ? [INK] : CHANNEL_COLOURS;
       ctx.setLineDash(dash);
@@ -140,7 +149,7 @@ const plot = (() => {
         ctx.beginPath();
         data.theta_o.forEach((deg, i) => {
           const t = (deg * Math.PI) / 180, rr = (r * vals[i][c]) / max;
-          const x = cx + rr * Math.sin(t), y = cy - rr * Math.cos(t);
+          const x = cx + rr * Math.sin(t), y = cy - side * rr * Math.cos(t);
           i ? ctx.lineTo(x, y) : ctx.moveTo(x, y);
         });
         ctx.stroke();
@@ -149,8 +158,11 @@ const plot = (() => {
       ctx.lineWidth = 1;
     };
     curves(values, channels, []);
+    if (below) curves(below, channels, [], -1);
+    if (both) { ctx.fillStyle = INK; ctx.fillText("below: transmitted", 8, canvas.height - 6); }
     if (other) {
       curves(other.values, other.channels, [6, 4]);
+      if (other.below) curves(other.below, other.channels, [6, 4], -1);
       ctx.fillStyle = INK;
       ctx.fillText("A solid, B dashed", 8, 32);
     }
