@@ -134,10 +134,14 @@ std::string describe_type(const MaterialTypeSpec& t) {
 // parser where this build has the openpbr type.
 void print_from_mtlx(const MaterialsArgs& a, bool material_given) {
   if (a.markdown || !a.type.empty()) throw InputError("materials: --from-mtlx takes no TYPE or --markdown");
+  std::string note;  // the inputs clamped into the model's ranges, if any
   const nlohmann::json j =
-      materialx_file_to_json(a.from_mtlx, material_given ? std::optional<std::string>(a.material) : std::nullopt);
+      materialx_file_to_json(a.from_mtlx, material_given ? std::optional<std::string>(a.material) : std::nullopt, &note);
   if (find_material_type("openpbr")) material_from_json(j, a.from_mtlx);
   std::cout << j.dump() << "\n";
+  // Printed only once the material is accepted: on a refusal the error is the only line
+  // on stderr (SPEC §3).
+  if (!note.empty()) std::cerr << note << "\n";
 }
 
 void run_materials(const MaterialsArgs& a) {

@@ -55,58 +55,82 @@ const char* kind_name(Kind k) {
   return "";
 }
 
-// A constant input's value (Vector3: only accepted unset, so it carries nothing).
+// A constant input's value (Vector3: only accepted unset, so it carries nothing), and
+// the input element it came from (none for a default), for messages.
 struct Value {
   Kind kind = Kind::Float;
   double f = 0;
   Rgb c{};
   bool b = false;
+  pugi::xml_node node{};
 };
+
+// What the model takes of a number (or of each channel of a colour). A value above `hi`
+// is clamped to it; one below `lo` is refused when negative values mean nothing to the
+// model (a weight, a roughness, an Abbe number: `what` names it in the message), else
+// clamped (a colour's negative channel, an index below 1). The bounds are the openpbr
+// type's parameter ranges (src/material_types.cpp), so that what the reader passes on
+// is taken as is.
+struct Range {
+  double lo = 0, hi = 0;
+  const char* refused_below = nullptr;  // e.g. "a weight"; nullptr: clamped
+};
+constexpr double kLarge = 1e9;  // the openpbr type's bound of unbounded parameters
+constexpr Range kWeightRange{0, 1, "a weight"};
+constexpr Range kRoughRange{0, 1, "a roughness"};
+constexpr Range kUnitRange{0, 1};               // colours, anisotropies
+constexpr Range kOpenRange{0, kLarge};          // emission, lengths, radius scales
+constexpr Range kIorRange{1, 1e4};              // indices of refraction
+constexpr Range kPhaseRange{-1, 1};             // Henyey-Greenstein g
+constexpr Range kTurnRange{-1e3, 1e3};          // gonio's tangent rotations, in turns
+constexpr Range kAbbeRange{0, 1e4, "an Abbe number"};
 
 struct ParamDef {
   const char* name;
   Kind kind;
   Rgb def;  // a float's default in def[0]; a boolean's as 0 or 1
+  Range range{};
+  const char* unit = "";  // the unit of the document's value, when it has one
 };
 
 // OpenPBR Surface 1.1, in the specification's order (ND_open_pbr_surface_surfaceshader).
 constexpr ParamDef kOpenPbr[] = {
-    {"base_weight", Kind::Float, {1}},
-    {"base_color", Kind::Color3, {0.8, 0.8, 0.8}},
-    {"base_metalness", Kind::Float, {0}},
-    {"base_diffuse_roughness", Kind::Float, {0}},
-    {"specular_weight", Kind::Float, {1}},
-    {"specular_color", Kind::Color3, {1, 1, 1}},
-    {"specular_roughness", Kind::Float, {0.3}},
-    {"specular_roughness_anisotropy", Kind::Float, {0}},
-    {"specular_ior", Kind::Float, {1.5}},
-    {"transmission_weight", Kind::Float, {0}},
-    {"transmission_color", Kind::Color3, {1, 1, 1}},
-    {"transmission_depth", Kind::Float, {0}},
-    {"transmission_scatter", Kind::Color3, {0, 0, 0}},
-    {"transmission_scatter_anisotropy", Kind::Float, {0}},
-    {"transmission_dispersion_scale", Kind::Float, {0}},
-    {"transmission_dispersion_abbe_number", Kind::Float, {20}},
-    {"subsurface_weight", Kind::Float, {0}},
-    {"subsurface_color", Kind::Color3, {0.8, 0.8, 0.8}},
-    {"subsurface_radius", Kind::Float, {1}},
-    {"subsurface_radius_scale", Kind::Color3, {1, 0.5, 0.25}},
-    {"subsurface_scatter_anisotropy", Kind::Float, {0}},
-    {"coat_weight", Kind::Float, {0}},
-    {"coat_color", Kind::Color3, {1, 1, 1}},
-    {"coat_roughness", Kind::Float, {0}},
-    {"coat_roughness_anisotropy", Kind::Float, {0}},
-    {"coat_ior", Kind::Float, {1.6}},
-    {"coat_darkening", Kind::Float, {1}},
-    {"fuzz_weight", Kind::Float, {0}},
-    {"fuzz_color", Kind::Color3, {1, 1, 1}},
-    {"fuzz_roughness", Kind::Float, {0.5}},
-    {"thin_film_weight", Kind::Float, {0}},
-    {"thin_film_thickness", Kind::Float, {0.5}},  // micrometres
-    {"thin_film_ior", Kind::Float, {1.4}},
-    {"emission_luminance", Kind::Float, {0}},
-    {"emission_color", Kind::Color3, {1, 1, 1}},
-    {"geometry_opacity", Kind::Float, {1}},
+    {"base_weight", Kind::Float, {1}, kWeightRange},
+    {"base_color", Kind::Color3, {0.8, 0.8, 0.8}, kUnitRange},
+    {"base_metalness", Kind::Float, {0}, kWeightRange},
+    {"base_diffuse_roughness", Kind::Float, {0}, kRoughRange},
+    {"specular_weight", Kind::Float, {1}, Range{0, 1e4, "a weight"}},
+    {"specular_color", Kind::Color3, {1, 1, 1}, kUnitRange},
+    {"specular_roughness", Kind::Float, {0.3}, kRoughRange},
+    {"specular_roughness_anisotropy", Kind::Float, {0}, kUnitRange},
+    {"specular_ior", Kind::Float, {1.5}, kIorRange},
+    {"transmission_weight", Kind::Float, {0}, kWeightRange},
+    {"transmission_color", Kind::Color3, {1, 1, 1}, kUnitRange},
+    {"transmission_depth", Kind::Float, {0}, kOpenRange},
+    {"transmission_scatter", Kind::Color3, {0, 0, 0}, kUnitRange},
+    {"transmission_scatter_anisotropy", Kind::Float, {0}, kPhaseRange},
+    {"transmission_dispersion_scale", Kind::Float, {0}, kWeightRange},
+    {"transmission_dispersion_abbe_number", Kind::Float, {20}, kAbbeRange},
+    {"subsurface_weight", Kind::Float, {0}, kWeightRange},
+    {"subsurface_color", Kind::Color3, {0.8, 0.8, 0.8}, kUnitRange},
+    {"subsurface_radius", Kind::Float, {1}, kOpenRange},
+    {"subsurface_radius_scale", Kind::Color3, {1, 0.5, 0.25}, kOpenRange},
+    {"subsurface_scatter_anisotropy", Kind::Float, {0}, kPhaseRange},
+    {"coat_weight", Kind::Float, {0}, kWeightRange},
+    {"coat_color", Kind::Color3, {1, 1, 1}, kUnitRange},
+    {"coat_roughness", Kind::Float, {0}, kRoughRange},
+    {"coat_roughness_anisotropy", Kind::Float, {0}, kUnitRange},
+    {"coat_ior", Kind::Float, {1.6}, kIorRange},
+    {"coat_darkening", Kind::Float, {1}, kWeightRange},
+    {"fuzz_weight", Kind::Float, {0}, kWeightRange},
+    {"fuzz_color", Kind::Color3, {1, 1, 1}, kUnitRange},
+    {"fuzz_roughness", Kind::Float, {0.5}, kRoughRange},
+    {"thin_film_weight", Kind::Float, {0}, kWeightRange},
+    {"thin_film_thickness", Kind::Float, {0.5}, Range{0, 10}, "um"},  // micrometres
+    {"thin_film_ior", Kind::Float, {1.4}, kIorRange},
+    {"emission_luminance", Kind::Float, {0}, kOpenRange},
+    {"emission_color", Kind::Color3, {1, 1, 1}, kOpenRange},
+    {"geometry_opacity", Kind::Float, {1}, kWeightRange},
     {"geometry_thin_walled", Kind::Boolean, {0}},
     // Shading frames: the caller's (a BSDF works in the local frame); accepted unset only.
     {"geometry_normal", Kind::Vector3, {}},
@@ -132,44 +156,44 @@ constexpr const char* kRotations[] = {"specular_rotation", "coat_rotation"};
 
 // Autodesk Standard Surface 1.0.1 (ND_standard_surface_surfaceshader).
 constexpr ParamDef kStandardSurface[] = {
-    {"base", Kind::Float, {1}},
-    {"base_color", Kind::Color3, {0.8, 0.8, 0.8}},
-    {"diffuse_roughness", Kind::Float, {0}},
-    {"metalness", Kind::Float, {0}},
-    {"specular", Kind::Float, {1}},
-    {"specular_color", Kind::Color3, {1, 1, 1}},
-    {"specular_roughness", Kind::Float, {0.2}},
-    {"specular_IOR", Kind::Float, {1.5}},
-    {"specular_anisotropy", Kind::Float, {0}},
-    {"specular_rotation", Kind::Float, {0}},
-    {"transmission", Kind::Float, {0}},
-    {"transmission_color", Kind::Color3, {1, 1, 1}},
-    {"transmission_depth", Kind::Float, {0}},
-    {"transmission_scatter", Kind::Color3, {0, 0, 0}},
-    {"transmission_scatter_anisotropy", Kind::Float, {0}},
-    {"transmission_dispersion", Kind::Float, {0}},
-    {"transmission_extra_roughness", Kind::Float, {0}},
-    {"subsurface", Kind::Float, {0}},
-    {"subsurface_color", Kind::Color3, {1, 1, 1}},
-    {"subsurface_radius", Kind::Color3, {1, 1, 1}},
-    {"subsurface_scale", Kind::Float, {1}},
-    {"subsurface_anisotropy", Kind::Float, {0}},
-    {"sheen", Kind::Float, {0}},
-    {"sheen_color", Kind::Color3, {1, 1, 1}},
-    {"sheen_roughness", Kind::Float, {0.3}},
-    {"coat", Kind::Float, {0}},
-    {"coat_color", Kind::Color3, {1, 1, 1}},
-    {"coat_roughness", Kind::Float, {0.1}},
-    {"coat_anisotropy", Kind::Float, {0}},
-    {"coat_rotation", Kind::Float, {0}},
-    {"coat_IOR", Kind::Float, {1.5}},
-    {"coat_affect_color", Kind::Float, {0}},
-    {"coat_affect_roughness", Kind::Float, {0}},
-    {"thin_film_thickness", Kind::Float, {0}},  // nanometres
-    {"thin_film_IOR", Kind::Float, {1.5}},
-    {"emission", Kind::Float, {0}},
-    {"emission_color", Kind::Color3, {1, 1, 1}},
-    {"opacity", Kind::Color3, {1, 1, 1}},
+    {"base", Kind::Float, {1}, kWeightRange},
+    {"base_color", Kind::Color3, {0.8, 0.8, 0.8}, kUnitRange},
+    {"diffuse_roughness", Kind::Float, {0}, kRoughRange},
+    {"metalness", Kind::Float, {0}, kWeightRange},
+    {"specular", Kind::Float, {1}, Range{0, 1e4, "a weight"}},
+    {"specular_color", Kind::Color3, {1, 1, 1}, kUnitRange},
+    {"specular_roughness", Kind::Float, {0.2}, kRoughRange},
+    {"specular_IOR", Kind::Float, {1.5}, kIorRange},
+    {"specular_anisotropy", Kind::Float, {0}, kUnitRange},
+    {"specular_rotation", Kind::Float, {0}, kTurnRange},
+    {"transmission", Kind::Float, {0}, kWeightRange},
+    {"transmission_color", Kind::Color3, {1, 1, 1}, kUnitRange},
+    {"transmission_depth", Kind::Float, {0}, kOpenRange},
+    {"transmission_scatter", Kind::Color3, {0, 0, 0}, kUnitRange},
+    {"transmission_scatter_anisotropy", Kind::Float, {0}, kPhaseRange},
+    {"transmission_dispersion", Kind::Float, {0}, kAbbeRange},
+    {"transmission_extra_roughness", Kind::Float, {0}, kRoughRange},
+    {"subsurface", Kind::Float, {0}, kWeightRange},
+    {"subsurface_color", Kind::Color3, {1, 1, 1}, kUnitRange},
+    {"subsurface_radius", Kind::Color3, {1, 1, 1}, kOpenRange},
+    {"subsurface_scale", Kind::Float, {1}, kOpenRange},
+    {"subsurface_anisotropy", Kind::Float, {0}, kPhaseRange},
+    {"sheen", Kind::Float, {0}, kWeightRange},
+    {"sheen_color", Kind::Color3, {1, 1, 1}, kUnitRange},
+    {"sheen_roughness", Kind::Float, {0.3}, kRoughRange},
+    {"coat", Kind::Float, {0}, kWeightRange},
+    {"coat_color", Kind::Color3, {1, 1, 1}, kUnitRange},
+    {"coat_roughness", Kind::Float, {0.1}, kRoughRange},
+    {"coat_anisotropy", Kind::Float, {0}, kUnitRange},
+    {"coat_rotation", Kind::Float, {0}, kTurnRange},
+    {"coat_IOR", Kind::Float, {1.5}, kIorRange},
+    {"coat_affect_color", Kind::Float, {0}, kWeightRange},
+    {"coat_affect_roughness", Kind::Float, {0}, kWeightRange},
+    {"thin_film_thickness", Kind::Float, {0}, Range{0, 1e4}, "nm"},  // nanometres
+    {"thin_film_IOR", Kind::Float, {1.5}, kIorRange},
+    {"emission", Kind::Float, {0}, kOpenRange},
+    {"emission_color", Kind::Color3, {1, 1, 1}, kOpenRange},
+    {"opacity", Kind::Color3, {1, 1, 1}, kUnitRange},
     {"thin_walled", Kind::Boolean, {0}},
     {"normal", Kind::Vector3, {}},
     {"tangent", Kind::Vector3, {}},
@@ -198,7 +222,22 @@ std::string cat(const Parts&... parts) {
   return s;
 }
 
-std::string in_quotes(std::string_view s) { return cat("\"", s, "\""); }
+// Document text as messages echo it: at most 60 bytes, cut on a UTF-8 character
+// boundary and marked "..." (as json_excerpt cuts a JSON value), so that a name of
+// millions of characters does not become a line of millions.
+std::string excerpt(std::string_view s) {
+  constexpr size_t kMax = 60;
+  if (s.size() <= kMax) return std::string(s);
+  size_t cut = kMax - 3;
+  while (cut > 0 && (static_cast<unsigned char>(s[cut]) & 0xC0) == 0x80) --cut;  // a continuation byte
+  return cat(s.substr(0, cut), "...");
+}
+
+std::string in_quotes(std::string_view s) { return cat("\"", excerpt(s), "\""); }
+
+// XInclude's namespace (W3C XInclude 1.0, §4): an element `include` in it, whatever its
+// prefix, is an inclusion.
+constexpr std::string_view kXIncludeNamespace = "http://www.w3.org/2001/XInclude";
 
 // The document being read: its text's source for messages, and what scopes need.
 class Reader {
@@ -207,35 +246,75 @@ class Reader {
 
   [[noreturn]] void fail(const std::string& what) const { throw InputError(escape_control(source_ + ": " + what)); }
 
-  json read(std::string_view xml, const std::optional<std::string>& name) {
+  // "SOURCE: line L: what", L the line where `node` starts in the document.
+  [[noreturn]] void fail_at(const pugi::xml_node node, const std::string& what) const {
+    const size_t line = line_of(node);
+    if (line == 0) fail(what);
+    fail(cat("line ", std::to_string(line), ": ", what));
+  }
+
+  json read(std::string_view xml, const std::optional<std::string>& name, std::string* note) {
+    xml_ = xml;
+    // pugixml stops at a NUL byte, so whatever followed one would go unread; XML text
+    // cannot hold one (XML 1.0 §2.2, Char).
+    if (const size_t nul = xml.find('\0'); nul != std::string_view::npos)
+      fail(cat("line ", std::to_string(line_at(nul)), ": a NUL byte (at byte offset ", std::to_string(nul),
+               "): XML text cannot hold one"));
     const pugi::xml_parse_result parsed =
         doc_.load_buffer(xml.data(), xml.size(), pugi::parse_default, pugi::encoding_utf8);
     if (!parsed) {
       const size_t at = std::min(size_t(parsed.offset), xml.size());
-      const size_t line = 1 + size_t(std::count(xml.begin(), xml.begin() + std::ptrdiff_t(at), '\n'));
-      fail(cat("malformed MaterialX document: ", parsed.description(), " at line ", std::to_string(line)));
+      fail(cat("malformed MaterialX document: ", parsed.description(), " at line ", std::to_string(line_at(at))));
     }
-    const pugi::xml_node root = doc_.document_element();
+    // pugixml reads a fragment; a document has one root element (XML 1.0 §2.1).
+    pugi::xml_node root;
+    for (const pugi::xml_node top : doc_.children()) {
+      if (top.type() != pugi::node_element) continue;
+      if (root)
+        fail_at(top, cat("malformed MaterialX document: a second root element <", excerpt(top.name()), "> after <",
+                         excerpt(root.name()), "> (a document has one)"));
+      root = top;
+    }
     if (std::string_view(root.name()) != "materialx")
-      fail(cat("not a MaterialX document: the root element is <", root.name(), ">, not <materialx>"));
+      fail_at(root, cat("not a MaterialX document: the root element is <", excerpt(root.name()), ">, not <materialx>"));
     read_version(root);
-    for (const pugi::xml_node child : root.children()) {
-      if (child.type() != pugi::node_element) continue;
-      if (std::string_view(child.name()) == "xi:include")
-        fail("<xi:include> is not supported (give the included document's material directly)");
-    }
+    refuse_xinclude(root);
     const pugi::xml_node material = find_material(root, name);
-    return from_material(root, material);
+    json j = from_material(root, material);
+    if (note) {
+      note->clear();
+      if (!clamped_.empty()) {
+        std::string list;
+        for (const std::string& c : clamped_) list += cat(list.empty() ? "" : "; ", c);
+        *note = escape_control(cat(source_, ": ", shader_text_, ": clamped to what the model takes: ", list));
+      }
+    }
+    return j;
   }
 
  private:
   std::string source_;
+  std::string_view xml_;
   pugi::xml_document doc_;
-  bool v138_ = false;  // a version 1.38 document: the OpenPBR draft's names and units
+  bool v138_ = false;                 // a version 1.38 document: the OpenPBR draft's names and units
+  std::string shader_text_;           // the shader node read, for the note
+  mutable std::vector<std::string> clamped_;  // "input V -> W (line L)" per clamped input
+
+  // The 1-based line of byte `offset` of the document.
+  size_t line_at(size_t offset) const {
+    offset = std::min(offset, xml_.size());
+    return 1 + size_t(std::count(xml_.begin(), xml_.begin() + std::ptrdiff_t(offset), '\n'));
+  }
+  // The line where `node` starts; 0 when pugixml cannot tell.
+  size_t line_of(const pugi::xml_node node) const {
+    const std::ptrdiff_t offset = node.offset_debug();
+    return offset < 0 ? 0 : line_at(size_t(offset));
+  }
+  std::string line_text(const pugi::xml_node node) const { return cat("line ", std::to_string(line_of(node))); }
 
   void read_version(const pugi::xml_node root) {
     const pugi::xml_attribute v = root.attribute("version");
-    if (!v) fail("<materialx> has no version attribute (1.38 or 1.39 expected)");
+    if (!v) fail_at(root, "<materialx> has no version attribute (1.38 or 1.39 expected)");
     const std::string_view text = v.value();
     const auto is = [&](std::string_view major_minor) {
       return text == major_minor ||
@@ -245,17 +324,57 @@ class Reader {
     if (is("1.38")) {
       v138_ = true;
     } else if (!is("1.39")) {
-      fail(cat("MaterialX version ", in_quotes(text), " is not supported (1.38 or 1.39)"));
+      fail_at(root, cat("MaterialX version ", in_quotes(text), " is not supported (1.38 or 1.39)"));
     }
   }
 
+  // An element is an XInclude when its name is xi:include (the prefix MaterialX writes,
+  // declared or not), or `include` under a prefix (or the default namespace) that the
+  // element or an ancestor binds to XInclude's namespace. Anywhere in the document: an
+  // inclusion inside a nodegraph would be dropped as surely as a top-level one.
+  void refuse_xinclude(const pugi::xml_node root) const {
+    struct Walker : pugi::xml_tree_walker {
+      pugi::xml_node found;
+      bool for_each(pugi::xml_node& n) override {
+        if (n.type() != pugi::node_element) return true;
+        const std::string_view name = n.name();
+        const size_t colon = name.find(':');
+        const std::string_view prefix = colon == std::string_view::npos ? "" : name.substr(0, colon);
+        const std::string_view local = colon == std::string_view::npos ? name : name.substr(colon + 1);
+        if (local != "include") return true;
+        bool bound = prefix == "xi";
+        const std::string declaration = prefix.empty() ? std::string("xmlns") : cat("xmlns:", prefix);
+        for (pugi::xml_node up = n; up && !bound; up = up.parent())
+          if (const pugi::xml_attribute a = up.attribute(declaration.c_str())) {
+            bound = std::string_view(a.value()) == kXIncludeNamespace;
+            break;  // the nearest declaration binds the prefix
+          }
+        if (!bound) return true;
+        found = n;
+        return false;
+      }
+    } walker;
+    pugi::xml_node scope = root;
+    scope.traverse(walker);
+    if (walker.found)
+      fail_at(walker.found, cat("<", excerpt(walker.found.name()),
+                                "> (an XInclude) is not supported (give the included document's material directly)"));
+  }
+
   static std::string element_text(const pugi::xml_node n) {
-    return cat("<", n.name(), "> ", in_quotes(n.attribute("name").value()));
+    return cat("<", excerpt(n.name()), "> ", in_quotes(n.attribute("name").value()));
   }
 
   pugi::xml_node find_material(const pugi::xml_node root, const std::optional<std::string>& name) const {
     std::vector<pugi::xml_node> materials;
-    for (const pugi::xml_node child : root.children("surfacematerial")) materials.push_back(child);
+    std::map<std::string_view, pugi::xml_node> by_name;
+    for (const pugi::xml_node child : root.children("surfacematerial")) {
+      const auto [it, fresh] = by_name.emplace(child.attribute("name").value(), child);
+      if (!fresh)
+        fail_at(child, cat("two surfacematerials are named ", in_quotes(it->first), " (", line_text(it->second), " and ",
+                           line_text(child), ")"));
+      materials.push_back(child);
+    }
     std::string names;  // for messages: the first ten
     for (size_t i = 0; i < materials.size() && i < 10; ++i)
       names += cat(i ? ", " : "", in_quotes(materials[i].attribute("name").value()));
@@ -276,34 +395,35 @@ class Reader {
     pugi::xml_node found;
     for (const pugi::xml_node child : scope.children()) {
       if (child.type() != pugi::node_element || name != child.attribute("name").value()) continue;
-      if (found) fail(cat("two elements are named ", in_quotes(name)));
+      if (found)
+        fail_at(child, cat("two elements are named ", in_quotes(name), " (", line_text(found), " and ", line_text(child), ")"));
       found = child;
     }
     return found;
   }
 
-  json from_material(const pugi::xml_node root, const pugi::xml_node material) const {
+  json from_material(const pugi::xml_node root, const pugi::xml_node material) {
     const std::string where = element_text(material);
     if (const pugi::xml_attribute t = material.attribute("type"); t && std::string_view(t.value()) != "material")
-      fail(where + ": type must be \"material\", got " + in_quotes(t.value()));
+      fail_at(material, where + ": type must be \"material\", got " + in_quotes(t.value()));
     pugi::xml_node shader_input;
     for (const pugi::xml_node child : material.children()) {
       if (child.type() != pugi::node_element) continue;
       const std::string_view input = child.attribute("name").value();
-      if (std::string_view(child.name()) != "input") fail(where + ": unsupported element <" + std::string(child.name()) + ">");
+      if (std::string_view(child.name()) != "input") fail_at(child, where + ": unsupported element <" + excerpt(child.name()) + ">");
       if (input == "surfaceshader") {
-        if (shader_input) fail(where + ": input surfaceshader is given twice");
+        if (shader_input) fail_at(child, where + ": input surfaceshader is given twice");
         shader_input = child;
       } else if (input == "backsurfaceshader" || input == "displacementshader" || input == "volumeshader") {
         // Unset (no connection, empty value) is what the examples write; anything else
         // would be dropped.
         if (child.attribute("nodename") || child.attribute("nodegraph") || child.attribute("value").value()[0] != '\0')
-          fail(where + ": input " + std::string(input) + " is not supported (only surfaceshader may be connected)");
+          fail_at(child, where + ": input " + std::string(input) + " is not supported (only surfaceshader may be connected)");
       } else {
-        fail(where + ": unknown input " + in_quotes(input) + " (surfaceshader expected)");
+        fail_at(child, where + ": unknown input " + in_quotes(input) + " (surfaceshader expected)");
       }
     }
-    if (!shader_input) fail(where + ": no surfaceshader input");
+    if (!shader_input) fail_at(material, where + ": no surfaceshader input");
     const pugi::xml_node shader = shader_node(root, shader_input, where + ": input surfaceshader");
     return from_shader(shader);
   }
@@ -312,35 +432,35 @@ class Reader {
   // `nodename`, or the node a nodegraph's output names.
   pugi::xml_node shader_node(const pugi::xml_node root, const pugi::xml_node input, const std::string& where) const {
     const pugi::xml_attribute nodename = input.attribute("nodename"), graph = input.attribute("nodegraph");
-    if (nodename && graph) fail(where + ": both nodename and nodegraph are given");
+    if (nodename && graph) fail_at(input, where + ": both nodename and nodegraph are given");
     if (nodename) {
       if (const pugi::xml_attribute out = input.attribute("output"); out && std::string_view(out.value()) != "out")
-        fail(where + ": output " + in_quotes(out.value()) + " of a shader node (only \"out\")");
+        fail_at(input, where + ": output " + in_quotes(out.value()) + " of a shader node (only \"out\")");
       const pugi::xml_node node = named_child(root, nodename.value());
-      if (!node) fail(where + ": no node named " + in_quotes(nodename.value()));
+      if (!node) fail_at(input, where + ": no node named " + in_quotes(nodename.value()));
       return node;
     }
-    if (!graph) fail(where + ": not connected (a nodename or nodegraph attribute expected)");
+    if (!graph) fail_at(input, where + ": not connected (a nodename or nodegraph attribute expected)");
     const pugi::xml_node g = named_child(root, graph.value());
-    if (!g || std::string_view(g.name()) != "nodegraph") fail(where + ": no nodegraph named " + in_quotes(graph.value()));
+    if (!g || std::string_view(g.name()) != "nodegraph") fail_at(input, where + ": no nodegraph named " + in_quotes(graph.value()));
     const std::string gwhere = element_text(g);
-    if (g.attribute("nodedef")) fail(gwhere + ": a nodegraph implementing a node definition is not supported");
+    if (g.attribute("nodedef")) fail_at(g, gwhere + ": a nodegraph implementing a node definition is not supported");
     std::vector<pugi::xml_node> outputs;
     for (const pugi::xml_node o : g.children("output")) outputs.push_back(o);
     pugi::xml_node output;
     if (const pugi::xml_attribute want = input.attribute("output")) {
       for (const auto& o : outputs)
         if (std::string_view(o.attribute("name").value()) == want.value()) output = o;
-      if (!output) fail(gwhere + ": no output named " + in_quotes(want.value()));
+      if (!output) fail_at(g, gwhere + ": no output named " + in_quotes(want.value()));
     } else {
-      if (outputs.size() != 1) fail(gwhere + ": " + std::to_string(outputs.size()) + " outputs, and the input names none");
+      if (outputs.size() != 1) fail_at(g, gwhere + ": " + std::to_string(outputs.size()) + " outputs, and the input names none");
       output = outputs[0];
     }
     const std::string owhere = gwhere + ": output " + in_quotes(output.attribute("name").value());
     if (output.attribute("interfacename") || output.attribute("nodegraph") || !output.attribute("nodename"))
-      fail(owhere + ": only an output naming a node of the graph (nodename) is supported");
+      fail_at(output, owhere + ": only an output naming a node of the graph (nodename) is supported");
     const pugi::xml_node node = named_child(g, output.attribute("nodename").value());
-    if (!node) fail(owhere + ": no node named " + in_quotes(output.attribute("nodename").value()) + " in the graph");
+    if (!node) fail_at(output, owhere + ": no node named " + in_quotes(output.attribute("nodename").value()) + " in the graph");
     return node;
   }
 
@@ -352,37 +472,38 @@ class Reader {
     return "lin_rec709";
   }
 
-  json from_shader(const pugi::xml_node shader) const {
+  json from_shader(const pugi::xml_node shader) {
     const std::string_view category = shader.name();
     const std::string where = element_text(shader);
+    shader_text_ = where;
     if (category != "open_pbr_surface" && category != "standard_surface")
-      fail(where + ": unsupported shader node (open_pbr_surface or standard_surface expected)");
+      fail_at(shader, where + ": unsupported shader node (open_pbr_surface or standard_surface expected)");
     if (const pugi::xml_attribute t = shader.attribute("type"); t && std::string_view(t.value()) != "surfaceshader")
-      fail(where + ": type must be \"surfaceshader\", got " + in_quotes(t.value()));
+      fail_at(shader, where + ": type must be \"surfaceshader\", got " + in_quotes(t.value()));
     const bool openpbr = category == "open_pbr_surface";
     const std::string_view version = shader.attribute("version").value();
     bool ss100 = false;  // Standard Surface 1.0.0's defaults
     if (openpbr) {
-      if (!version.empty() && version != "1.1") fail(where + ": OpenPBR version " + in_quotes(version) + " (1.1 supported)");
+      if (!version.empty() && version != "1.1") fail_at(shader, where + ": OpenPBR version " + in_quotes(version) + " (1.1 supported)");
       if (const std::string_view nd = shader.attribute("nodedef").value(); !nd.empty() && nd != "ND_open_pbr_surface_surfaceshader")
-        fail(where + ": node definition " + in_quotes(nd) + " is not supported");
+        fail_at(shader, where + ": node definition " + in_quotes(nd) + " is not supported");
     } else {
       if (!version.empty() && version != "1.0.1" && version != "1.0.0" && version != "1.0")
-        fail(where + ": Standard Surface version " + in_quotes(version) + " (1.0.0 or 1.0.1 supported)");
+        fail_at(shader, where + ": Standard Surface version " + in_quotes(version) + " (1.0.0 or 1.0.1 supported)");
       ss100 = version == "1.0.0" || version == "1.0";
       if (const std::string_view nd = shader.attribute("nodedef").value();
           !nd.empty() && nd != "ND_standard_surface_surfaceshader" && nd != "ND_standard_surface_surfaceshader_100")
-        fail(where + ": node definition " + in_quotes(nd) + " is not supported");
+        fail_at(shader, where + ": node definition " + in_quotes(nd) + " is not supported");
       if (shader.attribute("nodedef").value() == std::string_view("ND_standard_surface_surfaceshader_100")) ss100 = true;
     }
     std::map<std::string, Value, std::less<>> given;
     for (const pugi::xml_node input : shader.children()) {
       if (input.type() != pugi::node_element) continue;
       if (std::string_view(input.name()) != "input")
-        fail(where + ": unsupported element <" + std::string(input.name()) + "> (only constant inputs)");
+        fail_at(input, where + ": unsupported element <" + excerpt(input.name()) + "> (only constant inputs)");
       read_input(shader, input, openpbr, where, given);
     }
-    return openpbr ? openpbr_json(given, where) : standard_surface_to_openpbr(given, where, ss100);
+    return openpbr ? openpbr_json(given) : standard_surface_to_openpbr(given, where, ss100);
   }
 
   // ", output O: <category> "N"": the node a nodegraph's output names (for messages; empty
@@ -405,8 +526,8 @@ class Reader {
   void read_input(const pugi::xml_node shader, const pugi::xml_node input, bool openpbr, const std::string& where,
                   std::map<std::string, Value, std::less<>>& given) const {
     const std::string name = input.attribute("name").value();
-    if (name.empty()) fail(where + ": an input without a name");
-    const std::string iwhere = where + ": input " + name;
+    if (name.empty()) fail_at(input, where + ": an input without a name");
+    const std::string iwhere = where + ": input " + excerpt(name);
     std::string key = name;  // the name in the tables
     const ParamDef* def = nullptr;
     if (openpbr) {
@@ -414,22 +535,24 @@ class Reader {
       if (!def && v138_) {
         for (const Rename& r : kRenames138)
           if (name == r.old_name) def = find_def(std::begin(kOpenPbr), std::end(kOpenPbr), key = r.new_name);
-        static constexpr ParamDef kRotationDefs[] = {{"specular_rotation", Kind::Float, {0}},
-                                                     {"coat_rotation", Kind::Float, {0}}};
+        static constexpr ParamDef kRotationDefs[] = {{"specular_rotation", Kind::Float, {0}, kTurnRange},
+                                                     {"coat_rotation", Kind::Float, {0}, kTurnRange}};
         if (!def) def = find_def(std::begin(kRotationDefs), std::end(kRotationDefs), name);
       }
       if (!def) {
         bool draft = false;  // a name SPEC §2 maps in 1.38 documents only
         for (const Rename& r : kRenames138) draft = draft || name == r.old_name;
         for (const char* r : kRotations) draft = draft || name == r;
-        fail(iwhere + ": not an OpenPBR 1.1 input" +
-             (draft ? std::string(" (an OpenPBR draft name, read in documents of version 1.38 only)") : std::string()));
+        fail_at(input, iwhere + ": not an OpenPBR 1.1 input" +
+                           (draft ? std::string(" (an OpenPBR draft name, read in documents of version 1.38 only)") : std::string()));
       }
     } else {
       def = find_def(std::begin(kStandardSurface), std::end(kStandardSurface), name);
-      if (!def) fail(iwhere + ": not a Standard Surface input");
+      if (!def) fail_at(input, iwhere + ": not a Standard Surface input");
     }
-    if (given.count(key)) fail(iwhere + ": given twice" + (key != name ? " (as " + key + " too)" : std::string()));
+    if (const auto twice = given.find(key); twice != given.end())
+      fail_at(input, iwhere + ": given twice (" + line_text(twice->second.node) + " and " + line_text(input) + ")" +
+                         (key != name ? " (as " + key + " too)" : std::string()));
     // Connections: textures, other nodes and graphs are not read.
     for (const char* attr : {"nodename", "nodegraph", "interfacename", "output", "channels", "defaultgeomprop"}) {
       const pugi::xml_attribute a = input.attribute(attr);
@@ -440,36 +563,77 @@ class Reader {
       } else if (std::string_view(attr) == "nodegraph") {
         what = cat("nodegraph ", in_quotes(a.value()), linked_node(shader.parent(), a.value(), input.attribute("output").value()));
       }
-      fail(iwhere + ": connected (" + what + "); only constant values are supported (no textures or node graphs)");
+      fail_at(input, iwhere + ": connected (" + what + "); only constant values are supported (no textures or node graphs)");
     }
     const pugi::xml_attribute type = input.attribute("type");
-    if (!type) fail(iwhere + ": no type attribute (" + std::string(kind_name(def->kind)) + " expected)");
+    if (!type) fail_at(input, iwhere + ": no type attribute (" + std::string(kind_name(def->kind)) + " expected)");
     if (std::string_view(type.value()) != kind_name(def->kind))
-      fail(iwhere + ": type " + in_quotes(type.value()) + ", expected " + kind_name(def->kind));
+      fail_at(input, iwhere + ": type " + in_quotes(type.value()) + ", expected " + kind_name(def->kind));
     if (const pugi::xml_attribute u = input.attribute("unit"))
-      fail(iwhere + ": unit " + in_quotes(u.value()) + " is not supported (values in the node definition's units)");
+      fail_at(input, iwhere + ": unit " + in_quotes(u.value()) + " is not supported (values in the node definition's units)");
     const pugi::xml_attribute value = input.attribute("value");
     if (def->kind == Kind::Vector3) {
-      if (value) fail(iwhere + ": a constant " + name + " is not supported (the caller's shading frame is used)");
-      return;  // unset: the shading frame
+      if (value) fail_at(input, iwhere + ": a constant " + excerpt(name) + " is not supported (the caller's shading frame is used)");
+      given[key] = Value{Kind::Vector3, 0, {}, false, input};  // unset: the shading frame (kept for "given twice")
+      return;
     }
-    if (!value) fail(iwhere + ": no value");
+    if (!value) fail_at(input, iwhere + ": no value");
     Value v;
     v.kind = def->kind;
+    v.node = input;
     const std::string_view text = value.value();
+    std::string space;  // a colour's space, when it is converted
     switch (def->kind) {
-      case Kind::Float: v.f = parse_number(text, iwhere); break;
-      case Kind::Color3: v.c = to_lin_rec709(parse_color(text, iwhere), colorspace_of(input), iwhere); break;
+      case Kind::Float: v.f = parse_number(text, input, iwhere); break;
+      case Kind::Color3: {
+        space = colorspace_of(input);
+        v.c = to_lin_rec709(parse_color(text, input, iwhere), space, input, iwhere);
+        break;
+      }
       case Kind::Boolean:
         if (text == "true") {
           v.b = true;
         } else if (text != "false") {
-          fail(iwhere + ": value " + in_quotes(text) + " is not a boolean (true or false)");
+          fail_at(input, iwhere + ": value " + in_quotes(text) + " is not a boolean (true or false)");
         }
         break;
       case Kind::Vector3: break;
     }
+    if (def->kind == Kind::Float || def->kind == Kind::Color3) limit(*def, name, text, space, iwhere, v);
     given[key] = v;
+  }
+
+  // Refuses or clamps `v` (the input `name`, written `text`) into its parameter's range.
+  // A 1.38 OpenPBR document's thin_film_thickness is in nm (SPEC §2): its range in nm.
+  void limit(const ParamDef& def, const std::string& name, std::string_view text, const std::string& space,
+             const std::string& iwhere, Value& v) const {
+    Range r = def.range;
+    std::string unit = def.unit;
+    if (v138_ && unit == "um") {
+      r.lo *= 1000;
+      r.hi *= 1000;
+      unit = "nm";
+    }
+    const std::string unit_text = unit.empty() ? "" : cat(" ", unit == "um" ? "\u00b5m" : unit);
+    const size_t channels = def.kind == Kind::Color3 ? 3 : 1;
+    double* x = def.kind == Kind::Color3 ? v.c.data() : &v.f;
+    std::string before, after;
+    bool changed = false;
+    for (size_t i = 0; i < channels; ++i) {
+      if (x[i] < r.lo && r.refused_below)
+        fail_at(v.node, cat(iwhere, ": ", format_number(x[i]), unit_text, " is negative (", r.refused_below, ", in [",
+                            format_number(r.lo), ", ", format_number(r.hi), "])"));
+      before += cat(i ? ", " : "", format_number(x[i]));
+      const double used = std::clamp(x[i], r.lo, r.hi);
+      changed = changed || used != x[i];
+      x[i] = used;
+      after += cat(i ? ", " : "", format_number(used));
+    }
+    if (!changed) return;
+    // The document's value as written; a converted colour's linear Rec.709 value too.
+    std::string shown = excerpt(trim(text));
+    if (!space.empty() && space != "lin_rec709") shown += cat(" (", excerpt(space), "; ", before, " in lin_rec709)");
+    clamped_.push_back(cat(excerpt(name), " ", shown, unit_text, " -> ", after, unit_text, " (", line_text(v.node), ")"));
   }
 
   static std::string_view trim(std::string_view s) {
@@ -478,32 +642,32 @@ class Reader {
     return s;
   }
 
-  double parse_number(std::string_view text, const std::string& where) const {
+  double parse_number(std::string_view text, const pugi::xml_node at, const std::string& where) const {
     std::string_view t = trim(text);
     if (!t.empty() && t.front() == '+') t.remove_prefix(1);
     double v = 0;
     const auto [end, ec] = std::from_chars(t.data(), t.data() + t.size(), v);
     if (t.empty() || ec != std::errc() || end != t.data() + t.size() || !std::isfinite(v))
-      fail(where + ": value " + in_quotes(text) + " is not a finite number");
+      fail_at(at, where + ": value " + in_quotes(text) + " is not a finite number");
     return v;
   }
 
-  Rgb parse_color(std::string_view text, const std::string& where) const {
+  Rgb parse_color(std::string_view text, const pugi::xml_node at, const std::string& where) const {
     Rgb c{};
     size_t start = 0;
     for (int i = 0; i < 3; ++i) {
       const size_t comma = text.find(',', start);
       const bool last = i == 2;
       if (last != (comma == std::string_view::npos))
-        fail(where + ": value " + in_quotes(text) + " is not a color3 (three numbers separated by commas)");
+        fail_at(at, where + ": value " + in_quotes(text) + " is not a color3 (three numbers separated by commas)");
       const std::string_view part = text.substr(start, last ? std::string_view::npos : comma - start);
-      c[size_t(i)] = parse_number(part, where);
+      c[size_t(i)] = parse_number(part, at, where);
       start = comma + 1;
     }
     return c;
   }
 
-  Rgb to_lin_rec709(const Rgb& c, const std::string& space, const std::string& where) const {
+  Rgb to_lin_rec709(const Rgb& c, const std::string& space, const pugi::xml_node at, const std::string& where) const {
     if (space == "lin_rec709") return c;
     if (space == "acescg" || space == "lin_ap1") {
       Rgb out{};
@@ -511,11 +675,11 @@ class Reader {
         out[r] = kAp1ToRec709[r][0] * c[0] + kAp1ToRec709[r][1] * c[1] + kAp1ToRec709[r][2] * c[2];
       return out;
     }
-    fail(where + ": colorspace " + in_quotes(space) + " is not supported (lin_rec709 or acescg)");
+    fail_at(at, where + ": colorspace " + in_quotes(space) + " is not supported (lin_rec709 or acescg)");
   }
 
   // {"type": "openpbr", every OpenPBR 1.1 parameter}, the document's value or the default.
-  json openpbr_json(std::map<std::string, Value, std::less<>>& given, const std::string& where) const {
+  json openpbr_json(std::map<std::string, Value, std::less<>>& given) const {
     json j = json::object();
     j["type"] = "openpbr";
     if (v138_) {
@@ -523,7 +687,7 @@ class Reader {
       // and no weight is on (the draft had no weight).
       if (const auto t = given.find("thin_film_thickness"); t != given.end()) {
         t->second.f /= 1000;
-        if (t->second.f > 0 && !given.count("thin_film_weight")) given["thin_film_weight"] = Value{Kind::Float, 1, {}, false};
+        if (t->second.f > 0 && !given.count("thin_film_weight")) given["thin_film_weight"] = Value{Kind::Float, 1, {}, false, {}};
       }
       for (const char* r : kRotations)
         if (const auto it = given.find(r); it != given.end()) j[r] = it->second.f;
@@ -531,7 +695,7 @@ class Reader {
     for (const ParamDef& p : kOpenPbr) {
       if (p.kind == Kind::Vector3) continue;
       const auto it = given.find(p.name);
-      const Value v = it != given.end() ? it->second : Value{p.kind, p.def[0], p.def, p.def[0] != 0};
+      const Value v = it != given.end() ? it->second : Value{p.kind, p.def[0], p.def, p.def[0] != 0, {}};
       switch (p.kind) {
         case Kind::Float: j[p.name] = v.f; break;
         case Kind::Color3: j[p.name] = json::array({v.c[0], v.c[1], v.c[2]}); break;
@@ -539,7 +703,6 @@ class Reader {
         case Kind::Vector3: break;
       }
     }
-    (void)where;
     return j;
   }
 
@@ -551,7 +714,7 @@ class Reader {
     const auto value = [&](const char* name) -> Value {
       if (const auto it = given.find(name); it != given.end()) return it->second;
       const ParamDef* p = find_def(std::begin(kStandardSurface), std::end(kStandardSurface), name);
-      Value v{p->kind, p->def[0], p->def, p->def[0] != 0};
+      Value v{p->kind, p->def[0], p->def, p->def[0] != 0, {}};
       if (ss100 && std::string_view(name) == "base") v.f = 0.8;  // Standard Surface 1.0.0
       if (ss100 && std::string_view(name) == "base_color") v.c = {1, 1, 1};
       return v;
@@ -563,8 +726,8 @@ class Reader {
     // so that nothing a document says is lost silently.
     for (const char* dropped : {"transmission_extra_roughness", "coat_affect_color"})
       if (f(dropped) != 0)
-        fail(where + ": input " + std::string(dropped) + " = " + format_number(f(dropped)) +
-             " has no OpenPBR counterpart (only its default 0 is accepted)");
+        fail_at(value(dropped).node, where + ": input " + std::string(dropped) + " = " + format_number(f(dropped)) +
+                                         " has no OpenPBR counterpart (only its default 0 is accepted)");
 
     json j = json::object();
     j["type"] = "openpbr";
@@ -637,14 +800,18 @@ class Reader {
 }  // namespace
 }  // namespace mtlx
 
-nlohmann::json materialx_to_json(std::string_view xml, const std::string& source, const std::optional<std::string>& name) {
+nlohmann::json materialx_to_json(std::string_view xml, const std::string& source, const std::optional<std::string>& name,
+                                 std::string* note) {
   mtlx::Reader reader(source);
-  return reader.read(xml, name);
+  return reader.read(xml, name, note);
 }
 
-nlohmann::json materialx_file_to_json(const std::string& path, const std::optional<std::string>& name) {
+// Read as a scene file is (read_text_file): whatever the path is, a FIFO included, so that
+// `--from-mtlx <(generator)` works; a FIFO that no process writes waits for one, as
+// `cat` does, until a signal ends the command (docs/materialx.md).
+nlohmann::json materialx_file_to_json(const std::string& path, const std::optional<std::string>& name, std::string* note) {
   const std::string text = read_text_file(path, kMaxMaterialxFileBytes, "a MaterialX document");
-  return materialx_to_json(text, path, name);
+  return materialx_to_json(text, path, name, note);
 }
 
 }  // namespace gonio

@@ -2,10 +2,18 @@
 // stdout, or exit 2 with one line naming the file (and node or input). The documents are
 // tests/data/mtlx; tests/unit/test_materialx.cpp checks every value they map to.
 
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <chrono>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "gonio/material_types.h"
@@ -86,6 +94,117 @@ TEST(CliMaterialx, BsdfTakesADocument) {
     GTEST_SKIP() << "this build has no openpbr type: checked the dispatch only";
   }
   ASSERT_EQ(r.status, 0) << describe(r);
+}
+
+
+// A one-material document (material "M", shader "SR") with `inputs` (XML text).
+std::string cli_mtlx_doc(const std::string& category, const std::string& inputs) {
+  return "<?xml version=\"1.0\"?>\n<materialx version=\"1.39\">\n  <" + category + " name=\"SR\" type=\"surfaceshader\">\n" +
+         inputs + "  </" + category +
+         ">\n  <surfacematerial name=\"M\" type=\"material\">\n"
+         "    <input name=\"surfaceshader\" type=\"surfaceshader\" nodename=\"SR\" />\n"
+         "  </surfacematerial>\n</materialx>\n";
+}
+std::string cli_mtlx_input(const std::string& name, const std::string& type, const std::string& value) {
+  return "    <input name=\"" + name + "\" type=\"" + type + "\" value=\"" + value + "\" />\n";
+}
+
+// Issue 55 §4: a value a hair outside its range (OpenPBR's own examples) is clamped; the
+// JSON is printed and one stderr line names each clamped input.
+TEST(CliMaterialx, ClampedValuesPrintTheMaterialAndOneNote) {
+  const TempFile doc(cli_mtlx_doc("open_pbr_surface", cli_mtlx_input("specular_color", "color3", "1.00000007, 1, 1") +
+                                                          cli_mtlx_input("base_color", "color3", "1.0619, 0.5, 0.2")));
+  const RunResult r = run_gonio({"materials", "--from-mtlx", doc.path()});
+  ASSERT_EQ(r.status, 0) << describe(r);
+  EXPECT_EQ(json::parse(r.out).at("specular_color"), json::array({1.0, 1.0, 1.0}));
+  EXPECT_EQ(json::parse(r.out).at("base_color"), json::array({1.0, 0.5, 0.2}));
+  const auto lines = split_lines(r.err);
+  ASSERT_EQ(lines.size(), 1u) << r.err;
+  EXPECT_NE(lines[0].find(doc.path() + ": "), std::string::npos) << lines[0];
+  EXPECT_NE(lines[0].find("specular_color 1.00000007, 1, 1 -> 1, 1, 1 (line 4)"), std::string::npos) << lines[0];
+  EXPECT_NE(lines[0].find("base_color 1.0619, 0.5, 0.2 -> 1, 0.5, 0.2 (line 5)"), std::string::npos) << lines[0];
+}
+
+// Issue 55 §5: on a refusal the error is the only stderr line (SPEC §3): the note on the
+// clamped colour before the bad input is dropped.
+TEST(CliMaterialx, ARefusalDropsTheClampNote) {
+  const TempFile doc(cli_mtlx_doc("open_pbr_surface", cli_mtlx_input("specular_color", "color3", "1.5, 1, 1") +
+                                                          cli_mtlx_input("coat_roughness", "float", "-0.5")));
+  const RunResult r = run_gonio({"materials", "--from-mtlx", doc.path()});
+  expect_bad_input(r, {doc.path() + ": line 5: ", "input coat_roughness: -0.5 is negative"});
+  EXPECT_EQ(r.err.find("clamped"), std::string::npos) << r.err;
+}
+
+// A .mtlx path is read as a scene file is (docs/materialx.md): a FIFO too, so that a
+// generated document can be piped in. The writer waits, without blocking, for the reader.
+TEST(CliMaterialx, AFifoIsReadLikeAScene) {
+  const ScratchDir dir;
+  const std::string fifo = dir.path("doc.mtlx");
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  const std::string text = cli_mtlx_doc("open_pbr_surface", cli_mtlx_input("base_weight", "float", "0.25"));
+  std::thread writer([&] {
+    const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(20);
+    int fd = -1;
+    while (fd < 0 && std::chrono::steady_clock::now() < end) {
+      fd = ::open(fifo.c_str(), O_WRONLY | O_NONBLOCK | O_CLOEXEC);  // ENXIO until a reader opens it
+      if (fd < 0) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
+    if (fd < 0) return;
+    ::fcntl(fd, F_SETFL, 0);  // blocking writes from here
+    for (size_t done = 0; done < text.size();) {
+      const ssize_t n = ::write(fd, text.data() + done, text.size() - done);
+      if (n < 0 && errno == EINTR) continue;
+      if (n <= 0) break;
+      done += size_t(n);
+    }
+    ::close(fd);
+  });
+  const RunResult r = run_gonio({"materials", "--from-mtlx", fifo});
+  writer.join();
+  ASSERT_EQ(r.status, 0) << describe(r);
+  EXPECT_EQ(json::parse(r.out).at("base_weight"), 0.25);
+}
+
+// Unpolarized Fresnel reflectance of a smooth dielectric of index n seen from air at
+// incidence cos_i (Born & Wolf §1.5.2, the Fresnel equations), written here.
+double fresnel_from_air(double n, double cos_i) {
+  const double sin_t = std::sqrt(1 - cos_i * cos_i) / n, cos_t = std::sqrt(1 - sin_t * sin_t);
+  const double rs = (cos_i - n * cos_t) / (cos_i + n * cos_t), rp = (n * cos_i - cos_t) / (n * cos_i + cos_t);
+  return 0.5 * (rs * rs + rp * rp);
+}
+
+// Issue 56 §1: Standard Surface's coat, a second guard independent of the unit test's.
+// Autodesk Standard Surface 1.0 (Georgiev et al. 2019, §"Coat"): a coat of weight `coat`
+// and index coat_IOR is a dielectric over the rest, and coat_color tints what lies under it
+// (base_color · lerp(1, coat_color, coat)). A smooth coat of weight 1 over a base that
+// reflects nothing (base 0, specular 0) reflects exactly the Fresnel reflectance of
+// coat_IOR, which the material read from the document must give.
+TEST(CliMaterialx, StandardSurfaceCoatMatchesTheSpecification) {
+  const double coat_ior = 2.0;
+  const TempFile doc(cli_mtlx_doc("standard_surface", cli_mtlx_input("base", "float", "0") +
+                                                          cli_mtlx_input("specular", "float", "0") +
+                                                          cli_mtlx_input("coat", "float", "1") +
+                                                          cli_mtlx_input("coat_roughness", "float", "0") +
+                                                          cli_mtlx_input("coat_IOR", "float", fmt(coat_ior))));
+  const std::string bsdf = json{{"mtlx", doc.path()}}.dump();
+  if (!gonio::find_material_type("openpbr")) GTEST_SKIP() << "this build has no openpbr type";
+  for (const double theta : {0.0, 60.0}) {
+    SCOPED_TRACE(theta);
+    const json a = run_one({"albedo", "--bsdf", bsdf, "--theta", fmt(theta)});
+    const double want = fresnel_from_air(coat_ior, std::cos(deg(theta)));  // 1/9 at normal incidence
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(a.at("reflectance")[c].get<double>(), want, 2e-3) << a.dump();
+  }
+  // The tint: base 0.5 grey under a coat of weight 0.5 and colour (0.2, 0.4, 0.6):
+  // 0.5 · (1 + 0.5 · (c − 1)) = (0.3, 0.35, 0.4).
+  const TempFile tinted(cli_mtlx_doc("standard_surface", cli_mtlx_input("base_color", "color3", "0.5, 0.5, 0.5") +
+                                                             cli_mtlx_input("coat", "float", "0.5") +
+                                                             cli_mtlx_input("coat_color", "color3", "0.2, 0.4, 0.6")));
+  const RunResult r = run_gonio({"materials", "--from-mtlx", tinted.path()});
+  ASSERT_EQ(r.status, 0) << describe(r);
+  const json j = json::parse(r.out);
+  const double want[3] = {0.3, 0.35, 0.4};
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(j.at("base_color")[c].get<double>(), want[c], 1e-12) << j.dump();
+  EXPECT_DOUBLE_EQ(j.at("coat_weight").get<double>(), 0.5);
 }
 
 }  // namespace

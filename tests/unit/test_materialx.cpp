@@ -408,5 +408,198 @@ TEST(Materialx, MaterialParserErrors) {
   EXPECT_NE(ambiguous.find(dir + "/several.mtlx: the document has several materials"), std::string::npos) << ambiguous;
 }
 
+
+// Issue 55 §4 and issue 56 §2: ranges in the document's terms. The documents below are
+// written here; the expected values follow from the rule (clamp into the openpbr type's
+// range: colours [0, 1], emission colour and radius scale [0, ∞), indices ≥ 1; refuse a
+// negative weight, roughness or Abbe number), not from the reader's output.
+std::string doc_with_shader(std::string_view category, std::string_view inputs, std::string_view version = "1.39",
+                            std::string_view colorspace = "lin_rec709") {
+  return std::string("<?xml version=\"1.0\"?>\n<materialx version=\"") + std::string(version) + "\" colorspace=\"" +
+         std::string(colorspace) + "\">\n  <" + std::string(category) + " name=\"SR\" type=\"surfaceshader\">\n" +
+         std::string(inputs) + "  </" + std::string(category) +
+         ">\n  <surfacematerial name=\"M\" type=\"material\">\n"
+         "    <input name=\"surfaceshader\" type=\"surfaceshader\" nodename=\"SR\" />\n"
+         "  </surfacematerial>\n</materialx>\n";
+}
+std::string float_input(std::string_view name, std::string_view value) {
+  return "    <input name=\"" + std::string(name) + "\" type=\"float\" value=\"" + std::string(value) + "\" />\n";
+}
+std::string color_input(std::string_view name, std::string_view value) {
+  return "    <input name=\"" + std::string(name) + "\" type=\"color3\" value=\"" + std::string(value) + "\" />\n";
+}
+std::string text_error(const std::string& text, const std::optional<std::string>& material = std::nullopt) {
+  try {
+    materialx_to_json(text, "doc.mtlx", material);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+void expect_rgb(const json& got, double r, double g, double b) {
+  ASSERT_TRUE(got.is_array()) << got.dump();
+  EXPECT_DOUBLE_EQ(got[0].get<double>(), r) << got.dump();
+  EXPECT_DOUBLE_EQ(got[1].get<double>(), g) << got.dump();
+  EXPECT_DOUBLE_EQ(got[2].get<double>(), b) << got.dump();
+}
+
+// The OpenPBR repository's examples (release 1.1.1) hold such values: default's
+// specular_color 1.00000007, gold's base_color 1.0619, light_bulb_5000k's emission_color
+// 1.00028, petroleum's subsurface_radius_scale 4.47.
+TEST(Materialx, ValuesOutsideTheModelsRangeAreClampedWithOneNote) {
+  const std::string text = doc_with_shader(
+      "open_pbr_surface", color_input("base_color", "1.0619, 0.5, -0.25") +
+                              color_input("specular_color", "1.00000007, 1.00000007, 1.00000007") +
+                              color_input("emission_color", "1.00028, 1, 0.9") +
+                              color_input("subsurface_radius_scale", "4.47, 2, 1") + float_input("coat_ior", "0.8") +
+                              float_input("specular_roughness_anisotropy", "1.5"));
+  std::string note;
+  const json j = materialx_to_json(text, "doc.mtlx", std::nullopt, &note);
+  expect_rgb(j.at("base_color"), 1, 0.5, 0);
+  expect_rgb(j.at("specular_color"), 1, 1, 1);
+  expect_rgb(j.at("emission_color"), 1.00028, 1, 0.9);   // [0, ∞): kept
+  expect_rgb(j.at("subsurface_radius_scale"), 4.47, 2, 1);  // [0, ∞): kept
+  EXPECT_DOUBLE_EQ(j.at("coat_ior").get<double>(), 1);
+  EXPECT_DOUBLE_EQ(j.at("specular_roughness_anisotropy").get<double>(), 1);
+  // One line naming each clamped input (its value as written, the value used, its line).
+  EXPECT_EQ(note.find('\n'), std::string::npos) << note;
+  EXPECT_EQ(note.rfind("doc.mtlx: <open_pbr_surface> \"SR\": clamped", 0), 0u) << note;
+  for (const char* part : {"base_color 1.0619, 0.5, -0.25 -> 1, 0.5, 0 (line 4)",
+                           "specular_color 1.00000007, 1.00000007, 1.00000007 -> 1, 1, 1 (line 5)",
+                           "coat_ior 0.8 -> 1 (line 8)", "specular_roughness_anisotropy 1.5 -> 1 (line 9)"})
+    EXPECT_NE(note.find(part), std::string::npos) << part << "\n" << note;
+  EXPECT_EQ(note.find("emission_color"), std::string::npos) << note;
+  EXPECT_EQ(note.find("subsurface_radius_scale"), std::string::npos) << note;
+  // Nothing clamped: no note.
+  materialx_to_json(doc_with_shader("open_pbr_surface", color_input("base_color", "1, 0.5, 0")), "doc.mtlx",
+                    std::nullopt, &note);
+  EXPECT_EQ(note, "");
+  // The clamped material is one the parser takes.
+  if (find_material_type("openpbr")) {
+    EXPECT_NO_THROW(material_from_json(j));
+  }
+}
+
+// OpenPBR's carpaint example: acescg (0.1, 0.6, 0.9), whose linear Rec.709 red is
+// 1.70508·0.1 − 0.62423·0.6 − 0.08085·0.9 = −0.2768 (the AP1 → Rec.709 matrix's first
+// row, MaterialX's M_AP1_TO_REC709): clamped to 0, the note naming both values.
+TEST(Materialx, AnAcescgColourWithANegativeRec709ChannelIsClamped) {
+  std::string note;
+  const json j = materialx_to_json(doc_with_shader("open_pbr_surface", color_input("base_color", "0.1, 0.6, 0.9"), "1.39", "acescg"),
+                                   "doc.mtlx", std::nullopt, &note);
+  EXPECT_EQ(j.at("base_color")[0].get<double>(), 0.0);
+  EXPECT_GT(j.at("base_color")[1].get<double>(), 0.5);
+  EXPECT_NE(note.find("base_color 0.1, 0.6, 0.9 (acescg; -0.2767"), std::string::npos) << note;
+  EXPECT_NE(note.find("-> 0, "), std::string::npos) << note;
+}
+
+// Standard Surface's specular_IOR 0 (MaterialX's velvet example, with specular 0) means no
+// specular reflection: index 1, F0 = ((1 − 1)/(1 + 1))² = 0.
+TEST(Materialx, StandardSurfaceIorZeroIsIndexOne) {
+  std::string note;
+  const json j = materialx_to_json(doc_with_shader("standard_surface", float_input("specular", "0") + float_input("specular_IOR", "0")),
+                                   "doc.mtlx", std::nullopt, &note);
+  EXPECT_DOUBLE_EQ(j.at("specular_ior").get<double>(), 1);
+  EXPECT_NE(note.find("specular_IOR 0 -> 1 (line 5)"), std::string::npos) << note;
+  if (find_material_type("openpbr")) {
+    EXPECT_NO_THROW(material_from_json(j));
+  }
+}
+
+// Refusals name the document's input, its value and line, not what it maps to: Standard
+// Surface's sheen_roughness -1 used to read "fuzz_roughness must be finite, got null"
+// (fuzz_roughness = sheen_roughness^0.4).
+TEST(Materialx, NegativeWeightsRoughnessesAndAbbeNumbersAreRefusedInTheDocumentsTerms) {
+  const std::string sheen = text_error(doc_with_shader("standard_surface", float_input("sheen_roughness", "-1")));
+  EXPECT_EQ(sheen, "doc.mtlx: line 4: <standard_surface> \"SR\": input sheen_roughness: -1 is negative (a roughness, in [0, 1])");
+  const std::string weight = text_error(doc_with_shader("open_pbr_surface", float_input("base_weight", "0.5") + float_input("coat_weight", "-0.01")));
+  EXPECT_NE(weight.find("line 5: <open_pbr_surface> \"SR\": input coat_weight: -0.01 is negative (a weight"), std::string::npos) << weight;
+  // transmission_dispersion is an Abbe number (0: none): -5 was taken as none.
+  const std::string abbe = text_error(doc_with_shader("standard_surface", float_input("transmission_dispersion", "-5")));
+  EXPECT_NE(abbe.find("input transmission_dispersion: -5 is negative (an Abbe number"), std::string::npos) << abbe;
+  const std::string opb_abbe = text_error(doc_with_shader("open_pbr_surface", float_input("transmission_dispersion_abbe_number", "-1")));
+  EXPECT_NE(opb_abbe.find("input transmission_dispersion_abbe_number: -1 is negative"), std::string::npos) << opb_abbe;
+}
+
+// A thin film's thickness is clamped in the document's unit: nm in 1.38 OpenPBR and in
+// Standard Surface, µm in 1.39 OpenPBR; the model takes up to 10 µm = 10000 nm.
+TEST(Materialx, ThinFilmThicknessIsReportedInTheDocumentsUnit) {
+  std::string note;
+  const json draft = materialx_to_json(doc_with_shader("open_pbr_surface", float_input("thin_film_thickness", "20000"), "1.38"),
+                                       "doc.mtlx", std::nullopt, &note);
+  EXPECT_DOUBLE_EQ(draft.at("thin_film_thickness").get<double>(), 10);  // µm
+  EXPECT_NE(note.find("thin_film_thickness 20000 nm -> 10000 nm"), std::string::npos) << note;
+  const json ss = materialx_to_json(doc_with_shader("standard_surface", float_input("thin_film_thickness", "12000")), "doc.mtlx",
+                                    std::nullopt, &note);
+  EXPECT_DOUBLE_EQ(ss.at("thin_film_thickness").get<double>(), 10);
+  EXPECT_NE(note.find("thin_film_thickness 12000 nm -> 10000 nm"), std::string::npos) << note;
+  const json v139 = materialx_to_json(doc_with_shader("open_pbr_surface", float_input("thin_film_thickness", "12")), "doc.mtlx",
+                                      std::nullopt, &note);
+  EXPECT_DOUBLE_EQ(v139.at("thin_film_thickness").get<double>(), 10);
+  EXPECT_NE(note.find("thin_film_thickness 12 \u00b5m -> 10 \u00b5m"), std::string::npos) << note;
+}
+
+// A name of 5,000,000 bytes is echoed cut: at most 60 bytes, on a UTF-8 character boundary.
+TEST(Materialx, LongNamesAreCutOnACharacterBoundary) {
+  std::string name;
+  for (int i = 0; i < 2500000; ++i) name += "\xc3\xa9";  // é, two bytes
+  const std::string missing = text_error(doc_with_shader("open_pbr_surface", ""), name);
+  ASSERT_NE(missing, "");
+  EXPECT_LT(missing.size(), 300u) << missing.size();
+  const size_t open = missing.find("named \""), dots = missing.find("...\"");
+  ASSERT_NE(open, std::string::npos) << missing;
+  ASSERT_NE(dots, std::string::npos) << missing;
+  const std::string shown = missing.substr(open + 7, dots - open - 7);
+  EXPECT_GT(shown.size(), 50u);
+  EXPECT_EQ(shown.size() % 2, 0u) << "cut inside a character";
+  for (size_t i = 0; i + 1 < shown.size(); i += 2) EXPECT_EQ(shown.substr(i, 2), "\xc3\xa9");
+  // The document's own long name, in an error about its material.
+  const std::string doc = "<materialx version=\"1.39\">\n<surfacematerial name=\"" + name + "\" type=\"material\" />\n</materialx>";
+  const std::string own = text_error(doc);
+  EXPECT_LT(own.size(), 300u) << own.size();
+  EXPECT_NE(own.find("no surfaceshader input"), std::string::npos) << own.substr(0, 300);
+}
+
+TEST(Materialx, ASecondRootOrANulByteIsRefused) {
+  const std::string one = doc_with_shader("open_pbr_surface", "");
+  EXPECT_EQ(text_error(one), "");
+  const std::string second = text_error(one + "<materialx version=\"1.39\"/>\n");
+  EXPECT_NE(second.find("doc.mtlx: line 9: malformed MaterialX document: a second root element <materialx>"),
+            std::string::npos) << second;
+  const std::string nul = text_error(one + std::string(1, '\0') + "<junk/>");
+  EXPECT_NE(nul.find("doc.mtlx: line 9: a NUL byte (at byte offset " + std::to_string(one.size()) + ")"), std::string::npos)
+      << nul;
+}
+
+TEST(Materialx, DuplicateMaterialNamesAreRefused) {
+  std::string doc = doc_with_shader("open_pbr_surface", "");
+  const std::string second = "  <surfacematerial name=\"M\" type=\"material\">\n"
+                             "    <input name=\"surfaceshader\" type=\"surfaceshader\" nodename=\"SR\" />\n"
+                             "  </surfacematerial>\n";
+  doc.insert(doc.find("</materialx>"), second);
+  const std::string msg = text_error(doc, "M");
+  EXPECT_EQ(msg, "doc.mtlx: line 8: two surfacematerials are named \"M\" (line 5 and line 8)");
+  EXPECT_EQ(text_error(doc), msg);
+}
+
+// An XInclude is refused wherever it is and whatever its prefix (XInclude 1.0: the
+// element `include` in the namespace http://www.w3.org/2001/XInclude).
+TEST(Materialx, XIncludeIsRefusedUnderAnyPrefixAndInsideANodegraph) {
+  const std::string base = doc_with_shader("open_pbr_surface", "");
+  const auto with = [&](const std::string& element) {
+    std::string d = base;
+    d.insert(d.find("  <surfacematerial"), element);
+    return text_error(d);
+  };
+  const std::string other = with("  <inc:include xmlns:inc=\"http://www.w3.org/2001/XInclude\" href=\"a.mtlx\" />\n");
+  EXPECT_NE(other.find("line 5: <inc:include> (an XInclude) is not supported"), std::string::npos) << other;
+  const std::string deflt = with("  <include xmlns=\"http://www.w3.org/2001/XInclude\" href=\"a.mtlx\" />\n");
+  EXPECT_NE(deflt.find("<include> (an XInclude) is not supported"), std::string::npos) << deflt;
+  const std::string nested = with("  <nodegraph name=\"NG\">\n    <xi:include href=\"a.mtlx\" />\n  </nodegraph>\n");
+  EXPECT_NE(nested.find("line 6: <xi:include> (an XInclude) is not supported"), std::string::npos) << nested;
+  // The same local name in another namespace is not an inclusion (and is not read).
+  EXPECT_EQ(with("  <o:include xmlns:o=\"urn:other\" />\n"), "");
+}
+
 }  // namespace
 }  // namespace gonio

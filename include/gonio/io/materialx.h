@@ -8,10 +8,14 @@
 //
 // Only constant values are read. A connected input (an image or any other node, a
 // nodegraph, an interfacename), an unknown node or input, a value that does not parse or
-// is not finite, an unsupported colour space, several materials and no name: each is one
-// InputError line naming the file and the node or input. The mapping rules (1.38 names
-// and units, Standard Surface → OpenPBR, colour spaces) are in src/io/materialx.cpp and
-// docs/materialx.md.
+// is not finite, a negative weight, roughness or Abbe number, an unsupported colour space,
+// several materials and no name: each is one InputError line naming the file, the line,
+// the node and the input, in the document's names and units. Any other finite value
+// outside what the model takes is clamped into it, as renderers do (a colour a hair above
+// 1, an ACEScg colour whose Rec.709 red is negative, an index below 1), and `note` (when
+// given) receives one line naming each clamped input, its value and the value used (empty
+// when nothing was clamped). The mapping rules (1.38 names and units, Standard Surface →
+// OpenPBR, colour spaces, ranges) are in src/io/materialx.cpp and docs/materialx.md.
 
 #include <cstddef>
 #include <optional>
@@ -28,9 +32,11 @@ inline constexpr std::size_t kMaxMaterialxFileBytes = std::size_t(16) << 20;  //
 // The material `name` (nullopt: the document's only material) of the document text
 // `xml`; `source` names the document in messages (its path).
 nlohmann::json materialx_to_json(std::string_view xml, const std::string& source,
-                                 const std::optional<std::string>& name = std::nullopt);
+                                 const std::optional<std::string>& name = std::nullopt, std::string* note = nullptr);
 
-// The same, read from the file `path` (bounded: kMaxMaterialxFileBytes).
-nlohmann::json materialx_file_to_json(const std::string& path, const std::optional<std::string>& name = std::nullopt);
+// The same, read from the file `path` (bounded: kMaxMaterialxFileBytes; read whatever it
+// is, a FIFO included, as a scene file is: docs/materialx.md).
+nlohmann::json materialx_file_to_json(const std::string& path, const std::optional<std::string>& name = std::nullopt,
+                                      std::string* note = nullptr);
 
 }  // namespace gonio
