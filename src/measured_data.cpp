@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <bit>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <map>
@@ -14,6 +15,8 @@
 #include "gonio/math/fast_atan.h"
 #include "gonio/math/select.h"
 #include "gonio/math/warp.h"
+#include "gonio/measured_coverage.h"
+#include "gonio/notes.h"
 
 namespace gonio {
 namespace {
@@ -375,9 +378,46 @@ std::shared_ptr<const MeasuredData> load_measured(const std::string& path) {
       if (auto data = it->second.lock()) return data;
   }
   auto data = std::make_shared<const MeasuredData>(read_merl(path), path);
+  if (const double missing = merl_missing_fraction(data->table()); missing > 0) {
+    char pct[32];
+    std::snprintf(pct, sizeof pct, "%.3g%%", 100 * missing);
+    note("warning: " + path + ": " + pct +
+         " of the table's entries above the horizon are missing; the measured model interpolates from measured "
+         "neighbours and reads f = 0 where all eight are missing");
+  }
   const std::lock_guard<std::mutex> lock(mutex);
   cache[key] = data;
   return data;
+}
+
+namespace {
+// merl_entry_above_horizon's two factors: tan θh0 tan θd0 at the bin's corner nearest the
+// normal (θh = (i/90)² 90°, θd = j°), and the least |cos φd| over [k°, (k+1)°], at the edge
+// nearer 90° (0 in the bins that touch it).
+double corner_tangents(int i, int j) {
+  return std::tan(std::pow(double(i) / MerlTable::kThetaH, 2) * (kPiD / 2)) * std::tan(double(j) * kPiD / 180);
+}
+double least_cos_phi_d(int k) {
+  return std::max(0.0, k + 1 <= 90 ? std::cos((k + 1) * kPiD / 180) : -std::cos(k * kPiD / 180));
+}
+}  // namespace
+
+bool merl_entry_above_horizon(int i, int j, int k) { return corner_tangents(i, j) * least_cos_phi_d(k) < 1; }
+
+double merl_missing_fraction(const MerlTable& table) {
+  std::array<double, MerlTable::kPhiD> least_cos{};
+  for (int k = 0; k < MerlTable::kPhiD; ++k) least_cos[size_t(k)] = least_cos_phi_d(k);
+  std::size_t above = 0, missing = 0;
+  for (int i = 0; i < MerlTable::kThetaH; ++i)
+    for (int j = 0; j < MerlTable::kThetaD; ++j) {
+      const double t = corner_tangents(i, j);
+      for (int k = 0; k < MerlTable::kPhiD; ++k) {
+        if (!(t * least_cos[size_t(k)] < 1)) continue;
+        ++above;
+        if (!table.measured(i, j, k)) ++missing;
+      }
+    }
+  return above ? double(missing) / double(above) : 0.0;
 }
 
 }  // namespace gonio
