@@ -306,8 +306,9 @@ double rendered_albedo(const MeasuredData& d, double theta_o_deg) {
 // (ρ = 0.8) at a small N: every entry above the horizon is written (own or pooled; the
 // measured model then has no hole to read as 0), the pooled entries are ρ/π on average
 // (each an unbiased mean over its region), and the albedo the model renders from the
-// table is ρ at θo = 0°, 10°, 45° and 85° within the noise of so few rays (3%; the
-// holes' table gave 0.474 and 0.0017 at 0° and 10° with 10 M rays).
+// table is ρ at θo = 0°, 10°, 45° and 85° within the noise of so few rays (2%; 0.03–0.5%
+// off at 2 M rays, seed 6; the holes' table gave 0.474 and 0.0017 at 0° and 10° with
+// 10 M rays).
 TEST(MeasureTable, FlatLambertianTableRendersAsItsSurface) {
   const Microsurface s(testsurf::flat_field(), parse_material(R"({"type":"diffuse","reflectance":0.8})"));
   RunOptions o;
@@ -339,7 +340,7 @@ TEST(MeasureTable, FlatLambertianTableRendersAsItsSurface) {
   EXPECT_NEAR(pooled_sum / double(pooled) / (0.8 / kPiD), 1, 0.02);
   EXPECT_EQ(merl_missing_fraction(r.table), 0);
   const MeasuredData d(r.table);
-  for (const double theta : {0.0, 10.0, 45.0, 85.0}) EXPECT_NEAR(rendered_albedo(d, theta), 0.8, 0.024) << theta;
+  for (const double theta : {0.0, 10.0, 45.0, 85.0}) EXPECT_NEAR(rendered_albedo(d, theta), 0.8, 0.016) << theta;
 }
 
 // Unpolarised Fresnel reflectance of glass (n = 1.5) from air at cos θi = c (Born & Wolf
