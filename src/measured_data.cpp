@@ -391,28 +391,23 @@ std::shared_ptr<const MeasuredData> load_measured(const std::string& path) {
 }
 
 namespace {
-// merl_entry_above_horizon's two factors: tan θh0 tan θd0 at the bin's corner nearest the
-// normal (θh = (i/90)² 90°, θd = j°), and the least |cos φd| over [k°, (k+1)°], at the edge
-// nearer 90° (0 in the bins that touch it).
-double corner_tangents(int i, int j) {
-  return std::tan(std::pow(double(i) / MerlTable::kThetaH, 2) * (kPiD / 2)) * std::tan(double(j) * kPiD / 180);
-}
-double least_cos_phi_d(int k) {
-  return std::max(0.0, k + 1 <= 90 ? std::cos((k + 1) * kPiD / 180) : -std::cos(k * kPiD / 180));
-}
+// merl_entry_above_horizon's two factors at the bin's centre (merl.h: θh = ((i + ½)/90)² 90°,
+// θd = (j + ½)°, φd = (k + ½)°): tan θh tan θd, and |cos φd|.
+double centre_tangents(int i, int j) { return std::tan(merl_theta_h(i)) * std::tan(merl_theta_d(j)); }
+double centre_cos_phi_d(int k) { return std::abs(std::cos(merl_phi_d(k))); }
 }  // namespace
 
-bool merl_entry_above_horizon(int i, int j, int k) { return corner_tangents(i, j) * least_cos_phi_d(k) < 1; }
+bool merl_entry_above_horizon(int i, int j, int k) { return centre_tangents(i, j) * centre_cos_phi_d(k) < 1; }
 
 double merl_missing_fraction(const MerlTable& table) {
-  std::array<double, MerlTable::kPhiD> least_cos{};
-  for (int k = 0; k < MerlTable::kPhiD; ++k) least_cos[size_t(k)] = least_cos_phi_d(k);
+  std::array<double, MerlTable::kPhiD> cos_phi{};
+  for (int k = 0; k < MerlTable::kPhiD; ++k) cos_phi[size_t(k)] = centre_cos_phi_d(k);
   std::size_t above = 0, missing = 0;
   for (int i = 0; i < MerlTable::kThetaH; ++i)
     for (int j = 0; j < MerlTable::kThetaD; ++j) {
-      const double t = corner_tangents(i, j);
+      const double t = centre_tangents(i, j);
       for (int k = 0; k < MerlTable::kPhiD; ++k) {
-        if (!(t * least_cos[size_t(k)] < 1)) continue;
+        if (!(t * cos_phi[size_t(k)] < 1)) continue;
         ++above;
         if (!table.measured(i, j, k)) ++missing;
       }

@@ -9,9 +9,13 @@
 
 namespace gonio {
 
-// Whether some part of bin (i, j, k) has both directions above the horizon: at its corner
-// nearest the normal, tan θh tan θd |cos φd| < 1 (the heights
-// cos θh cos θd ∓ sin θh sin θd cos φd both positive; bin edges as SPEC §2).
+// Whether the pair at bin (i, j, k)'s centre has both directions above the horizon:
+// tan θh tan θd |cos φd| < 1 (their heights cos θh cos θd ∓ sin θh sin θd cos φd both
+// positive; centres as merl.h). These are the entries that matter: the measured model
+// interpolates between centres, so a point above the horizon always has the corner
+// entry of smaller θh, θd and |cos φd| among its eight neighbours, itself above; and they
+// are the entries `gonio tabulate` and MERL's own files fill (a bin the horizon cuts
+// below its centre is written missing there).
 bool merl_entry_above_horizon(int i, int j, int k);
 
 // The fraction of the entries above the horizon that are missing (0 for a full table).

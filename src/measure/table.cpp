@@ -277,9 +277,9 @@ void fill_entries(TableReading& out, const TableSums& in, std::uint64_t n, doubl
       for (int k = 0; k < P; ++k) {
         const std::size_t e = MerlTable::index(i, j, k);
         const Pool own = bin_pool(i, j, e);
-        // A bin the horizon barely cuts may have a measure of 0 by merl_bins' quadrature
-        // (a sliver between its midpoints) and still be read by the measured model: it is
-        // above the horizon as the model counts it (measured_coverage.h), and pooled.
+        // A bin of measure 0 by merl_bins' quadrature whose centre is still above the
+        // horizon (measured_coverage.h; none is known, but the two are computed apart)
+        // would be read by the measured model: it is pooled.
         if (!(own.measure > 0) && !merl_entry_above_horizon(i, j, k)) {
           float* f = &out.table.rgb[3 * e];
           f[0] = f[1] = f[2] = MerlTable::kMissing;

@@ -79,10 +79,9 @@ TEST(MeasureCli, TableWritesAMerlFile) {
   EXPECT_EQ(j["rays"]["launched"], 20000);
   EXPECT_EQ(j["pilot_rays"], 5000);
   EXPECT_EQ(j["min_expected_rays"], 0);
-  // Every bin of positive measure is its own; the slivers the measure's quadrature misses
-  // (measured_coverage.h) are pooled from their neighbours.
-  EXPECT_EQ(j["filled"].get<double>() + j["pooled"].get<double>() + j["missing"].get<double>(), 1458000);
-  EXPECT_LT(j["pooled"].get<double>(), 2000);
+  // Every bin of positive measure is its own.
+  EXPECT_EQ(j["filled"].get<double>() + j["missing"].get<double>(), 1458000);
+  EXPECT_EQ(j["pooled"], 0);
   EXPECT_GT(j["filled"].get<double>(), 1000);
   // Every written entry of so few rays is noisier than 1% and 5%.
   EXPECT_EQ(j["relative_stderr_above"]["0.01"], 1);
@@ -122,11 +121,11 @@ TEST(MeasureCli, TableFillsEveryEntryAboveTheHorizon) {
   for (int i = 0; i < 90; ++i)
     for (int jj = 0; jj < 90; ++jj)
       for (int k = 0; k < 180; ++k) {
-        // Above the horizon as the measured model counts it (measured_coverage.h): the bins
-        // of positive measure, and slivers the measure's quadrature misses.
-        const bool up = gonio::merl_entry_above_horizon(i, jj, k);
+        // Every bin some part of which is above the horizon (positive measure), which
+        // includes every bin whose centre is (measured_coverage.h).
+        const bool up = m[gonio::MerlTable::index(i, jj, k)] > 0;
         ASSERT_EQ(t.measured(i, jj, k), up) << i << " " << jj << " " << k;
-        if (m[gonio::MerlTable::index(i, jj, k)] > 0) {
+        if (gonio::merl_entry_above_horizon(i, jj, k)) {
           ASSERT_TRUE(up);
         }
         above += up;
@@ -146,16 +145,17 @@ TEST(MeasureCli, TableFillsEveryEntryAboveTheHorizon) {
 
 // A table with holes above the horizon says so: one line on stderr with the missing
 // fraction when the model reads it, and a coverage row in `gonio check` (a warning, not a
-// failure; the validator's run makes this test take ~5 s). Here every θd ≥ 45° entry is missing: 1/2 of the entries above the horizon
-// counted in the test from the bins' measures, within the few bins the horizon barely cuts.
+// failure; the validator's run makes this test take ~5 s). Here every θd ≥ 45° entry is
+// missing: the fraction of the entries whose centre pair is above the horizon, counted
+// here from the pair's directions (merl.h merl_directions, both z > 0).
 TEST(MeasureCli, MissingEntriesAreReportedNotReadAsZeroSilently) {
   gonio::MerlTable t;
-  const std::vector<double>& m = gonio::measure::merl_bin_measures();
   double above = 0, gone = 0;
   for (int i = 0; i < 90; ++i)
     for (int jj = 0; jj < 90; ++jj)
       for (int k = 0; k < 180; ++k) {
-        const bool up = m[gonio::MerlTable::index(i, jj, k)] > 0;
+        const auto [wo, wi] = gonio::merl_directions(gonio::merl_theta_h(i), gonio::merl_theta_d(jj), gonio::merl_phi_d(k));
+        const bool up = wo.z > 0 && wi.z > 0;
         above += up;
         if (jj >= 45) {
           t.set_missing(i, jj, k);
