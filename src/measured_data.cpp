@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <bit>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <map>
@@ -14,6 +15,8 @@
 #include "gonio/math/fast_atan.h"
 #include "gonio/math/select.h"
 #include "gonio/math/warp.h"
+#include "gonio/measured_coverage.h"
+#include "gonio/notes.h"
 
 namespace gonio {
 namespace {
@@ -375,9 +378,41 @@ std::shared_ptr<const MeasuredData> load_measured(const std::string& path) {
       if (auto data = it->second.lock()) return data;
   }
   auto data = std::make_shared<const MeasuredData>(read_merl(path), path);
+  if (const double missing = merl_missing_fraction(data->table()); missing > 0) {
+    char pct[32];
+    std::snprintf(pct, sizeof pct, "%.3g%%", 100 * missing);
+    note("warning: " + path + ": " + pct +
+         " of the table's entries above the horizon are missing; the measured model interpolates from measured "
+         "neighbours and reads f = 0 where all eight are missing");
+  }
   const std::lock_guard<std::mutex> lock(mutex);
   cache[key] = data;
   return data;
+}
+
+namespace {
+// merl_entry_above_horizon's two factors at the bin's centre (merl.h: θh = ((i + ½)/90)² 90°,
+// θd = (j + ½)°, φd = (k + ½)°): tan θh tan θd, and |cos φd|.
+double centre_tangents(int i, int j) { return std::tan(merl_theta_h(i)) * std::tan(merl_theta_d(j)); }
+double centre_cos_phi_d(int k) { return std::abs(std::cos(merl_phi_d(k))); }
+}  // namespace
+
+bool merl_entry_above_horizon(int i, int j, int k) { return centre_tangents(i, j) * centre_cos_phi_d(k) < 1; }
+
+double merl_missing_fraction(const MerlTable& table) {
+  std::array<double, MerlTable::kPhiD> cos_phi{};
+  for (int k = 0; k < MerlTable::kPhiD; ++k) cos_phi[size_t(k)] = centre_cos_phi_d(k);
+  std::size_t above = 0, missing = 0;
+  for (int i = 0; i < MerlTable::kThetaH; ++i)
+    for (int j = 0; j < MerlTable::kThetaD; ++j) {
+      const double t = centre_tangents(i, j);
+      for (int k = 0; k < MerlTable::kPhiD; ++k) {
+        if (!(t * cos_phi[size_t(k)] < 1)) continue;
+        ++above;
+        if (!table.measured(i, j, k)) ++missing;
+      }
+    }
+  return above ? double(missing) / double(above) : 0.0;
 }
 
 }  // namespace gonio

@@ -31,8 +31,9 @@ namespace gonio::cli {
 
 namespace {
 struct MeasureArgs {
-  std::string surface, output, gantry, json, preview, stderr_table;
+  std::string surface, output, gantry, json, preview, stderr_table, support_table;
   std::int64_t samples = 10'000'000;
+  bool samples_given = false;
   int threads = 0;
   std::int64_t seed = 0;
   std::int64_t max_bounces = measure::Microsurface::kDefaultMaxBounces;
@@ -148,7 +149,7 @@ std::string table_json(const measure::TableReading& t, const measure::Surface& s
   std::string o = "{\"mode\":\"table\",\"file\":" + quoted(file) + ",\"surface\":" + quoted(s.type) +
                   ",\"material\":" + quoted(s.material.name()) + ",\"seed\":" + std::to_string(seed) +
                   ",\"entries\":" + std::to_string(MerlTable::kEntries) + ",\"filled\":" + std::to_string(t.filled) +
-                  ",\"missing\":" + std::to_string(t.missing) + ",\"zero\":" + std::to_string(t.zero) +
+                  ",\"missing\":" + std::to_string(t.missing) + ",\"zero\":" + std::to_string(t.zero) + ",\"pooled\":" + std::to_string(t.pooled) +
                   ",\"filled_by_pilot\":" + std::to_string(t.filled_by_pilot) +
                   ",\"min_expected_rays\":" + std::to_string(min_rays) +
                   ",\"relative_stderr_above\":{";
@@ -171,6 +172,16 @@ MerlTable stderr_table(const measure::TableReading& t) {
   MerlTable e;
   for (std::size_t q = 0; q < 3 * MerlTable::kEntries; ++q)
     e.rgb[q] = t.table.rgb[q] < 0 ? MerlTable::kMissing : t.stderr_f[q];
+  return e;
+}
+
+// The bins each entry pooled (1: its own), in all three channels (missing where the
+// table is).
+MerlTable support_table(const measure::TableReading& t) {
+  MerlTable e;
+  for (std::size_t q = 0; q < MerlTable::kEntries; ++q)
+    for (std::size_t c = 0; c < 3; ++c)
+      e.rgb[3 * q + c] = t.table.rgb[3 * q] < 0 ? MerlTable::kMissing : float(t.support[q]);
   return e;
 }
 
@@ -210,6 +221,12 @@ void run_measure(const MeasureArgs& a) {
     if (a.stderr_table == a.output) throw InputError("--stderr-table " + a.stderr_table + ": the same file as -o");
     check_writable(a.stderr_table, "--stderr-table");
   }
+  if (!a.support_table.empty()) {
+    if (a.output.empty()) throw InputError("--support-table: give it with -o (a MERL table)");
+    if (a.support_table == a.output || a.support_table == a.stderr_table)
+      throw InputError("--support-table " + a.support_table + ": the same file as -o or --stderr-table");
+    check_writable(a.support_table, "--support-table");
+  }
   if (!a.preview.empty()) {
     const std::string ext = lower_extension(a.preview);
     if (ext != ".png" && ext != ".exr") throw InputError("--preview " + a.preview + ": must end in .png or .exr");
@@ -220,7 +237,9 @@ void run_measure(const MeasureArgs& a) {
 
   const measure::Microsurface micro(surface.field, surface.material, static_cast<std::uint32_t>(a.max_bounces));
   measure::RunOptions options;
-  options.samples = static_cast<std::uint64_t>(a.samples);
+  // A table's default is its own (table.h): its bins are far smaller than a detector.
+  options.samples = a.samples_given || a.output.empty() ? static_cast<std::uint64_t>(a.samples)
+                                                        : measure::kTableDefaultSamples;
   options.threads = a.threads;
   options.seed = static_cast<std::uint64_t>(a.seed);
   const auto start = std::chrono::steady_clock::now();
@@ -236,12 +255,15 @@ void run_measure(const MeasureArgs& a) {
   const measure::TableReading t = measure::measure_table(micro, options, table);
   // A signal during the 35 MB writes removes the temporaries (cli_signals.h).
   install_stop_signals();
-  std::optional<OutputFile> out, err;
+  std::optional<OutputFile> out, err, sup;
   create_removable([&] { return out.emplace(a.output, "the table").temporary_path(); });
   if (!a.stderr_table.empty())
     create_removable([&] { return err.emplace(a.stderr_table, "the standard errors' table").temporary_path(); });
+  if (!a.support_table.empty())
+    create_removable([&] { return sup.emplace(a.support_table, "the support table").temporary_path(); });
   write_merl(*out, t.table);
   if (err) write_merl(*err, stderr_table(t));
+  if (sup) write_merl(*sup, support_table(t));
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   emit(table_json(t, surface, a.output, options.seed, a.min_rays, seconds), a.json);
 }
@@ -262,15 +284,19 @@ void register_measure(CLI::App& app) {
   cmd->add_option("--stderr-table", args->stderr_table,
                   "with -o: also write each entry's standard error (1/sr) as a MERL table (.binary) of the same "
                   "layout, missing where the table is");
+  cmd->add_option("--support-table", args->support_table,
+                  "with -o: also write how many bins each entry's estimate pooled (1: its own bin; more: "
+                  "filled from its neighbourhood) as a MERL table (.binary) of the same layout");
   CLI::Option* min_rays = cmd->add_option("--min-rays", args->min_rays,
                   "with -o: the rays an entry must expect (for a Lambertian sample, or from the pilot's rays) to be "
-                  "written, 0 to 1000000 (default 25; 0: every bin above the horizon)")
+                  "estimated from its own bin, else from a region of bins around it, 0 to 1000000 (default 25; 0: "
+                  "every bin from its own)")
       ->transform(decimal_in_range(0, 1'000'000));
   cmd->add_option("--json", args->json, "write the JSON result to FILE instead of stdout");
   cmd->add_option("--preview", args->preview, "write a shaded image of the height field (.png or .exr)");
-  cmd->add_option("--samples", args->samples,
-                  "total rays launched from the light, 1 to 10^12 (default 10000000; split evenly over the "
-                  "gantry's incidences)")
+  CLI::Option* samples = cmd->add_option("--samples", args->samples,
+                  "total rays launched from the light, 1 to 10^12 (default 200000000 for -o, 10000000 split "
+                  "evenly over the gantry's incidences)")
       ->transform(decimal_in_range(1, kMaxSamples));
   cmd->add_option("--threads", args->threads, "worker threads, 0 to 1024 (default 0: all cores)")
       ->transform(decimal_in_range(0, kMaxThreads));
@@ -280,8 +306,9 @@ void register_measure(CLI::App& app) {
                   "facet interactions allowed to a ray, 1 to 1000000 (default 1000; a ray that meets one more "
                   "facet is dropped and counted as capped; 1: single scattering alone)")
       ->transform(decimal_in_range(1, 1'000'000));
-  cmd->callback([args, min_rays] {
+  cmd->callback([args, min_rays, samples] {
     args->min_rays_given = min_rays->count() > 0;
+    args->samples_given = samples->count() > 0;
     run_measure(*args);
   });
 }

@@ -5,9 +5,11 @@
 
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
 
 #include <algorithm>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -89,6 +91,7 @@ py::dict table_dict(const measure::TableReading& t, const std::string& file, std
   d["file"] = file;
   d["entries"] = MerlTable::kEntries;
   d["filled"] = t.filled, d["missing"] = t.missing, d["zero"] = t.zero, d["filled_by_pilot"] = t.filled_by_pilot;
+  d["pooled"] = t.pooled;
   d["min_expected_rays"] = min_rays;
   py::dict above;
   above["0.01"] = t.fraction_above[0], above["0.05"] = t.fraction_above[1], above["0.2"] = t.fraction_above[2];
@@ -113,7 +116,7 @@ void check_signals(double) {
 }
 
 py::dict measure_surface(const py::object& surface_arg, const py::object& gantry_arg, const std::string& output,
-                         std::int64_t samples, int threads, std::int64_t seed, std::int64_t max_bounces,
+                         std::optional<std::int64_t> samples, int threads, std::int64_t seed, std::int64_t max_bounces,
                          std::int64_t min_rays) {
   // Every argument is checked before the first ray, in the CLI's words.
   if (gantry_arg.is_none() && output.empty())
@@ -124,7 +127,10 @@ py::dict measure_surface(const py::object& surface_arg, const py::object& gantry
   measure::GantrySpec spec;
   if (!gantry_arg.is_none()) spec = measure::parse_gantry(json_text_of(gantry_arg, "gantry"), "--gantry");
   measure::RunOptions options;
-  options.samples = checked_count(samples, 1, 1'000'000'000'000, "samples");
+  // A table's default is its own (`gonio measure -o`, table.h).
+  const std::int64_t rays = samples ? *samples
+                                    : gantry_arg.is_none() ? std::int64_t(measure::kTableDefaultSamples) : 10'000'000;
+  options.samples = checked_count(rays, 1, 1'000'000'000'000, "samples");
   options.threads = checked_threads(threads);
   options.seed = checked_count(seed, 0, 2'147'483'647, "seed");
   const auto bounces = std::uint32_t(checked_count(max_bounces, 1, 1'000'000, "max_bounces"));
@@ -164,7 +170,7 @@ void register_measure(py::module_& mod) {
       [](const py::object& surface) { (void)measure::parse_surface(json_text_of(surface, "surface"), "--surface", ""); },
       py::arg("surface"));
   mod.def("measure", &measure_surface, py::arg("surface"), py::arg("gantry") = py::none(), py::kw_only(),
-          py::arg("output") = "", py::arg("samples") = 10'000'000, py::arg("threads") = 0, py::arg("seed") = 0,
+          py::arg("output") = "", py::arg("samples") = py::none(), py::arg("threads") = 0, py::arg("seed") = 0,
           py::arg("max_bounces") = std::int64_t(measure::Microsurface::kDefaultMaxBounces),
           py::arg("min_rays") = std::int64_t(measure::kTableMinExpectedRays),
           R"doc(The virtual gonioreflectometer (SPEC §3 `gonio measure`; docs/gonioreflectometer.md).
@@ -176,12 +182,14 @@ surface: the microsurface, JSON text or a dict ({"type": "flat"|"gaussian"|"vgro
     numpy arrays, incidence-major: theta_i, phi_i (I,); albedo, stderr_albedo, transmittance,
     stderr_transmittance (I, 3); theta_o, phi_o, solid_angle (D,); f, stderr (I, D, 3) in 1/sr;
     hits (I, D); rays (a list of I dicts of ray counts); aperture; rays_per_incidence.
-  output: the path of a MERL table (.binary) to fill (isotropic surfaces). Returns file,
-    filled, missing, zero, filled_by_pilot, min_expected_rays, relative_stderr_above, rays,
-    pilot_rays, and per 1° band of theta_i: theta_i (90, 2) edges, band_rays (90,), albedo and
-    stderr_albedo (90, 3). min_rays: the rays an entry must expect to be written (`gonio
-    measure --min-rays`, default 25; 0: every bin above the horizon).
-samples: total rays launched from the light (split evenly over the incidences); seed: the
+  output: the path of a MERL table (.binary) to fill (isotropic surfaces; every entry above
+    the horizon, own or pooled). Returns file, filled, pooled, missing, zero, filled_by_pilot,
+    min_expected_rays, relative_stderr_above, rays, pilot_rays, and per 1° band of theta_i:
+    theta_i (90, 2) edges, band_rays (90,), albedo and stderr_albedo (90, 3). min_rays: the
+    rays an entry must expect to be its bin's own, else pooled over a region of bins (`gonio
+    measure --min-rays`, default 25; 0: every bin above the horizon its own).
+samples: total rays launched from the light (default 200,000,000 for a table, 10,000,000 split
+evenly over the gantry's incidences); seed: the
 random seed (the result does not depend on threads); max_bounces: facet interactions allowed
 to a ray. The same numbers as `gonio measure` with the same arguments. Ctrl-C stops a run
 within about half a million rays with KeyboardInterrupt (a table is then not written).)doc");

@@ -34,6 +34,7 @@
 #include "gonio/material.h"
 #include "gonio/merl.h"
 #include "gonio/named_index.h"
+#include "gonio/notes.h"
 #include "gonio/reflectance.h"
 #include "gonio/spectral_material.h"
 #include "gonio/tabulate.h"
@@ -809,6 +810,12 @@ PYBIND11_MODULE(_gonio, mod) {
   using namespace gonio::python;
   mod.doc() = "gonio's C++ core: materials evaluated, sampled and validated over numpy arrays";
   mod.attr("__version__") = GONIO_VERSION_STRING;
+  // The library's notes (notes.h; e.g. a measured table with missing entries) become
+  // Python warnings, which a caller can filter or turn into errors.
+  set_note_sink([](const std::string& line) {
+    py::gil_scoped_acquire gil;
+    py::module_::import("warnings").attr("warn")(line, py::module_::import("builtins").attr("UserWarning"), 2);
+  });
   mod.attr("LOBE_NONE") = int(BatchLobe::None);
   mod.attr("LOBE_REFLECTION") = int(BatchLobe::Reflection);
   mod.attr("LOBE_TRANSMISSION") = int(BatchLobe::Transmission);

@@ -9,6 +9,7 @@ import signal
 import subprocess
 import sys
 import time
+import warnings
 
 import numpy as np
 import pytest
@@ -75,7 +76,7 @@ def test_table_equals_the_cli_file(tmp_path):
                   "--threads", "1", "--min-rays", "0"])
     assert mine.read_bytes() == theirs.read_bytes()
     assert r["mode"] == "table" and r["file"] == str(mine)
-    for key in ("entries", "filled", "missing", "zero", "filled_by_pilot", "min_expected_rays", "pilot_rays",
+    for key in ("entries", "filled", "pooled", "missing", "zero", "filled_by_pilot", "min_expected_rays", "pilot_rays",
                 "relative_stderr_above"):
         assert r[key] == c[key], key
     assert r["filled"] > 0 and r["rays"] == c["rays"]
@@ -163,3 +164,23 @@ def test_render_stops_on_ctrl_c():
     """A render far too long to finish (the default scene at 2^20 spp) is interrupted by
     SIGINT within seconds, raising KeyboardInterrupt in the interpreter."""
     interrupt_after("gonio.render(spp=1 << 20, threads=2)", 1.0)
+
+
+def test_a_table_with_holes_warns_once(tmp_path):
+    """Issue 55: a table with missing entries above the horizon is read with a UserWarning
+    giving the missing fraction (the model reads a hole with no measured neighbour as 0);
+    a table `gonio measure` fills (every entry above the horizon) is read silently."""
+    holes, full = tmp_path / "holes.binary", tmp_path / "full.binary"
+    gonio.measure(dict(SURFACE, resolution=32), output=str(holes), samples=20000, seed=1, threads=2, min_rays=0)
+    data = bytearray(holes.read_bytes())
+    # Every θh slab from 45 on missing: the file is 3 int32 dimensions, then 3 channels of
+    # 1,458,000 float64 entries each, θh-major (MERL's layout, merl.h).
+    values = np.frombuffer(bytes(data[12:]), dtype="<f8").copy().reshape(3, 90, 90, 180)
+    values[:, 45:] = -1
+    holes.write_bytes(bytes(data[:12]) + values.tobytes())
+    with pytest.warns(UserWarning, match=r"% of the table's entries above the horizon are missing"):
+        gonio.Material({"type": "measured", "file": str(holes)})
+    gonio.measure(dict(SURFACE, resolution=32), output=str(full), samples=20000, seed=1, threads=2)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        gonio.Material({"type": "measured", "file": str(full)})

@@ -15,6 +15,7 @@
 
 #include "gonio/math/constants.h"
 #include "gonio/measure/merl_bins.h"
+#include "gonio/measured_coverage.h"
 #include "waves.h"
 
 namespace gonio::measure {
@@ -162,6 +163,192 @@ bool pilot_expects(double sum, double sum2, double pilot_to_estimate, double k) 
   return (n - 3 * std::sqrt(n)) * pilot_to_estimate >= k;
 }
 
+// What an entry's estimate and its decision need, summed over a region of bins: the
+// measure, the geometric bound, the pilot's Σs and Σs², and the estimate's Σ and Σ² per
+// channel.
+struct Pool {
+  double measure = 0, reference = 0, pilot = 0, pilot2 = 0, sum[3] = {0, 0, 0}, sum2[3] = {0, 0, 0};
+  Pool& operator+=(const Pool& o) {
+    measure += o.measure, reference += o.reference, pilot += o.pilot, pilot2 += o.pilot2;
+    for (int c = 0; c < 3; ++c) sum[c] += o.sum[c], sum2[c] += o.sum2[c];
+    return *this;
+  }
+  // a − b, for the sums of a prefix; the rounding of a difference of prefixes is kept
+  // from going below zero.
+  static Pool difference(const Pool& a, const Pool& b) {
+    Pool d;
+    d.measure = std::max(0.0, a.measure - b.measure), d.reference = std::max(0.0, a.reference - b.reference);
+    d.pilot = std::max(0.0, a.pilot - b.pilot), d.pilot2 = std::max(0.0, a.pilot2 - b.pilot2);
+    for (int c = 0; c < 3; ++c)
+      d.sum[c] = std::max(0.0, a.sum[c] - b.sum[c]), d.sum2[c] = std::max(0.0, a.sum2[c] - b.sum2[c]);
+    return d;
+  }
+};
+
+struct TableSums {
+  const ZeroedArray<double>& sum;
+  const ZeroedArray<double>& sum2;
+  const ZeroedArray<double>& pilot_sum;
+  const ZeroedArray<double>& pilot_sum2;
+  const std::vector<double>& measure;
+};
+
+// The φd windows (±bins) and the (θh, θd) boxes of whole rows (±bins) a sparse entry
+// tries in turn (table.h).
+constexpr int kPhiWindows[] = {1, 2, 4, 8, 16, 32, 64};
+constexpr int kRowBoxes[] = {0, 1, 2, 3, 4, 6, 8, 12, 16, 24, 32, 48, 64, 90};
+
+// Writes every entry (table.h): own, pooled, or missing below the horizon; its standard
+// error and support; and the counts.
+void fill_entries(TableReading& out, const TableSums& in, std::uint64_t n, double pilot_to_estimate, double k_min) {
+  constexpr int H = MerlTable::kThetaH, D = MerlTable::kThetaD, P = MerlTable::kPhiD;
+  const double nd = double(n);
+  auto enough = [&](const Pool& r) {
+    return r.reference >= k_min || pilot_expects(r.pilot, r.pilot2, pilot_to_estimate, k_min);
+  };
+  // reference_rays per unit measure, per (θh, θd) row.
+  std::vector<double> reference_per_measure(std::size_t(H) * D);
+  for (int i = 0; i < H; ++i)
+    for (int j = 0; j < D; ++j) reference_per_measure[std::size_t(i) * D + std::size_t(j)] = reference_rays(nd, 1.0, i, j);
+  auto bin_pool = [&](int i, int j, std::size_t e) {
+    Pool b;
+    b.measure = in.measure[e];
+    if (!(b.measure > 0)) return b;  // wholly below the horizon: no part of any region
+    b.reference = reference_per_measure[std::size_t(i) * D + std::size_t(j)] * b.measure;
+    b.pilot = in.pilot_sum[e], b.pilot2 = in.pilot_sum2[e];
+    for (int c = 0; c < 3; ++c) b.sum[c] = in.sum[3 * e + c], b.sum2[c] = in.sum2[3 * e + c];
+    return b;
+  };
+  // Whole rows: row[i][j] summed over φd, and their prefix over θh per θd column
+  // (column[j][i] = rows 0 .. i−1), so that a box of rows costs one difference per θd.
+  std::vector<Pool> row(std::size_t(H) * D), column(std::size_t(D) * (H + 1));
+  tbb::parallel_for(0, H, [&](int i) {
+    for (int j = 0; j < D; ++j) {
+      Pool t;
+      for (int k = 0; k < P; ++k) t += bin_pool(i, j, MerlTable::index(i, j, k));
+      row[std::size_t(i) * D + std::size_t(j)] = t;
+    }
+  });
+  for (int j = 0; j < D; ++j)
+    for (int i = 0; i < H; ++i) {
+      Pool c = column[std::size_t(j) * (H + 1) + std::size_t(i)];
+      c += row[std::size_t(i) * D + std::size_t(j)];
+      column[std::size_t(j) * (H + 1) + std::size_t(i) + 1] = c;
+    }
+  out.stderr_f.assign(3 * MerlTable::kEntries, 0.0f);
+  out.support.assign(MerlTable::kEntries, 0);
+  struct SlabCounts {
+    std::uint64_t filled = 0, by_pilot = 0, pooled = 0, zero = 0, missing = 0, above[3] = {0, 0, 0};
+  };
+  std::vector<SlabCounts> counts(H);
+  tbb::parallel_for(0, H, [&](int i) {
+    SlabCounts& sc = counts[std::size_t(i)];
+    std::vector<Pool> prefix(P + 1);
+    for (int j = 0; j < D; ++j) {
+      for (int k = 0; k < P; ++k) {
+        prefix[std::size_t(k) + 1] = prefix[std::size_t(k)];
+        prefix[std::size_t(k) + 1] += bin_pool(i, j, MerlTable::index(i, j, k));
+      }
+      // φd bins k−w .. k+w, taken around the period of 180 bins.
+      auto window = [&](int k, int w) {
+        const int lo = k - w, hi = k + w + 1;  // [lo, hi)
+        if (lo >= 0 && hi <= P) return Pool::difference(prefix[std::size_t(hi)], prefix[std::size_t(lo)]);
+        Pool r = lo < 0 ? Pool::difference(prefix[P], prefix[std::size_t(lo + P)]) : Pool::difference(prefix[P], prefix[std::size_t(lo)]);
+        r += lo < 0 ? Pool::difference(prefix[std::size_t(hi)], prefix[0]) : Pool::difference(prefix[std::size_t(hi - P)], prefix[0]);
+        return r;
+      };
+      // The region of whole rows (kRowBoxes), found once per row when first needed.
+      bool have_box = false;
+      Pool box;
+      std::uint32_t box_bins = 0;
+      auto row_box = [&] {
+        if (have_box) return;
+        have_box = true;
+        for (const int d : kRowBoxes) {
+          const int i0 = std::max(0, i - d), i1 = std::min(H - 1, i + d), j0 = std::max(0, j - d), j1 = std::min(D - 1, j + d);
+          box = Pool{};
+          for (int jj = j0; jj <= j1; ++jj)
+            box += Pool::difference(column[std::size_t(jj) * (H + 1) + std::size_t(i1) + 1],
+                                    column[std::size_t(jj) * (H + 1) + std::size_t(i0)]);
+          box_bins = std::uint32_t((i1 - i0 + 1) * (j1 - j0 + 1) * P);
+          if (enough(box)) return;
+        }
+      };
+      for (int k = 0; k < P; ++k) {
+        const std::size_t e = MerlTable::index(i, j, k);
+        const Pool own = bin_pool(i, j, e);
+        // A bin of measure 0 by merl_bins' quadrature whose centre is still above the
+        // horizon (measured_coverage.h; none is known, but the two are computed apart)
+        // would be read by the measured model: it is pooled.
+        if (!(own.measure > 0) && !merl_entry_above_horizon(i, j, k)) {
+          float* f = &out.table.rgb[3 * e];
+          f[0] = f[1] = f[2] = MerlTable::kMissing;
+          ++sc.missing;
+          continue;
+        }
+        const Pool* region = &own;
+        Pool pooled;
+        std::uint32_t bins = 1;
+        const bool by_geometry = own.measure > 0 && own.reference >= k_min;
+        if (own.measure > 0 && (by_geometry || pilot_expects(own.pilot, own.pilot2, pilot_to_estimate, k_min))) {
+          ++sc.filled;
+          if (!by_geometry) ++sc.by_pilot;
+        } else {
+          ++sc.pooled;
+          region = &pooled;
+          bool found = false;
+          for (const int w : kPhiWindows) {
+            pooled = window(k, w);
+            bins = std::uint32_t(2 * w + 1);
+            if (enough(pooled)) {
+              found = true;
+              break;
+            }
+          }
+          if (!found) {
+            row_box();
+            region = &box;
+            bins = box_bins;
+          }
+        }
+        out.support[e] = bins;
+        if (!(region->measure > 0)) {  // nothing above the horizon around it: not reached by the rule above
+          float* f = &out.table.rgb[3 * e];
+          f[0] = f[1] = f[2] = 0;
+          ++sc.zero;
+          continue;
+        }
+        // The mean score over all N rays (zero for those elsewhere) and its standard
+        // error, per unit of the region's measure.
+        const double scale = 1 / region->measure;
+        double worst = 0;  // the largest relative standard error over the channels
+        bool zero = true;
+        for (int c = 0; c < 3; ++c) {
+          const double mean = region->sum[c] / nd;
+          const double var = n > 1 ? std::max(0.0, region->sum2[c] / nd - mean * mean) / (nd - 1) : 0.0;
+          out.table.rgb[3 * e + std::size_t(c)] = float(mean * scale);
+          out.stderr_f[3 * e + std::size_t(c)] = float(std::sqrt(var) * scale);
+          if (mean > 0) zero = false, worst = std::max(worst, std::sqrt(var) / mean);
+        }
+        if (zero) {
+          ++sc.zero;
+          continue;
+        }
+        for (int q = 0; q < 3; ++q)
+          if (worst > kTableErrorLevels[q]) ++sc.above[q];
+      }
+    }
+  });
+  std::uint64_t above[3] = {0, 0, 0};
+  for (const SlabCounts& sc : counts) {
+    out.filled += sc.filled, out.filled_by_pilot += sc.by_pilot, out.pooled += sc.pooled;
+    out.zero += sc.zero, out.missing += sc.missing;
+    for (int q = 0; q < 3; ++q) above[q] += sc.above[q];
+  }
+  const std::uint64_t nonzero = out.filled + out.pooled - out.zero;
+  for (int q = 0; q < 3; ++q) out.fraction_above[q] = nonzero > 0 ? double(above[q]) / double(nonzero) : 0.0;
+}
+
 }  // namespace
 
 std::uint64_t table_pilot_rays(std::uint64_t samples) {
@@ -263,47 +450,8 @@ TableReading measure_table(const Microsurface& surface, const RunOptions& option
       });
 
   out.pilot_rays = n_pilot;
-  out.stderr_f.assign(3 * MerlTable::kEntries, 0.0f);
-  const double pilot_to_estimate = double(n) / double(n_pilot);
-  std::uint64_t above[3] = {0, 0, 0};
-  for (int i = 0; i < MerlTable::kThetaH; ++i)
-    for (int j = 0; j < MerlTable::kThetaD; ++j)
-      for (int k = 0; k < MerlTable::kPhiD; ++k) {
-        const std::size_t e = MerlTable::index(i, j, k);
-        float* f = &out.table.rgb[3 * e];
-        // Written or not is decided from the geometry and from the pilot's rays alone,
-        // both independent of the estimate's rays (table.h).
-        const bool by_geometry =
-            reference_rays(double(n), measure[e], i, j) >= table.min_expected_rays;
-        const bool by_pilot = pilot_expects(pilot_sum[e], pilot_sum2[e], pilot_to_estimate, table.min_expected_rays);
-        if (!(measure[e] > 0) || !(by_geometry || by_pilot)) {
-          f[0] = f[1] = f[2] = MerlTable::kMissing;
-          ++out.missing;
-          continue;
-        }
-        ++out.filled;
-        if (!by_geometry) ++out.filled_by_pilot;
-        // The mean score over all N rays (zero for those elsewhere) and its standard error.
-        const double scale = 1 / measure[e];
-        double worst = 0;  // the largest relative standard error over the channels
-        bool zero = true;
-        for (int c = 0; c < 3; ++c) {
-          const double mean = sum[3 * e + c] / double(n);
-          const double var =
-              n > 1 ? std::max(0.0, sum2[3 * e + c] / double(n) - mean * mean) / double(n - 1) : 0.0;
-          f[c] = float(mean * scale);
-          out.stderr_f[3 * e + c] = float(std::sqrt(var) * scale);
-          if (mean > 0) zero = false, worst = std::max(worst, std::sqrt(var) / mean);
-        }
-        if (zero) {
-          ++out.zero;
-          continue;
-        }
-        for (int q = 0; q < 3; ++q)
-          if (worst > kTableErrorLevels[q]) ++above[q];
-      }
-  for (int q = 0; q < 3; ++q)
-    out.fraction_above[q] = out.filled > out.zero ? double(above[q]) / double(out.filled - out.zero) : 0.0;
+  fill_entries(out, TableSums{sum, sum2, pilot_sum, pilot_sum2, measure}, n, double(n) / double(n_pilot),
+               table.min_expected_rays);
   out.bands.resize(kBands);
   for (int b = 0; b < kBands; ++b) {
     AlbedoBand& a = out.bands[std::size_t(b)];

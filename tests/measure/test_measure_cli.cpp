@@ -6,6 +6,8 @@
 #include <filesystem>
 
 #include "../cli/run_gonio.h"
+#include "gonio/measure/merl_bins.h"
+#include "gonio/measured_coverage.h"
 #include "gonio/merl.h"
 
 namespace {
@@ -77,7 +79,9 @@ TEST(MeasureCli, TableWritesAMerlFile) {
   EXPECT_EQ(j["rays"]["launched"], 20000);
   EXPECT_EQ(j["pilot_rays"], 5000);
   EXPECT_EQ(j["min_expected_rays"], 0);
+  // Every bin of positive measure is its own.
   EXPECT_EQ(j["filled"].get<double>() + j["missing"].get<double>(), 1458000);
+  EXPECT_EQ(j["pooled"], 0);
   EXPECT_GT(j["filled"].get<double>(), 1000);
   // Every written entry of so few rays is noisier than 1% and 5%.
   EXPECT_EQ(j["relative_stderr_above"]["0.01"], 1);
@@ -96,8 +100,98 @@ TEST(MeasureCli, TableWritesAMerlFile) {
         measured += t.measured(i, jj, k);
         ASSERT_EQ(t.measured(i, jj, k), e.measured(i, jj, k));
       }
-  EXPECT_EQ(double(measured), j["filled"].get<double>());
+  EXPECT_EQ(double(measured), j["filled"].get<double>() + j["pooled"].get<double>());
   std::filesystem::remove(out);
+}
+
+// Issue 55: with the default --min-rays every entry above the horizon is written (the
+// sparse ones pooled from a region of bins, --support-table saying how many), and the
+// measured model reads the table without a warning.
+TEST(MeasureCli, TableFillsEveryEntryAboveTheHorizon) {
+  const std::string out = (std::filesystem::temp_directory_path() / "gonio_measure_cli_full.binary").string();
+  const std::string sup = out + ".support";
+  const json j = run_object({"measure", "--surface", kFlat, "-o", out, "--samples", "20000", "--threads", "1",
+                             "--support-table", sup});
+  EXPECT_EQ(j["filled"].get<double>() + j["pooled"].get<double>() + j["missing"].get<double>(), 1458000);
+  EXPECT_GT(j["pooled"].get<double>(), 1e6);  // 20,000 rays: nearly every bin pooled
+  const gonio::MerlTable t = gonio::read_merl(out), s = gonio::read_merl(sup);
+  std::filesystem::remove(sup);
+  const std::vector<double>& m = gonio::measure::merl_bin_measures();
+  std::size_t above = 0, wide = 0;
+  for (int i = 0; i < 90; ++i)
+    for (int jj = 0; jj < 90; ++jj)
+      for (int k = 0; k < 180; ++k) {
+        // Every bin some part of which is above the horizon (positive measure), which
+        // includes every bin whose centre is (measured_coverage.h).
+        const bool up = m[gonio::MerlTable::index(i, jj, k)] > 0;
+        ASSERT_EQ(t.measured(i, jj, k), up) << i << " " << jj << " " << k;
+        if (gonio::merl_entry_above_horizon(i, jj, k)) {
+          ASSERT_TRUE(up);
+        }
+        above += up;
+        if (!up) continue;
+        ASSERT_GE(s.at(i, jj, k)[0], 1.0f);
+        wide += s.at(i, jj, k)[0] > 1;
+      }
+  EXPECT_EQ(double(wide), j["pooled"].get<double>());
+  EXPECT_EQ(double(above), j["filled"].get<double>() + j["pooled"].get<double>());
+  const std::string bsdf = R"({"type":"measured","file":")" + out + R"("})";
+  const RunResult a = run_gonio({"albedo", "--bsdf", bsdf, "--theta", "30", "--samples", "4096"});
+  EXPECT_EQ(a.status, 0) << describe(a);
+  EXPECT_EQ(a.err.find("missing"), std::string::npos) << a.err;
+  EXPECT_EQ(gonio::merl_missing_fraction(t), 0);
+  std::filesystem::remove(out);
+}
+
+// A table with holes above the horizon says so: one line on stderr with the missing
+// fraction when the model reads it, and a coverage row in `gonio check` (a warning, not a
+// failure; the validator's run makes this test take ~5 s). Here every θd ≥ 45° entry is
+// missing: the fraction of the entries whose centre pair is above the horizon, counted
+// here from the pair's directions (merl.h merl_directions, both z > 0).
+TEST(MeasureCli, MissingEntriesAreReportedNotReadAsZeroSilently) {
+  gonio::MerlTable t;
+  double above = 0, gone = 0;
+  for (int i = 0; i < 90; ++i)
+    for (int jj = 0; jj < 90; ++jj)
+      for (int k = 0; k < 180; ++k) {
+        const auto [wo, wi] = gonio::merl_directions(gonio::merl_theta_h(i), gonio::merl_theta_d(jj), gonio::merl_phi_d(k));
+        const bool up = wo.z > 0 && wi.z > 0;
+        above += up;
+        if (jj >= 45) {
+          t.set_missing(i, jj, k);
+          gone += up;
+        } else {
+          t.set(i, jj, k, gonio::Color(0.1f));
+        }
+      }
+  const std::string path = (std::filesystem::temp_directory_path() / "gonio_measure_cli_holes.binary").string();
+  gonio::write_merl(path, t);
+  const std::string bsdf = R"({"type":"measured","file":")" + path + R"("})";
+  const RunResult a = run_gonio({"albedo", "--bsdf", bsdf, "--theta", "30", "--samples", "4096"});
+  EXPECT_EQ(a.status, 0) << describe(a);
+  const auto lines = split_lines(a.err);
+  ASSERT_EQ(lines.size(), 1u) << a.err;
+  EXPECT_NE(lines[0].find("missing"), std::string::npos) << lines[0];
+  EXPECT_NE(lines[0].find(path), std::string::npos) << lines[0];
+  // The percentage printed (3 significant digits) against the count here.
+  const std::size_t pct = lines[0].find('%');
+  ASSERT_NE(pct, std::string::npos);
+  const std::size_t start = lines[0].rfind(' ', pct) + 1;
+  EXPECT_NEAR(std::stod(lines[0].substr(start, pct - start)), 100 * gone / above, 0.2) << lines[0];
+  // The validator takes ~5 s of one core on a MERL table; more time is allowed on a
+  // loaded machine than run_gonio's default 30 s.
+  const RunResult checked = run_gonio({"check", "--bsdf", bsdf, "--json"}, "", 180);
+  ASSERT_EQ(checked.status, 0) << describe(checked);
+  const json c = json::parse(checked.out);
+  bool reported = false;
+  for (const json& p : c["properties"])
+    if (p["name"] == "coverage") {
+      reported = true;
+      EXPECT_NEAR(p["figure"].get<double>(), gone / above, 2e-3) << p.dump();
+      EXPECT_EQ(p["warning"], true);
+    }
+  EXPECT_TRUE(reported);
+  std::filesystem::remove(path);
 }
 
 }  // namespace

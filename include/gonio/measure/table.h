@@ -21,7 +21,7 @@
 // is 0). What must not depend on the rays it averages is the choice of the entries that
 // are written: writing a bin only when some ray reached it keeps, in bins whose expected
 // count is below one, exactly the lucky estimates, each far too high (a flat Lambertian
-// read 580 ρ/π at θh ≈ 0.03°). So an entry is written (measured zeros as zeros) when
+// read 580 ρ/π at θh ≈ 0.03°). So an entry is estimated from its bin alone when
 //   - by the geometry: a Lambertian sample (any albedo) would send it at least K
 //     (default 25) of the N rays, by a lower bound on N ∫∫_B p(ωi) cos θo/π (table.cpp,
 //     reference_rays); or
@@ -30,13 +30,26 @@
 //     n = (Σs)²/Σs² of its scores s with 4 (n − 3√n) ≥ K — the count K expected even
 //     three deviations below what the pilot saw (this writes where a surface sends far
 //     more rays than a Lambertian would, as a glossy peak);
-// and is written as missing (negative) otherwise, or when the bin lies wholly below the
-// horizon. Both decisions are independent of the N rays of the estimate, so every written
-// entry is an unbiased estimate of its bin's average f. With ~25 rays of roughly equal
-// score, an entry's relative standard error is ~20%; each entry's own standard error is
-// computed from the per-ray variance of the scores (stderr_f), and the reading counts the
-// entries above 1%, 5% and 20%. The pilot's rays cost a quarter more tracing and enter
-// nothing but that decision.
+// and is estimated from its own rays alone (its "own" entry). Both decisions are
+// independent of the N rays of the estimate, so every own entry is an unbiased estimate
+// of its bin's average f. With ~25 rays of roughly equal score, an entry's relative
+// standard error is ~20%; each entry's own standard error is computed from the per-ray
+// variance of the scores (stderr_f), and the reading counts the entries above 1%, 5% and
+// 20%. The pilot's rays cost a quarter more tracing and enter nothing but those decisions.
+//
+// Pooled entries. Every other bin above the horizon is filled too (issue 55: a table with
+// holes renders darker than its surface, the measured model reading a hole as 0). Its
+// estimate is the same sum over a region R of bins around it,
+//   f_R = Σ_{rays in R} w / (p(ωi) cos θo) / (N · Σ_{B in R} M_B),
+// the unbiased average of f over R, with R the first region of a fixed sequence that
+// passes the same two tests (the geometric bound and the pilot, summed over R): first
+// windows of φd around the bin (±1, 2, 4, … 64 bins, then the whole row of 180), then
+// boxes of whole φd rows, ±d bins in θh and θd (d = 1, 2, 3, 4, 6, 8, … 90). φd first:
+// where bins are small (θh near 0, where φd does not change the pair's geometry, and
+// near the horizon) f varies least along it. R depends on the geometry and the pilot
+// only, so f_R is unbiased for R's average; it differs from the bin's own average by f's
+// variation across R (a bias no standard error shows). `support` says how many bins
+// each entry pooled (1: its own), and stderr_f is the standard error of f_R.
 //
 // The directional albedo is also estimated per 1° band of θi (the mean of w over that
 // band's rays, which are uniform in solid angle within the band) with its standard
@@ -58,10 +71,14 @@ struct AlbedoBand {
   Color albedo, stderr_albedo;
 };
 
-// The written-entry rule (above): the rays an entry must expect, by the geometry or by
-// the pilot, to be written (the default of TableOptions and of `gonio measure
-// --min-rays`). 0 writes every bin above the horizon.
+// The rays an entry's bin, or the region it pools (above), must expect by the geometry
+// or by the pilot (the default of TableOptions and of `gonio measure --min-rays`). 0
+// estimates every bin above the horizon from its own rays alone.
 inline constexpr double kTableMinExpectedRays = 25;
+// The rays of a table at `gonio measure -o`'s default: enough that most bins at mid
+// angles are their own (a Lambertian sends a typical one ~5 × 10⁻⁷ of the rays), and
+// within the 10 minutes of issue 55 on 2 cores (docs/gonioreflectometer.md).
+inline constexpr std::uint64_t kTableDefaultSamples = 200'000'000;
 
 struct TableOptions {
   double min_expected_rays = kTableMinExpectedRays;
@@ -76,11 +93,14 @@ struct TableReading {
   std::vector<float> stderr_f;
   RayCounts counts;               // the estimate's N rays (not the pilot's)
   std::uint64_t pilot_rays = 0;   // the pilot's rays, traced in addition to the N
-  std::uint64_t filled = 0;       // entries written (measured zeros included)
+  // The bins each entry's estimate pooled (above): 1 for an own entry, 0 below the horizon.
+  std::vector<std::uint32_t> support;
+  std::uint64_t filled = 0;       // own entries (measured zeros included)
   std::uint64_t filled_by_pilot = 0;  // of those, written by the pilot's rule alone
-  std::uint64_t zero = 0;         // of those, written as 0 (no ray of the estimate reached them)
-  std::uint64_t missing = 0;      // entries written as missing (see the rule), or below the horizon
-  // Of the written non-zero entries, the fraction whose relative standard error (largest
+  std::uint64_t pooled = 0;       // entries estimated over a region of bins (above)
+  std::uint64_t zero = 0;         // own or pooled entries written as 0 (no ray of the estimate reached them)
+  std::uint64_t missing = 0;      // entries written as missing: wholly below the horizon
+  // Of the written non-zero entries (own and pooled), the fraction whose relative standard error (largest
   // over the channels) exceeds 1%, 5% and 20% (kTableErrorLevels).
   double fraction_above[3] = {0, 0, 0};
   std::vector<AlbedoBand> bands;  // 90 bands of 1° in θi
