@@ -7,8 +7,9 @@
 // ωo's azimuth, Heitz 2014 eq. 86, which fixes Λ exactly, misses E by up to 0.3 at normal
 // incidence for α = [0.05, 0.5]: docs/openpbr.md, "Anisotropic metal").
 //
-// Tabulated once per distribution by quadrature: at kMu × kPhi nodes (μ uniform in √μ,
-// φ in [0, π/2], to which the symmetries φ → −φ and φ → π − φ of an axis-aligned
+// Tabulated once per distribution by quadrature: at kMu × kPhi nodes (μ uniform in μ^¼, as
+// the isotropic tables are: E changes fastest near grazing, on the scale of the roughness;
+// φ uniform in [0, π/2], to which the symmetries φ → −φ and φ → π − φ of an axis-aligned
 // distribution fold every azimuth), E is the mean of G2/G1(ωo) over the visible normals
 // (Heitz 2018, whose density D_ωo = G1 (ωo·h) D / cos θo turns the integrand into that
 // ratio, 0 where the reflected direction falls below the horizon) on a kGrid × kGrid
@@ -30,13 +31,13 @@ namespace gonio {
 
 class AnisotropicAlbedo {
  public:
-  static constexpr int kMu = 24, kPhi = 9, kGrid = 16;
+  static constexpr int kMu = 32, kPhi = 13, kGrid = 20;
 
   static std::shared_ptr<const AnisotropicAlbedo> make(const MicrofacetDistribution& d) {
     auto t = std::make_shared<AnisotropicAlbedo>();
     for (int j = 0; j < kMu; ++j) {
-      // μ = 0 itself is a direction in the tangent plane: its limit, at μ = 1e-4.
-      const double s = double(j) / (kMu - 1), mu = std::max(s * s, 1e-4);
+      // μ = 0 itself is a direction in the tangent plane: its limit, at μ = 1e-6.
+      const double s = double(j) / (kMu - 1), mu = std::max(s * s * s * s, 1e-6);
       const double sin_t = std::sqrt(1 - mu * mu);
       for (int k = 0; k < kPhi; ++k) {
         const double phi = double(k) / (kPhi - 1) * kPiD / 2;
@@ -70,7 +71,7 @@ class AnisotropicAlbedo {
   // E(ω) for a direction on either side (|cos θ| is taken), in the distribution's frame.
   Float E(const Vec3& w) const {
     const Float mu = std::clamp(std::abs(w.z), Float(0), Float(1));
-    const Float s = std::sqrt(mu) * Float(kMu - 1);
+    const Float s = std::sqrt(std::sqrt(mu)) * Float(kMu - 1);
     const int j = std::min(int(s), kMu - 2);
     const Float tj = s - Float(j);
     const Float ax = std::abs(w.x), ay = std::abs(w.y);

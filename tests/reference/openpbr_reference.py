@@ -486,11 +486,11 @@ def coat_records(opb, rng, n):
         v = wo if mode == "radiance" else wi
         A = [k ** ((1 / mu_t(wo[2]) + 1 / mu_t(wi[2])) / 2) for k in kappa]
         if opb.get("reciprocal_layering", False):
-            # gonio's extension (docs/openpbr.md): both directions' albedos, normalised for
-            # the diffuse by 1/(1 − Ē_c), for a specular base by the geometric mean.
+            # gonio's extension (docs/openpbr.md): both directions' albedos, for the diffuse
+            # (1 − E_o)(1 − E_i)/(1 − Ē_c), for a specular base min(1 − E_o, 1 − E_i).
             eo_c = dielectric_albedo(ac, wo[2], eta_c, transmit=False)
             ei_c = dielectric_albedo(ac, wi[2], eta_c, transmit=False)
-            t_c = (math.sqrt((1 - eo_c) * (1 - ei_c)) if metal
+            t_c = (min(1 - eo_c, 1 - ei_c) if metal
                    else (1 - eo_c) * (1 - ei_c) / (1 - dielectric_albedo_avg(ac, eta_c, transmit=False)))
             ec = 1 - t_c
         else:
@@ -550,11 +550,11 @@ def coat_over_specular_records(opb, rng, n):
         v = wo if mode == "radiance" else wi
         A = [k ** ((1 / mu_t(wo[2]) + 1 / mu_t(wi[2])) / 2) for k in kappa]
         if opb.get("reciprocal_layering", False):
-            # gonio's extension (docs/openpbr.md): both directions' albedos, normalised for
-            # the diffuse by 1/(1 − Ē_c), for a specular base by the geometric mean.
+            # gonio's extension (docs/openpbr.md): both directions' albedos, for the diffuse
+            # (1 − E_o)(1 − E_i)/(1 − Ē_c), for a specular base min(1 − E_o, 1 − E_i).
             eo_c = dielectric_albedo(ac, wo[2], eta_c, transmit=False)
             ei_c = dielectric_albedo(ac, wi[2], eta_c, transmit=False)
-            t_c = (math.sqrt((1 - eo_c) * (1 - ei_c)) if metal
+            t_c = (min(1 - eo_c, 1 - ei_c) if metal
                    else (1 - eo_c) * (1 - ei_c) / (1 - dielectric_albedo_avg(ac, eta_c, transmit=False)))
             ec = 1 - t_c
         else:

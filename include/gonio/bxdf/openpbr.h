@@ -737,14 +737,17 @@ struct OpenPbrBxDFT {
   // Ē = e_avg) that it lets out. View-dependent (OpenPBR 1.1 eqs.
   // `coat_layering_formula_with_albedo_scaling`, `fuzz-layering-approx`): 1 − e_o (the caller
   // passes the view's albedo as both). reciprocal_layering, symmetric in ωo ↔ ωi (gonio's
-  // extension, docs/openpbr.md), normalised per kind of lobe below: for the diffuse,
+  // extension, docs/openpbr.md), per kind of lobe below: for the diffuse,
   // (1 − e_o)(1 − e_i)/(1 − Ē), exact for a Lambertian base (2 ∫ (1 − E(μ)) μ dμ = 1 − Ē);
-  // for the specular and glossy lobes, sqrt((1 − e_o)(1 − e_i)), exact for a mirror base
-  // (μi = μo), where the product over (1 − Ē) would gain up to 5 % at normal incidence.
+  // for the specular and glossy lobes, min(1 − e_o, 1 − e_i): exact for a mirror base
+  // (μi = μo), and the largest factor symmetric in ωo ↔ ωi that never exceeds the view
+  // form's 1 − e_o, so that the view's albedo, which that form conserves, cannot grow.
+  // (The product over (1 − Ē) gains 5 % over a mirror at normal incidence; the geometric
+  // mean sqrt((1 − e_o)(1 − e_i)) 10 % over a rough white metal at 85°.)
   Float layer_through(Float e_o, Float e_i, Float e_avg, bool diffuse) const {
     if (!reciprocal_layering) return 1 - e_o;
-    const Float t = std::max(Float(0), (1 - e_o) * (1 - e_i));
-    return diffuse ? t / std::max(Float(1e-6), 1 - e_avg) : std::sqrt(t);
+    if (!diffuse) return std::min(1 - e_o, 1 - e_i);
+    return std::max(Float(0), (1 - e_o) * (1 - e_i)) / std::max(Float(1e-6), 1 - e_avg);
   }
 
   // The specular layer's Fresnel (with the film over thin_film_weight of it).
