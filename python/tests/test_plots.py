@@ -52,7 +52,7 @@ def test_albedo_plot_labels_the_light_side_and_does_not_clip(tmp_path):
     light = [line for line in ax.get_lines() if "light-side" in line.get_label()][0]
     assert max(light.get_ydata()) > 1.1
     assert ax.get_ylim()[1] >= max(light.get_ydata())
-    fig2 = plot.albedo('{"type":"roughconductor","alpha":0.3}', count=4, samples=1024)
+    fig2 = plot.albedo('{"type":"roughconductor","alpha":0.3,"material":"Au"}', count=4, samples=1024)
     assert not any("light-side" in line.get_label() for line in fig2.axes[0].get_lines())
 
 

@@ -660,7 +660,7 @@ TEST(CliAlbedo, NonReciprocalModelAddsTheLightSide) {
   for (const char* key : {"transmittance_light", "stderr_reflectance_light", "stderr_transmittance_light"})
     EXPECT_TRUE(j.contains(key)) << key;
   for (double v : color3(j["reflectance_light"])) EXPECT_GT(v, 1.1);
-  const json r = albedo(R"({"type":"roughconductor","alpha":0.3})", {"--theta", "85"});
+  const json r = albedo(R"({"type":"roughconductor","alpha":0.3,"material":"Au"})", {"--theta", "85"});
   EXPECT_FALSE(r.contains("reflectance_light")) << r.dump();
 }
 
