@@ -2,7 +2,8 @@
 """openpbr's layering against gonio's `layered` random walk, measured as albedos (issue 35, item 1).
 
 For each pair of layers, the albedo of light arriving at 0°, 45°, 75° and 85° (`gonio albedo`:
-importance mode, the energy the surface returns) of the `openpbr` material and of the
+the energy the surface returns; for a model that is not reciprocal, the coated `openpbr`, its
+light-side figures reflectance_light + transmittance_light) of the `openpbr` material and of the
 `layered` stack of the same interface over the same base. Prints a Markdown table
 (docs/openpbr.md, "Layering, per layer"). Run from the repository root after a build:
 
@@ -40,7 +41,10 @@ for name, opb, lay in cases:
             out = subprocess.run([G, "albedo", "--bsdf", json.dumps(m), "--theta", str(t), "--samples", "2000000"],
                                  capture_output=True, text=True, check=True).stdout
             j = json.loads(out.splitlines()[-1])
-            a = j["albedo"]; vals.append(a[0] if isinstance(a, list) else a)
+            a = j["albedo"]
+            if "reflectance_light" in j:  # not reciprocal: the light's figure (SPEC §3)
+                a = [r + t for r, t in zip(j["reflectance_light"], j["transmittance_light"])]
+            vals.append(a[0] if isinstance(a, list) else a)
         rows[label] = vals
     print(f"| {name} | `openpbr` | " + " | ".join(f"{v:.4f}" for v in rows["openpbr"]) + " |")
     print(f"|  | `layered` | " + " | ".join(f"{v:.4f}" for v in rows["layered"]) + " |")

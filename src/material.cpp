@@ -486,10 +486,7 @@ BxDF make_roughconductor(Params& p) {
   add_conductor_film(p, m.fresnel);
   if (p.boolean("multiscatter")) {
     if (m.fresnel.film.active()) p.fail("thin_film does not combine with multiscatter (its tables are of the bare metal)");
-    // The albedo tables are for isotropic roughness; with sqrt(αx αy) standing in, a
-    // white furnace at α = [0.05, 1] lost 40 % (multiscatter.h).
-    if (!m.distribution.is_isotropic())
-      p.fail("multiscatter needs an isotropic alpha (a number), got [alpha_x, alpha_y]");
+    // An anisotropic alpha: the lobe tabulates the distribution's own E(μ, φ) (multiscatter.h).
     if (!m.distribution.effectively_smooth())
       m.multiscatter = MultiscatterLobe::make(m.distribution, conductor_average_fresnel(m.fresnel));
     // F82's average is a closed form (conductor_average_fresnel): spectral mode takes it
@@ -819,6 +816,7 @@ BxDF make_openpbr(Params& p) {
     else o.*f.colour = p.color(f.key.data());
   }
   o.geometry_thin_walled = p.boolean("geometry_thin_walled");
+  o.reciprocal_layering = p.boolean("reciprocal_layering");
   return OpenPbrBxDF::make(o, openpbr_film(o, true), nullptr, {openpbr_metal_film(o), openpbr_glass_film(o)});
 }
 
@@ -1164,13 +1162,13 @@ void finish(PlasticBxDF& m, const Changed& c) {
 void finish(RoughConductorBxDF& m, const Changed& c) {
   if (c.index) set_f0_from_index(m.fresnel);
   if (!m.multiscatter || !(c.alpha || c.fresnel)) return;
-  if (m.distribution.effectively_smooth() || !m.distribution.is_isotropic()) {
-    // As material_from_json does for a smooth distribution; an anisotropic one has no
-    // compensation (the tables are isotropic).
-    m.multiscatter.reset();
+  if (m.distribution.effectively_smooth()) {
+    m.multiscatter.reset();  // as material_from_json does for a smooth distribution
     return;
   }
-  m.multiscatter = MultiscatterLobe::make(m.distribution, c.fresnel ? conductor_average_fresnel(m.fresnel) : m.multiscatter->f_avg);
+  // An anisotropic distribution's E(μ, φ) table (multiscatter.h) is kept while α is.
+  m.multiscatter = MultiscatterLobe::make(m.distribution, c.fresnel ? conductor_average_fresnel(m.fresnel) : m.multiscatter->f_avg,
+                                          c.alpha ? nullptr : m.multiscatter->aniso);
 }
 
 // openpbr: the model made again from its parameters with the new values (make() derives

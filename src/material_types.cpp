@@ -46,7 +46,7 @@ constexpr ParamSpec kF82Param{"f82", K::Colour, "1", kUnit, "", "", false,
                               "F(1/7) = f82 x Schlick(F0, 1/7); 1 is Schlick's curve."};
 constexpr ParamSpec kMultiscatterParam{"multiscatter", K::Boolean, "false", {}, "", "", false,
                                        "Add Kulla-Conty's energy-compensation lobe for light scattered more "
-                                       "than once between microfacets (isotropic alpha only)."};
+                                       "than once between microfacets (roughdielectric: isotropic alpha only)."};
 constexpr ParamSpec kDielectricEta{"eta", K::Number, "1.5", kIndex, "", "", false,
                                    "Relative index n(inside) / n(outside), the outside being where the normal points; or a named glass "
                                    "(\"BK7\"), {\"sellmeier\": ...} or a spectrum, read at 550 nm in RGB mode."};
@@ -242,6 +242,10 @@ constexpr ParamSpec kOpenPbr[] = {
     {"geometry_opacity", K::Number, "1", kUnit, "", "", false, "Presence: 1 - opacity of the light passes straight through (a delta)."},
     {"geometry_thin_walled", K::Boolean, "false", {}, "", "", false,
      "Thin-walled: the translucent base becomes a thin sheet and the subsurface a translucent sheet."},
+    {"reciprocal_layering", K::Boolean, "false", {}, "", "", false,
+     "gonio extension: the coat and the fuzz scale what lies below them by both directions' albedos, "
+     "(1 - E(wo))(1 - E(wi)) normalised (docs/openpbr.md), instead of OpenPBR's view-dependent 1 - E(wo): the coat "
+     "becomes reciprocal (the fuzz lobe itself stays view-keyed)."},
 };
 
 constexpr MaterialTypeSpec kTypes[] = {
@@ -258,7 +262,8 @@ constexpr MaterialTypeSpec kTypes[] = {
      "Cook & Torrance 1982; Walter et al. 2007; Heitz 2014; Dupuy & Benyoub 2023 (sampling); Kulla & Conty 2017 "
      "(multiscatter)",
      kRoughConductor,
-     "The Fresnel parameters are those of conductor. multiscatter needs an isotropic alpha (a number); with "
+     "The Fresnel parameters are those of conductor. multiscatter with an anisotropic alpha tabulates the "
+     "distribution's own albedo E(cos theta, phi) when the material is made; with "
      "fresnel \"f82\" it uses F_avg = (20 F0 + 1)/21 - a/126."},
     {"roughdielectric", "Microfacet dielectric: glossy reflection and transmission through a rough interface.",
      "Walter et al. 2007, eqs. 16, 20, 21; Heitz 2014; Kulla & Conty 2017 (multiscatter)", kRoughDielectric,

@@ -186,22 +186,29 @@ ReflectanceEstimate reflectance(const BxDF& bxdf, const SolidAngleDomain& incide
 
 namespace {
 
-// Splits one importance-mode sample from wo into reflected and transmitted parts.
+// Splits one sample from wo into reflected and transmitted parts. Radiance mode is the view's
+// figure (SPEC §3): a transmitted sample's weight f |cos θi| / pdf times (n_wi/n_wo)²
+// (BSDFSample::eta = n_wi/n_wo) removes the refraction's radiance scaling (lecture §5.3:
+// L/n² is conserved; Veach 1997, §5.2). Importance mode is the light's figure, whose
+// weight is already an energy ratio.
 template <typename C>
-void add_albedo_sample(const BxDFT<C>& bxdf, const Vec3& wo, Pcg32& rng, ChannelStats<C>& r,
+void add_albedo_sample(const BxDFT<C>& bxdf, const Vec3& wo, TransportMode mode, Pcg32& rng, ChannelStats<C>& r,
                        ChannelStats<C>& t, ChannelStats<C>& a) {
   const Float u0 = rng.next_float(), u1 = rng.next_float(), u2 = rng.next_float();
-  const auto s = bxdf.sample(wo, u0, u1, u2, TransportMode::Importance);
+  const auto s = bxdf.sample(wo, u0, u1, u2, mode);
   if (!s || s->wi.z == 0) return;  // no direction: contributes 0 to every sum
-  if (same_hemisphere(s->wi, wo)) r.add(s->weight);
-  else t.add(s->weight);
-  a.add(s->weight);
+  C w = s->weight;
+  const bool reflected = same_hemisphere(s->wi, wo);
+  if (!reflected && mode == TransportMode::Radiance) w = w * (s->eta * s->eta);
+  if (reflected) r.add(w);
+  else t.add(w);
+  a.add(w);
 }
 
 template <typename C>
-AlbedoEstimateT<C> finish(const ChannelStats<C>& r, const ChannelStats<C>& t, const ChannelStats<C>& a,
-                          std::uint64_t n) {
-  AlbedoEstimateT<C> e;
+AlbedoSplitT<C> finish(const ChannelStats<C>& r, const ChannelStats<C>& t, const ChannelStats<C>& a,
+                       std::uint64_t n) {
+  AlbedoSplitT<C> e;
   e.reflectance = r.mean(n);
   e.transmittance = t.mean(n);
   e.albedo = a.mean(n);
@@ -211,58 +218,129 @@ AlbedoEstimateT<C> finish(const ChannelStats<C>& r, const ChannelStats<C>& t, co
   return e;
 }
 
+template <typename C>
+AlbedoSplitT<C> exact_split(const DirectionalAlbedoT<C>& x) {
+  AlbedoSplitT<C> e;
+  e.reflectance = x.reflectance;
+  e.transmittance = x.transmittance;
+  e.albedo = x.reflectance + x.transmittance;
+  return e;
+}
+
+// A model's closed-form albedo in `mode`, where it has one and it is the figure wanted: in
+// importance mode always; in radiance mode only without transmission (the closed forms
+// include the refraction's radiance scaling, which the view's figure removes).
+template <typename C>
+std::optional<AlbedoSplitT<C>> exact_figure(const BxDFT<C>& bxdf, const Vec3& wo, TransportMode mode) {
+  const auto x = bxdf.exact_albedo(wo, mode);
+  if (!x) return std::nullopt;
+  if (mode == TransportMode::Radiance)
+    for (int i = 0; i < C::size(); ++i)
+      if (x->transmittance[i] != 0) return std::nullopt;
+  return exact_split(*x);
+}
+
+// wo at θ = 90° (|cos θ| below kGrazingAlbedoCosine) moved to the limit's cosine (reflectance.h).
+Vec3 at_grazing_limit(const Vec3& wo) {
+  if (std::abs(wo.z) >= kGrazingAlbedoCosine) return wo;
+  const double c = double(kGrazingAlbedoCosine), h = std::hypot(double(wo.x), double(wo.y));
+  if (!(h > 0)) return wo;
+  const double s = std::sqrt(1 - c * c) / h;
+  return {Float(double(wo.x) * s), Float(double(wo.y) * s), Float(std::signbit(double(wo.z)) ? -c : c)};
+}
+
 }  // namespace
 
+// For a reciprocal model the view's figure equals the light's (f_imp(wo, wi) = f_rad(wi, wo)
+// = f_rad(wo, wi) (n_wi/n_wo)², SPEC §1), which is estimated in importance mode, whose
+// closed forms every model with one provides; a model that is not reciprocal is estimated
+// in both modes.
 template <typename C>
 AlbedoEstimateT<C> directional_albedo(const BxDFT<C>& bxdf, const Vec3& wo_in, const ReflectanceOptions& opt) {
   if (opt.samples == 0) throw InputError("albedo: samples must be > 0");
-  const Vec3 wo = unit_or_throw(wo_in, "albedo: wo");
-  if (const auto exact = bxdf.exact_albedo(wo, TransportMode::Importance)) {
-    AlbedoEstimateT<C> e;
-    e.reflectance = exact->reflectance;
-    e.transmittance = exact->transmittance;
-    e.albedo = exact->reflectance + exact->transmittance;
-    e.exact = true;
+  const Vec3 wo = at_grazing_limit(unit_or_throw(wo_in, "albedo: wo"));
+  const bool reciprocal = bxdf.nonreciprocal_reason().empty();
+  const auto figure = [&](TransportMode mode, std::uint64_t stream, bool& exact) {
+    if (const auto x = exact_figure(bxdf, wo, mode)) {
+      exact = true;
+      return *x;
+    }
+    exact = false;
+    Pcg32 rng(opt.seed, stream);
+    ChannelStats<C> r, t, a;
+    for (std::uint64_t i = 0; i < opt.samples; ++i) add_albedo_sample(bxdf, wo, mode, rng, r, t, a);
+    return finish(r, t, a, opt.samples);
+  };
+  AlbedoEstimateT<C> e;
+  bool exact_view = false, exact_light = false;
+  if (reciprocal) {
+    static_cast<AlbedoSplitT<C>&>(e) = figure(TransportMode::Importance, 0x2545f4914f6cdd1dULL, exact_view);
+    e.exact = exact_view;
     return e;
   }
-  Pcg32 rng(opt.seed, 0x2545f4914f6cdd1dULL);
-  ChannelStats<C> r, t, a;
-  for (std::uint64_t i = 0; i < opt.samples; ++i) add_albedo_sample(bxdf, wo, rng, r, t, a);
-  return finish(r, t, a, opt.samples);
+  static_cast<AlbedoSplitT<C>&>(e) = figure(TransportMode::Radiance, 0x2545f4914f6cdd1dULL, exact_view);
+  e.light = figure(TransportMode::Importance, 0x6a09e667f3bcc909ULL, exact_light);
+  e.exact = exact_view && exact_light;
+  return e;
 }
+
+namespace {
+// The cosine-weighted average over μ of a model's closed forms in `mode` (nullopt when it
+// has none).
+template <typename C>
+std::optional<AlbedoSplitT<C>> exact_hemispherical(const BxDFT<C>& bxdf, bool upper, TransportMode mode) {
+  if (!bxdf.is_isotropic() || !exact_figure(bxdf, direction_at_mu(0.5, upper), mode)) return std::nullopt;
+  const auto avg = cosine_weighted_average([&](double mu) {
+    const auto ex = exact_figure(bxdf, direction_at_mu(mu, upper), mode);
+    std::array<double, 2 * size_t(C::size())> v{};
+    if (!ex) return v;
+    for (int i = 0; i < C::size(); ++i) {
+      v[size_t(i)] = ex->reflectance[i];
+      v[size_t(C::size() + i)] = ex->transmittance[i];
+    }
+    return v;
+  });
+  AlbedoSplitT<C> e;
+  for (int i = 0; i < C::size(); ++i) {
+    e.reflectance[i] = Float(avg[size_t(i)]);
+    e.transmittance[i] = Float(avg[size_t(C::size() + i)]);
+  }
+  e.albedo = e.reflectance + e.transmittance;
+  return e;
+}
+}  // namespace
 
 template <typename C>
 AlbedoEstimateT<C> hemispherical_albedo(const BxDFT<C>& bxdf, bool inside, const ReflectanceOptions& opt) {
   if (opt.samples == 0) throw InputError("albedo: samples must be > 0");
   const bool upper = !inside;
-  if (bxdf.is_isotropic() && bxdf.exact_albedo(direction_at_mu(0.5, upper), TransportMode::Importance)) {
-    const auto avg = cosine_weighted_average([&](double mu) {
-      const auto ex = bxdf.exact_albedo(direction_at_mu(mu, upper), TransportMode::Importance);
-      std::array<double, 2 * size_t(C::size())> v{};
-      for (int i = 0; i < C::size(); ++i) {
-        v[size_t(i)] = ex->reflectance[i];
-        v[size_t(C::size() + i)] = ex->transmittance[i];
-      }
-      return v;
-    });
-    AlbedoEstimateT<C> e;
-    for (int i = 0; i < C::size(); ++i) {
-      e.reflectance[i] = Float(avg[size_t(i)]);
-      e.transmittance[i] = Float(avg[size_t(C::size() + i)]);
+  const bool reciprocal = bxdf.nonreciprocal_reason().empty();
+  const auto figure = [&](TransportMode mode, std::uint64_t stream, bool& exact) {
+    if (const auto x = exact_hemispherical(bxdf, upper, mode)) {
+      exact = true;
+      return *x;
     }
-    e.albedo = e.reflectance + e.transmittance;
-    e.exact = true;
-    return e;
+    exact = false;
+    Pcg32 rng(opt.seed, stream);
+    ChannelStats<C> r, t, a;
+    for (std::uint64_t i = 0; i < opt.samples; ++i) {
+      Vec3 wo = square_to_cosine_hemisphere(rng.next_float(), rng.next_float());
+      if (wo.z == 0) continue;  // measure zero; counts as a zero sample
+      if (inside) wo.z = -wo.z;
+      add_albedo_sample(bxdf, wo, mode, rng, r, t, a);
+    }
+    return finish(r, t, a, opt.samples);
+  };
+  AlbedoEstimateT<C> e;
+  bool exact_view = false, exact_light = false;
+  static_cast<AlbedoSplitT<C>&>(e) =
+      figure(reciprocal ? TransportMode::Importance : TransportMode::Radiance, 0x5851f42d4c957f2dULL, exact_view);
+  e.exact = exact_view;
+  if (!reciprocal) {
+    e.light = figure(TransportMode::Importance, 0xbb67ae8584caa73bULL, exact_light);
+    e.exact = exact_view && exact_light;
   }
-  Pcg32 rng(opt.seed, 0x5851f42d4c957f2dULL);
-  ChannelStats<C> r, t, a;
-  for (std::uint64_t i = 0; i < opt.samples; ++i) {
-    Vec3 wo = square_to_cosine_hemisphere(rng.next_float(), rng.next_float());
-    if (wo.z == 0) continue;  // measure zero; counts as a zero sample
-    if (inside) wo.z = -wo.z;
-    add_albedo_sample(bxdf, wo, rng, r, t, a);
-  }
-  return finish(r, t, a, opt.samples);
+  return e;
 }
 
 template AlbedoEstimateT<Color> directional_albedo(const BxDF&, const Vec3&, const ReflectanceOptions&);

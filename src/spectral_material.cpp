@@ -105,7 +105,7 @@ struct Converter {
         f_avg = spectra.f_avg->eval(w);
       else
         f_avg = conductor_average_fresnel(s.fresnel);  // a textured index: per shading point
-      s.multiscatter = MultiscatterLobeT<SS>::make(m.distribution, f_avg);
+      s.multiscatter = MultiscatterLobeT<SS>::make(m.distribution, f_avg, m.multiscatter->aniso);
     }
     return s;
   }
@@ -211,6 +211,7 @@ struct Converter {
       else s.*to.colour = up(p.*from.colour);
     }
     s.geometry_thin_walled = p.geometry_thin_walled;
+    s.reciprocal_layering = p.reciprocal_layering;
     // Dispersion (openpbr_dispersion.h): the interface's index at the hero wavelength, and
     // the path goes on with the hero only (as a dispersive dielectric does, above). The
     // quadratures kept from the RGB model are η_d's.

@@ -43,13 +43,19 @@ double checked_degrees(double v, double lo, double hi, const char* name) {
 }
 
 // --- Output -------------------------------------------------------------------------
+// The view's figures (SPEC §3), then, for a model that is not reciprocal, the light's.
 template <typename Estimate>
 std::string albedo_line(const Estimate& e, const std::string& theta) {
-  return "{\"theta\":" + theta + ",\"reflectance\":" + json_color(e.reflectance) +
-         ",\"transmittance\":" + json_color(e.transmittance) + ",\"albedo\":" + json_color(e.albedo) +
-         ",\"stderr\":" + json_color(e.se_albedo) + ",\"stderr_reflectance\":" + json_color(e.se_reflectance) +
-         ",\"stderr_transmittance\":" + json_color(e.se_transmittance) + ",\"exact\":" +
-         (e.exact ? "true" : "false") + "}\n";
+  std::string line = "{\"theta\":" + theta + ",\"reflectance\":" + json_color(e.reflectance) +
+                     ",\"transmittance\":" + json_color(e.transmittance) + ",\"albedo\":" + json_color(e.albedo) +
+                     ",\"stderr\":" + json_color(e.se_albedo) + ",\"stderr_reflectance\":" +
+                     json_color(e.se_reflectance) + ",\"stderr_transmittance\":" + json_color(e.se_transmittance);
+  if (e.light)
+    line += ",\"reflectance_light\":" + json_color(e.light->reflectance) + ",\"transmittance_light\":" +
+            json_color(e.light->transmittance) + ",\"stderr_reflectance_light\":" +
+            json_color(e.light->se_reflectance) + ",\"stderr_transmittance_light\":" +
+            json_color(e.light->se_transmittance);
+  return line + ",\"exact\":" + (e.exact ? "true" : "false") + "}\n";
 }
 
 // An RGB model or a spectral one at a single wavelength (reflectance.h takes both).
@@ -97,8 +103,9 @@ void register_albedo(CLI::App& app) {
   auto args = std::make_shared<AlbedoArgs>();
   auto* cmd = app.add_subcommand(
       "albedo",
-      "Reflectance, transmittance (importance mode: energy) and albedo for light arriving along "
-      "wo at --theta (and --phi), or their cosine-weighted average with --hemispherical");
+      "The view's directional-hemispherical reflectance, transmittance (refraction scaling removed) and "
+      "albedo for wo at --theta (and --phi; 90 reports the limit), or their cosine-weighted average with "
+      "--hemispherical; a model that is not reciprocal adds the light's (reflectance_light, transmittance_light)");
   cmd->add_option("--bsdf", args->bsdf, "material JSON text, or @path to a file holding it")->required();
   auto* theta = cmd->add_option("--theta", args->theta, "polar angle of wo in degrees, [0, 90]")
                      ->check(decimal_number());

@@ -14,13 +14,18 @@
 //
 // E(μ, α) and E_avg(α) come from tables that gonio computes itself at build time
 // (tools/make_albedo_tables.cpp). They are indexed by the isotropic roughness, and α > 1
-// uses the α = 1 entries. Anisotropic roughness has no compensation: material parsing
-// rejects it (with sqrt(αx αy) standing in, a white furnace at α = [0.05, 1] kept 0.60 at
-// normal incidence: the loss of an anisotropic surface is not that of one isotropic α).
+// uses the α = 1 entries. Anisotropic roughness: E(ωo) depends on ωo's azimuth too and on
+// no single isotropic α (with sqrt(αx αy) standing in, a white furnace at α = [0.05, 1]
+// kept 0.60 at normal incidence), so the lobe reads E(μ, φ) of the distribution itself,
+// tabulated when the lobe is made (anisotropic_albedo.h); its μi is then drawn from the
+// isotropic tables at α = max(αx, αy), whose loss 1 − E is at least the anisotropic one's
+// nearly everywhere, so that the weight stays bounded, and lobe_pdf is that density.
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 
+#include "gonio/anisotropic_albedo.h"
 #include "gonio/color.h"
 #include "gonio/math/warp.h"
 #include "gonio/microfacet.h"
@@ -57,13 +62,24 @@ struct MultiscatterLobeT {
   C f_avg;            // the F_avg it was made with, to remake it for another roughness
   AlbedoComplementSampler sampler;  // draws μi ∝ (1 − E(μi)) μi
   Float inv_pi_loss = 0;  // 1 / (π (1 − E_avg)) of the sampler's normalisation (0: no lobe)
+  // Anisotropic roughness: E(μ, φ) of the distribution (then `alpha` is the sampler's).
+  std::shared_ptr<const AnisotropicAlbedo> aniso;
 
-  // `f_avg`: the cosine-weighted average Fresnel reflectance 2 ∫ F(μ) μ dμ.
-  static MultiscatterLobeT<C> make(const MicrofacetDistribution& d, const C& f_avg) {
+  // `f_avg`: the cosine-weighted average Fresnel reflectance 2 ∫ F(μ) μ dμ. `table`: an
+  // anisotropic distribution's E, made already (the spectral and polarized forms of a
+  // model take their RGB form's instead of tabulating again).
+  static MultiscatterLobeT<C> make(const MicrofacetDistribution& d, const C& f_avg,
+                                   std::shared_ptr<const AnisotropicAlbedo> table = nullptr) {
     MultiscatterLobeT<C> m;
     m.type = d.type;
-    m.alpha = std::sqrt(d.alpha_x * d.alpha_y);
-    m.e_avg = microfacet_average_albedo(m.type, m.alpha);
+    if (d.is_isotropic()) {
+      m.alpha = d.alpha_x;
+      m.e_avg = microfacet_average_albedo(m.type, m.alpha);
+    } else {
+      m.aniso = table ? std::move(table) : AnisotropicAlbedo::make(d);
+      m.alpha = std::max(d.alpha_x, d.alpha_y);
+      m.e_avg = m.aniso->average();
+    }
     m.f_avg = f_avg;
     const Float e = m.e_avg;
     // The lobe vanishes for a perfectly smooth (E_avg = 1) or black surface.
@@ -76,7 +92,8 @@ struct MultiscatterLobeT {
     return m;
   }
 
-  Float E(Float mu) const { return microfacet_albedo(type, alpha, mu); }
+  // E(ω) in the distribution's frame.
+  Float E(const Vec3& w) const { return aniso ? aniso->E(w) : microfacet_albedo(type, alpha, std::abs(w.z)); }
 
   // The lobe from E(μo) and E(μi).
   C f(Float e_o, Float e_i) const { return f_ms * ((1 - e_o) * (1 - e_i)); }
@@ -92,7 +109,11 @@ struct MultiscatterLobeT {
   // since 2π ∫ (1 − E) μ dμ = π (1 − E_avg). With it the lobe's weight is
   // f_ms cos θi / pdf = F_ms (1 − E(μo)) (1 − E_avg)/(1 − E_avg) — bounded, where cosine
   // sampling gave (1 − E(μi))/(1 − E_avg), 10⁴ for a near-smooth surface at grazing μi.
-  Float lobe_pdf(Float cos_i, Float e_i) const { return std::max(Float(0), 1 - e_i) * cos_i * inv_pi_loss; }
+  // (Anisotropic: of the sampler's isotropic E at `alpha`, not the lobe's e_i.)
+  Float lobe_pdf(Float cos_i, Float e_i) const {
+    const Float e = aniso ? microfacet_albedo(type, alpha, cos_i) : e_i;
+    return std::max(Float(0), 1 - e) * cos_i * inv_pi_loss;
+  }
   Float mix_pdf(Float e_o, Float pdf_single, Float cos_i, Float e_i) const {
     const Float p = probability(e_o);
     return (1 - p) * pdf_single + p * lobe_pdf(cos_i, e_i);

@@ -19,6 +19,7 @@
 // where the model provides an exact directional albedo.
 
 #include <cstdint>
+#include <optional>
 #include <variant>
 
 #include "gonio/bxdf.h"
@@ -55,19 +56,36 @@ ReflectanceEstimate reflectance(const BxDF& bxdf, const SolidAngleDomain& incide
                                 const SolidAngleDomain& exitant,
                                 const ReflectanceOptions& options = {});
 
-// SPEC §3 `gonio albedo`: for light arriving along wo, the fraction reflected (into wo's
-// hemisphere) and transmitted (into the other), and their sum, with standard errors.
+// SPEC §3 `gonio albedo`: the lecture's ρ_hd(ωo) (lecture §4) seen from the view
+// direction wo: `reflectance` = ∫ f(wo, wi) cos θi dωi over wo's hemisphere and
+// `transmittance` = ∫ f(wo, wi) (n_wi/n_wo)² |cos θi| dωi over the other, f in radiance
+// mode with the refraction's radiance scaling removed (so a lossless interface gives 1),
+// and their sum. For a reciprocal model this equals the fraction of light arriving along wo
+// that is scattered (Veach 1997, §5.2: f_imp(wo, wi) = f_rad(wi, wo)); for a model that is
+// not (BxDF::nonreciprocal_reason(), e.g. OpenPBR's view-dependent coat and fuzz) that
+// light-side figure differs and follows in `light` (importance mode).
 // For either colour mode: an RGB model (BxDF) or a spectral one (SpectralBxDF, e.g. at
 // one wavelength, `gonio albedo --wavelength`).
 template <typename C>
-struct AlbedoEstimateT {
+struct AlbedoSplitT {
   C reflectance, transmittance, albedo;
   C se_reflectance, se_transmittance, se_albedo;
+};
+template <typename C>
+struct AlbedoEstimateT : AlbedoSplitT<C> {
   bool exact = false;
+  // The light-side figures, for a model that is not reciprocal only.
+  std::optional<AlbedoSplitT<C>> light;
 };
 using AlbedoEstimate = AlbedoEstimateT<Color>;
 
-// ρ_dh for light arriving along wo (importance mode).
+// The albedo at θ = 90° exactly is reported as its limit θ → 90°: wo is taken at
+// |cos θ| = kGrazingAlbedoCosine. At cos θ = 0 models differ in what they return for a
+// direction in the tangent plane (0 from a rough conductor, whose masking vanishes, F = 1
+// from a smooth one), while every albedo is continuous in θ up to the limit.
+inline constexpr Float kGrazingAlbedoCosine = Float(1e-5);
+
+// ρ_hd(ωo) of the view direction wo (and, for a non-reciprocal model, the light's).
 template <typename C>
 AlbedoEstimateT<C> directional_albedo(const BxDFT<C>& bxdf, const Vec3& wo, const ReflectanceOptions& options = {});
 

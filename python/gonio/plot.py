@@ -6,7 +6,7 @@ KIND is one of
             lecture's Fig. 1); ``--3d`` draws the lobe of the first θi as a surface
   fresnel   Rs, Rp and R against θ for --eta/--k or a named --material, Schlick
             overlaid, the Brewster and critical angles marked
-  albedo    directional albedo against θ: reflectance, transmittance and their sum
+  albedo    directional albedo ρ_hd(ωo) against the view's θ: reflectance, transmittance, sum
   slice     f over θh × θd at φd = 90° (Burley 2012's slice), log scale
   sampling  histogram of sample() against the pdf on a (cos θ, φ) grid: the χ² picture
   thinfilm  a thin film's reflectance against its thickness and the wavelength, an image
@@ -207,27 +207,37 @@ def fresnel(eta=1.5, k=0.0, material=None, count=901):
 
 
 def albedo(bsdf, count=19, samples=1 << 16):
-    """Directional albedo (importance mode) against θ, with ±2σ bands: reflectance,
-    transmittance and their sum, per channel."""
+    """The lecture's directional albedo ρ_hd(ωo) against the view's θo, with ±2σ bands:
+    reflectance, transmittance and their sum, per channel (SPEC §3: radiance mode, the
+    refraction scaling removed). For a material that is not reciprocal, the light-side
+    albedo (light arriving along θ, importance mode) is drawn too, labelled so."""
     m = _material(bsdf)
     theta = np.linspace(0, 90, count)
     d = m.albedo(theta, samples=samples)
     fig, ax = plt.subplots(figsize=(7, 4.8))
     channels = m.channels
+    top = 1.0
     for c in range(channels):
         colour = CHANNEL_COLOURS[c] if channels == 3 else "k"
         suffix = _channel_labels(channels)[c]
         for key, style, se, name in (("reflectance", "-", "stderr_reflectance", "reflectance"),
                                      ("transmittance", "--", "stderr_transmittance", "transmittance"),
-                                     ("albedo", ":", "stderr", "albedo (sum)")):
+                                     ("albedo", ":", "stderr", "albedo ρhd(ωo) (sum)")):
             v, e = d[key][:, c], d[se][:, c]
             if key == "transmittance" and not np.any(v > 0):
                 continue
             ax.plot(theta, v, style, color=colour, label=name + suffix)
             ax.fill_between(theta, v - 2 * e, v + 2 * e, color=colour, alpha=0.15, lw=0)
+            top = max(top, float(np.max(v + 2 * e)))
+        if "reflectance_light" in d:
+            v = d["reflectance_light"][:, c] + d["transmittance_light"][:, c]
+            ax.plot(theta, v, "-.", color=colour, lw=1,
+                    label="light-side albedo, not reciprocal" + suffix)
+            top = max(top, float(np.max(v)))
     ax.set_xlim(0, 90)
-    ax.set_ylim(0, 1.05)
-    ax.set_xlabel("θ of the incident light (degrees)")
+    # Never clipped: a light-side figure of a model that is not reciprocal may exceed 1.
+    ax.set_ylim(0, 1.05 * top)
+    ax.set_xlabel("θo of the view direction (degrees; 90: the limit)")
     ax.set_ylabel("directional albedo ρ (fraction of the power)")
     ax.legend(fontsize=7, ncol=2 if channels == 3 else 1)
     ax.set_title("albedo: " + material_title(m), fontsize=9)

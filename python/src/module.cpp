@@ -434,6 +434,18 @@ py::dict albedo(const Material& m, const DoubleArray& theta_a, double phi, bool 
     d["stderr_reflectance"] = pick(&AlbedoEstimateT<C>::se_reflectance);
     d["stderr_transmittance"] = pick(&AlbedoEstimateT<C>::se_transmittance);
     d["exact"] = exact;
+    // A model that is not reciprocal: the light's figures too (SPEC §3).
+    if (n > 0 && est[0].light) {
+      auto light = [&](auto member) {
+        std::vector<C> v(n);
+        for (std::size_t i = 0; i < n; ++i) v[i] = (*est[i].light).*member;
+        return colour_rows(v, channels);
+      };
+      d["reflectance_light"] = light(&AlbedoSplitT<C>::reflectance);
+      d["transmittance_light"] = light(&AlbedoSplitT<C>::transmittance);
+      d["stderr_reflectance_light"] = light(&AlbedoSplitT<C>::se_reflectance);
+      d["stderr_transmittance_light"] = light(&AlbedoSplitT<C>::se_transmittance);
+    }
     return d;
   });
 }
@@ -873,10 +885,12 @@ probability of its lobe (the CLI prints null).
 )doc")
       .def("albedo", &albedo, py::arg("theta"), py::arg("phi") = 0.0, py::arg("inside") = false,
            py::arg("samples") = 1 << 20, py::arg("seed") = 1, py::arg("threads") = 0, R"doc(
-Directional albedo for light arriving along wo at polar angle theta (degrees, a number or
-a 1-D array) and azimuth phi (degrees), as `gonio albedo --theta`: a dict of arrays
-theta (N,), reflectance, transmittance, albedo, stderr, stderr_reflectance,
-stderr_transmittance (N, C) and exact (N,) bool. inside: wo on the z < 0 side.
+The lecture's directional albedo rho_hd of the view direction wo at polar angle theta
+(degrees, a number or a 1-D array; 90 reports the limit) and azimuth phi (degrees), as
+`gonio albedo --theta`: a dict of arrays theta (N,), reflectance, transmittance, albedo,
+stderr, stderr_reflectance, stderr_transmittance (N, C) and exact (N,) bool; for a model
+that is not reciprocal also the light's figures reflectance_light, transmittance_light,
+stderr_reflectance_light, stderr_transmittance_light (N, C). inside: wo on the z < 0 side.
 Each angle uses the same seed, so entry i equals `gonio albedo --theta theta[i]`.
 )doc")
       .def("check", &check, py::arg("seed") = 1, py::arg("scale") = 1.0, R"doc(

@@ -42,6 +42,20 @@ def test_each_kind_makes_an_image(case, tmp_path):
     assert_not_blank(out)
 
 
+def test_albedo_plot_labels_the_light_side_and_does_not_clip(tmp_path):
+    # A model that is not reciprocal: the light-side albedo (1.35 at 85° for this coat) is
+    # drawn, labelled so, and the axis reaches it (it was clipped at 1.05).
+    fig = plot.albedo('{"type":"openpbr","base_color":1,"coat_weight":1,"coat_roughness":0.2}', count=4, samples=4096)
+    ax = fig.axes[0]
+    labels = [line.get_label() for line in ax.get_lines()]
+    assert any("light-side" in label for label in labels), labels
+    light = [line for line in ax.get_lines() if "light-side" in line.get_label()][0]
+    assert max(light.get_ydata()) > 1.1
+    assert ax.get_ylim()[1] >= max(light.get_ydata())
+    fig2 = plot.albedo('{"type":"roughconductor","alpha":0.3,"material":"Au"}', count=4, samples=1024)
+    assert not any("light-side" in line.get_label() for line in fig2.axes[0].get_lines())
+
+
 def test_module_command_writes_svg(tmp_path):
     out = str(tmp_path / "fresnel.svg")
     p = subprocess.run([sys.executable, "-m", "gonio.plot", "fresnel", "--eta", "0.667", "-o", out],

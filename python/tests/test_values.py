@@ -168,6 +168,20 @@ def test_albedo_equals_cli(inside):
     assert list(d["exact"]) == [l["exact"] for l in lines]
 
 
+def test_albedo_of_a_non_reciprocal_model_is_the_views_and_the_lights_follow():
+    # SPEC §3: OpenPBR's view-dependent coat is not reciprocal; its albedo is the view's
+    # (1 for white layers), and the light's figures follow, as the CLI prints them.
+    text = '{"type":"openpbr","base_color":1,"coat_weight":1,"coat_roughness":0.2}'
+    samples = str(max(2000, int(40000 * SCALE)))
+    lines = cli_lines(["albedo", "--bsdf", text, "--theta-range", "0", "85", "3", "--samples", samples, "--seed", "2"])
+    d = gonio.Material(text).albedo(np.linspace(0, 85, 3), samples=int(samples), seed=2)
+    for key in ("albedo", "reflectance_light", "transmittance_light", "stderr_reflectance_light"):
+        np.testing.assert_array_equal(d[key], np.array([l[key] for l in lines], dtype=np.float32))
+    np.testing.assert_allclose(d["albedo"], 1, atol=0.02)
+    assert np.all(d["reflectance_light"][-1] > 1.1)
+    assert "reflectance_light" not in gonio.Material(EXAMPLES["roughdielectric"]).albedo(30, samples=100)
+
+
 @pytest.mark.parametrize("args", [{"eta": 1.5}, {"eta": 0.6}, {"eta": 0.2, "k": 3.1}, {"material": "Cu"},
                                   {"material": "BK7"}])
 def test_fresnel_equals_cli(args):

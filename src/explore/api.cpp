@@ -639,7 +639,7 @@ std::string api_albedo(const std::string& body, const ApiContext& ctx) {
     // One sample (its weight, an evaluation) per sample and angle.
     check_work(bxdf, double(count) * double(samples), "albedo");
     json theta = json::array(), refl = json::array(), trans = json::array(), alb = json::array(),
-         se = json::array(), exact = json::array();
+         se = json::array(), exact = json::array(), refl_light = json::array(), trans_light = json::array();
     const auto colour = [](const auto& c) {
       json a = json::array();
       if constexpr (std::is_same_v<std::decay_t<decltype(c)>, Color>) {
@@ -662,15 +662,24 @@ std::string api_albedo(const std::string& body, const ApiContext& ctx) {
       alb.push_back(colour(e.albedo));
       se.push_back(colour(e.se_albedo));
       exact.push_back(e.exact);
+      if (e.light) {
+        refl_light.push_back(colour(e.light->reflectance));
+        trans_light.push_back(colour(e.light->transmittance));
+      }
     }
-    return json({{"theta", theta},
-                 {"reflectance", refl},
-                 {"transmittance", trans},
-                 {"albedo", alb},
-                 {"stderr", se},
-                 {"exact", exact},
-                 {"samples", samples}})
-        .dump();
+    json out({{"theta", theta},
+              {"reflectance", refl},
+              {"transmittance", trans},
+              {"albedo", alb},
+              {"stderr", se},
+              {"exact", exact},
+              {"samples", samples}});
+    // The view's figures above (SPEC §3); a model that is not reciprocal adds the light's.
+    if (!refl_light.empty()) {
+      out["reflectance_light"] = refl_light;
+      out["transmittance_light"] = trans_light;
+    }
+    return out.dump();
   });
 }
 

@@ -10,41 +10,6 @@ namespace gonio {
 
 using namespace validation;
 
-namespace {
-// ∫ f(wo, wi) (n_wi/n_wo)² |cos θi| dωi in radiance mode: exact where the model has a
-// closed form, else the mean weight of n radiance-mode samples. Radiance crossing an
-// interface is scaled by (n_wo/n_wi)² (lecture §5.3: what is conserved is L/n², the basic
-// radiance, Veach 1997 §5.2), so a refraction from inside legitimately returns more than
-// the light it received; the bound ≤ 1 holds for the basic radiance: a transmitted
-// sample's weight times eta² (BSDFSample::eta = n_wi/n_wo, transmission_scale's inverse).
-AlbedoEstimate radiance_albedo(const BxDF& bxdf, const Vec3& wo, std::uint64_t n, std::uint64_t seed) {
-  AlbedoEstimate e;
-  if (const auto exact = bxdf.exact_albedo(wo, TransportMode::Radiance)) {
-    e.albedo = exact->reflectance + exact->transmittance;
-    e.exact = true;
-    return e;
-  }
-  Pcg32 rng(seed, 0x2545f4914f6cdd1dULL);
-  double sum[kColorChannels] = {}, sum2[kColorChannels] = {};
-  for (std::uint64_t i = 0; i < n; ++i) {
-    const auto s = bxdf.sample(wo, rng.next_float(), rng.next_float(), rng.next_float(), TransportMode::Radiance);
-    if (!s) continue;
-    const double k = s->lobe == Lobe::Transmission ? double(s->eta) * double(s->eta) : 1.0;
-    for (int c = 0; c < kColorChannels; ++c) {
-      const double w = double(s->weight[c]) * k;
-      sum[c] += w;
-      sum2[c] += w * w;
-    }
-  }
-  for (int c = 0; c < kColorChannels; ++c) {
-    const double mean = sum[c] / double(n), var = std::max(0.0, sum2[c] / double(n) - mean * mean);
-    e.albedo[c] = Float(mean);
-    e.se_albedo[c] = Float(std::sqrt(var / double(n)));
-  }
-  return e;
-}
-}  // namespace
-
 PropertyResult check_energy(const BxDF& bxdf, const ValidationOptions& opt) {
   PropertyResult r{"energy", 0.0, 1, true, ""};
   const bool aniso = !bxdf.is_isotropic();
@@ -64,10 +29,12 @@ PropertyResult check_energy(const BxDF& bxdf, const ValidationOptions& opt) {
         const double ph = aniso ? ip * kPiD / n_phi : 0.3;
         const double s = std::sqrt(std::max(0.0, 1 - mu * mu));
         const Vec3 wo{Float(s * std::cos(ph)), Float(s * std::sin(ph)), Float(side ? -mu : mu)};
-        const AlbedoEstimate imp = directional_albedo(bxdf, wo, {n, opt.seed + std::uint64_t(++k)});
-        const AlbedoEstimate e = reciprocal ? imp : radiance_albedo(bxdf, wo, n, opt.seed + std::uint64_t(k));
-        if (!reciprocal && imp.albedo.max_component() > worst_importance) {
-          worst_importance = imp.albedo.max_component();
+        // The view's albedo (radiance mode, the refraction scaling removed: reflectance.h);
+        // a model that is not reciprocal also gives the light's.
+        const AlbedoEstimate e = directional_albedo(bxdf, wo, {n, opt.seed + std::uint64_t(++k)});
+        const Float light = e.light ? (e.light->reflectance + e.light->transmittance).max_component() : Float(0);
+        if (!reciprocal && light > worst_importance) {
+          worst_importance = light;
           importance_where = fmt(std::acos(mu) * 180 / kPiD) + " deg";
         }
         for (int c = 0; c < Color::size(); ++c) {

@@ -648,6 +648,22 @@ TEST(CliAlbedo, DielectricSweepMatchesFresnel) {
   }
 }
 
+// SPEC §3: the albedo is the view's ρ_hd(ωo). OpenPBR's view-dependent coat (not
+// reciprocal) conserves it (a white coat over a white base: 1), and the light's figures
+// follow in their own fields (1.35 at 85°: OpenPBR's view-dependent albedo scaling);
+// a reciprocal model prints no light-side fields.
+TEST(CliAlbedo, NonReciprocalModelAddsTheLightSide) {
+  const std::string coat = R"({"type":"openpbr","base_color":1,"coat_weight":1,"coat_roughness":0.2})";
+  const json j = albedo(coat, {"--theta", "85"});
+  expect_color_near(j["albedo"], 1.0, 0.015);
+  ASSERT_TRUE(j.contains("reflectance_light")) << j.dump();
+  for (const char* key : {"transmittance_light", "stderr_reflectance_light", "stderr_transmittance_light"})
+    EXPECT_TRUE(j.contains(key)) << key;
+  for (double v : color3(j["reflectance_light"])) EXPECT_GT(v, 1.1);
+  const json r = albedo(R"({"type":"roughconductor","alpha":0.3,"material":"Au"})", {"--theta", "85"});
+  EXPECT_FALSE(r.contains("reflectance_light")) << r.dump();
+}
+
 TEST(CliAlbedo, DielectricInsideBeyondCriticalAngle) {
   const json j = albedo(R"({"type":"dielectric","eta":1.5})", {"--theta", "60", "--inside"});
   expect_color_near(j["reflectance"], 1.0, 1e-7);

@@ -347,6 +347,56 @@ def albedo_E(kind, alpha, mu, n_t=24, n_phi=48):
     return 2 * total
 
 
+def albedo_E_dir(mf, wo, n_t=24, n_phi=96):
+    """E(wo) of any (also anisotropic) microfacet distribution mf, wo on the upper side: the
+    integral of albedo_E with the normals' azimuth φm over the whole [0, 2π) (no symmetry
+    about wo's plane), the θm pieces split at the slope widths k α(φm), α(φm) = sqrt(αx²
+    cos²φm + αy² sin²φm) the width of D's slopes along φm."""
+    def wi_z(t, ph):
+        m = sph(t, ph)
+        return 2 * dot(wo, m) * m[2] - wo[2]
+    total = 0.0
+    for j in range(n_phi):
+        ph = 2 * PI * (j + 0.5) / n_phi
+        a_ph = math.sqrt(math.cos(ph) ** 2 * mf.ax ** 2 + math.sin(ph) ** 2 * mf.ay ** 2)
+        lo, hi = 0.0, PI / 2
+        for _ in range(60):
+            mid = (lo + hi) / 2
+            if wi_z(mid, ph) > 0: lo = mid
+            else: hi = mid
+        t_max = lo
+        cuts = sorted({0.0, t_max} | {min(t_max, math.atan(k * a_ph)) for k in (0.5, 1, 2, 4)})
+        inner = 0.0
+        for a, b in zip(cuts, cuts[1:]):
+            if b <= a: continue
+            xs, ws = gauss_legendre(n_t, a, b)
+            for t, w in zip(xs, ws):
+                m = sph(t, ph)
+                om = dot(wo, m)
+                wi = add(scale(m, 2 * om), neg(wo))
+                if wi[2] <= 0 or om <= 0: continue
+                inner += w * math.sin(t) * mf.D(m) * mf.G2(wo, wi) * om / wo[2]
+        total += inner * (2 * PI / n_phi)
+    return total
+
+
+_E_AVG_DIR_CACHE = {}
+def albedo_E_avg_dir(mf, n_mu=16, n_phi=6):
+    """Ē = (1/π) ∫ E cos θ dω of any distribution: by the symmetries of an axis-aligned D
+    (φ → −φ, φ → π − φ), (2/π) ∫₀^{π/2} 2 ∫₀¹ E(μ, φ) μ dμ dφ, Gauss–Legendre in both."""
+    key = (mf.kind, mf.ax, mf.ay)
+    if key not in _E_AVG_DIR_CACHE:
+        phs, wps = gauss_legendre(n_phi, 0.0, PI / 2)
+        total = 0.0
+        for ph, wp in zip(phs, wps):
+            def e_mu(mu, ph=ph):
+                s = math.sqrt(max(0.0, 1 - mu * mu))
+                return albedo_E_dir(mf, (s * math.cos(ph), s * math.sin(ph), mu))
+            total += wp * cosine_average(e_mu, n=n_mu, pieces=(0.0, 0.25, 1.0))
+        _E_AVG_DIR_CACHE[key] = total * 2 / PI
+    return _E_AVG_DIR_CACHE[key]
+
+
 _E_AVG_CACHE = {}
 def albedo_E_avg(kind, alpha):
     key = (kind, alpha)

@@ -78,6 +78,9 @@ import models_reference as R  # noqa: E402
 
 OUT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "data", "openpbr.jsonl")
 DE = 1.5e-3  # the albedo tables' interpolation error allowed for (README.md)
+# gonio's per-material table of an anisotropic distribution's E(μ, φ) (anisotropic_albedo.h):
+# its quadrature and bilinear interpolation error allowed for.
+DE_ANISO = 4e-3
 FUZZ_DE = 1.5e-3  # gonio's tabulated sheen albedo against the fit R(μ, r)
 EON_NORM_TOL = 2e-3
 FILM_DR = 2e-4  # gonio's RGB film table (the film's own spectrum reduced, interpolated in cosine) against the exact reduction
@@ -481,8 +484,17 @@ def coat_records(opb, rng, n):
         mode = "radiance" if len(recs) % 2 == 0 else "importance"
         wo, wi = upper_direction(rng), upper_direction(rng)
         v = wo if mode == "radiance" else wi
-        ec = dielectric_albedo(ac, v[2], eta_c, transmit=False)
         A = [k ** ((1 / mu_t(wo[2]) + 1 / mu_t(wi[2])) / 2) for k in kappa]
+        if opb.get("reciprocal_layering", False):
+            # gonio's extension (docs/openpbr.md): both directions' albedos, for the diffuse
+            # (1 − E_o)(1 − E_i)/(1 − Ē_c), for a specular base min(1 − E_o, 1 − E_i).
+            eo_c = dielectric_albedo(ac, wo[2], eta_c, transmit=False)
+            ei_c = dielectric_albedo(ac, wi[2], eta_c, transmit=False)
+            t_c = (min(1 - eo_c, 1 - ei_c) if metal
+                   else (1 - eo_c) * (1 - ei_c) / (1 - dielectric_albedo_avg(ac, eta_c, transmit=False)))
+            ec = 1 - t_c
+        else:
+            ec = dielectric_albedo(ac, v[2], eta_c, transmit=False)
         through = [1 - C + C * a * (1 - ec) for a in A]
         fc = C * R.roughconductor_single(coat_lobe, wo, wi)[0]
         if metal:
@@ -500,7 +512,10 @@ def coat_records(opb, rng, n):
         # E_c(v) and Ē_c go through gonio's table (DE each): the through factor moves by
         # C·A·DE, Δ by |dΔ/Δ| = (1 − ρ) dK/((1 − ρK)(1 − K)) ≤ DE/(η_c² (1 − K)²) relative
         # (dK = dĒ_c/η_c²), below 4 DE for the coats of main() (1 − K ≥ 0.35).
-        atol = [th * d * ba + C * a * DE * d * abs(b) + 4 * DE * th * abs(b) * (d != 1.0) + 1e-7
+        # (reciprocal_layering: three table albedos in the through factor, each over 1 − Ē_c
+        # or a square root: 4 DE.)
+        k_rl = 4 if opb.get("reciprocal_layering", False) else 1
+        atol = [th * d * ba + C * a * k_rl * DE * d * abs(b) + 4 * DE * th * abs(b) * (d != 1.0) + 1e-7
                 for th, d, b, ba, a in zip(through, delta, base, base_atol, A)]
         sens = sensitivity_of(lambda a, b: R.roughconductor_single(coat_lobe, a, b)[0], wo, wi, rng)
         recs.append({"material": opb, "mode": mode, "wo": vec12(wo), "wi": vec12(wi), "f": vec12(f),
@@ -533,8 +548,17 @@ def coat_over_specular_records(opb, rng, n):
         mode = "radiance" if len(recs) % 2 == 0 else "importance"
         wo, wi = upper_direction(rng), upper_direction(rng)
         v = wo if mode == "radiance" else wi
-        ec = dielectric_albedo(ac, v[2], eta_c, transmit=False)
         A = [k ** ((1 / mu_t(wo[2]) + 1 / mu_t(wi[2])) / 2) for k in kappa]
+        if opb.get("reciprocal_layering", False):
+            # gonio's extension (docs/openpbr.md): both directions' albedos, for the diffuse
+            # (1 − E_o)(1 − E_i)/(1 − Ē_c), for a specular base min(1 − E_o, 1 − E_i).
+            eo_c = dielectric_albedo(ac, wo[2], eta_c, transmit=False)
+            ei_c = dielectric_albedo(ac, wi[2], eta_c, transmit=False)
+            t_c = (min(1 - eo_c, 1 - ei_c) if metal
+                   else (1 - eo_c) * (1 - ei_c) / (1 - dielectric_albedo_avg(ac, eta_c, transmit=False)))
+            ec = 1 - t_c
+        else:
+            ec = dielectric_albedo(ac, v[2], eta_c, transmit=False)
         through = [1 - C + C * a * (1 - ec) for a in A]
         fc = C * R.roughconductor_single(coat_lobe, wo, wi)[0]
         fs = R.roughconductor_single(spec_lobe, wo, wi)[0]
@@ -696,8 +720,10 @@ def aniso_metal_records(opb, rng, n):
     along the tangent and α_b = (1 − a) α_t, a = specular_roughness_anisotropy, the tangent
     turned by specular_rotation (gonio's extension, docs/openpbr.md: a fraction of a turn
     counterclockwise about the normal, so a direction's coordinates in the lobe's frame are
-    (c x + s y, −s x + c y, z)). An anisotropic metal has no Kulla–Conty lobe
-    (docs/openpbr.md, "What is missing"): f = ξ f_single with F82-tint. Both modes."""
+    (c x + s y, −s x + c y, z)). f = ξ (f_single + f_ms) with F82-tint and Kulla & Conty's
+    lobe f_ms = F_ms (1 − E(wo))(1 − E(wi)) / (π (1 − Ē)) of the anisotropic distribution's
+    own E(ω) (issue 55 §4; models_reference.albedo_E_dir, which integrates it at each
+    direction; gonio tabulates it over (μ, φ): DE_ANISO allows for that). Both modes."""
     r, a = opb["specular_roughness"], opb["specular_roughness_anisotropy"]
     at = r * r * math.sqrt(2 / (1 + (1 - a) ** 2))
     ab = (1 - a) * at
@@ -707,15 +733,23 @@ def aniso_metal_records(opb, rng, n):
     bw = opb.get("base_weight", 1.0)
     cond = {"type": "roughconductor", "alpha": [at, ab], "fresnel": "f82",
             "f0": [bw * x for x in R.col(opb.get("base_color", 0.8))], "f82": R.col(opb.get("specular_color", 1.0))}
+    mf = R.distribution_of(cond)
+    f_avg = [R.f82_average(f0, t) for f0, t in zip(cond["f0"], cond["f82"])]
+    e_avg = R.albedo_E_avg_dir(mf)
+    f_ms = [fa * fa * e_avg / (1 - fa * (1 - e_avg)) for fa in f_avg]
     xi = opb.get("specular_weight", 1.0)
     recs = []
     while len(recs) < n:
         wo, wi = upper_direction(rng), upper_direction(rng)
+        eo, ei = R.albedo_E_dir(mf, rot(wo)), R.albedo_E_dir(mf, rot(wi))
+        allowance = DE_ANISO * (1 / (1 - eo) + 1 / (1 - ei) + 1 / (1 - e_avg))
         single = R.roughconductor_single(cond, rot(wo), rot(wi))
+        ms = [fm * (1 - eo) * (1 - ei) / (math.pi * (1 - e_avg)) for fm in f_ms]
         sens = sensitivity_of(lambda u, v: R.roughconductor_single(cond, rot(u), rot(v))[0], wo, wi, rng)
         mode = "radiance" if len(recs) % 2 == 0 else "importance"
-        recs.append({"material": opb, "mode": mode, "wo": vec12(wo), "wi": vec12(wi), "f": vec12([xi * x for x in single]),
-                     "rtol": r12(max(1e-4, 20 * sens)), "atol": 1e-7})
+        recs.append({"material": opb, "mode": mode, "wo": vec12(wo), "wi": vec12(wi),
+                     "f": vec12([xi * (x + m) for x, m in zip(single, ms)]),
+                     "rtol": r12(max(1e-4, 20 * sens)), "atol": [r12(xi * allowance * m + 1e-7) for m in ms]})
     return recs
 
 
@@ -804,6 +838,11 @@ def main():
                   {"coat_weight": 0.6, "coat_roughness": 0.5, "coat_ior": 1.4, "coat_darkening": 0.5,
                    "coat_color": [0.8, 0.9, 0.6]}):
         recs += coat_records({**lam, **extra}, rng, 12)
+    # the same with reciprocal_layering (gonio's extension): over the metal and over Lambert
+    recs += coat_records({**metal, "coat_weight": 0.8, "coat_roughness": 0.3, "coat_darkening": 0,
+                          "specular_roughness": 0.5, "reciprocal_layering": True}, rng, 12)
+    recs += coat_records({**lam, "coat_weight": 1, "coat_roughness": 0.4, "coat_darkening": 1,
+                          "reciprocal_layering": True}, rng, 12)
     # fuzz over the metal
     for extra in ({"fuzz_weight": 1, "fuzz_roughness": 0.5},
                   {"fuzz_weight": 0.6, "fuzz_roughness": 0.3, "fuzz_color": [1.0, 0.5, 0.2]}):

@@ -35,8 +35,9 @@
 //    itself is not reciprocal (sheen.h). So a material with coat_weight or fuzz_weight > 0
 //    is not reciprocal (nonreciprocal_reason()); the rest is.
 //  * metal: F82-tint (Kutz et al. 2021, SPEC-OPB "Metal") with specular_color as the tint at
-//    82° and Kulla–Conty's multiple-scattering lobe (roughconductor.h, multiscatter.h; an
-//    isotropic roughness only), times ξ = min(specular_weight, 1) once.
+//    82° and Kulla–Conty's multiple-scattering lobe (roughconductor.h, multiscatter.h; for an
+//    anisotropic roughness from the distribution's own E(μ, φ), anisotropic_albedo.h), times
+//    ξ = min(specular_weight, 1) once.
 //  * glass (transmission_weight): the rough dielectric of roughdielectric.h with its
 //    Kulla–Conty compensation (R + T conserves energy), transmission_color a constant tint
 //    on the refraction when transmission_depth is 0 (SPEC-OPB "Translucent base"; with a
@@ -68,6 +69,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <memory>
 #include <optional>
 #include <string_view>
 
@@ -176,6 +178,7 @@ struct Solved {
   const Float* coat_avg = nullptr;
   const Float* spec_avg_bare = nullptr;
   const std::optional<DielectricMultiscatterLobe>* glass_ms = nullptr;
+  const std::shared_ptr<const AnisotropicAlbedo>* metal_aniso = nullptr;  // the metal's E(μ, φ), anisotropic
 };
 
 // A table at the nodes μ_j = (j + ½)/kNormNodes read at μ, linearly (clamped at the ends).
@@ -213,6 +216,8 @@ struct OpenPbrBxDFT {
   // What make() derives.
   Float opacity = 1, fuzz = 0, coat = 0, metal_w = 0, trans = 0, sss = 0;
   bool thin = false;
+  bool reciprocal_layering = false;  // params.reciprocal_layering (layer_through)
+  Float fuzz_avg = 0;                // fuzz · cosine-weighted mean of sheen_albedo (reciprocal layering)
   BxDFFlags flags_ = BxDFFlags::DiffuseReflection;
   // Fuzz (sheen.h), white for the layer's albedo, tinted for its lobe.
   SheenBxDFT<U> sheen{};
@@ -254,7 +259,8 @@ struct OpenPbrBxDFT {
   std::array<Color, kNormNodes> film_dE_rgb{}, diff_b_rgb{};
   Float spec_avg_bare = 0;       // Ē_s without the film
   openpbr::Solved solved() const {
-    return {&diff_b, &film_dE, &film_dE_rgb, &diff_b_rgb, &coat_avg, &spec_avg_bare, &glass.multiscatter};
+    return {&diff_b,    &film_dE,       &film_dE_rgb,      &diff_b_rgb,
+            &coat_avg,  &spec_avg_bare, &glass.multiscatter, metal.multiscatter ? &metal.multiscatter->aniso : nullptr};
   }
   // Glass.
   RoughDielectricBxDFT<C> glass{};
@@ -287,9 +293,19 @@ struct OpenPbrBxDFT {
     m.trans = p.transmission_weight;
     m.sss = p.subsurface_weight;
     m.thin = p.geometry_thin_walled;
+    m.reciprocal_layering = p.reciprocal_layering;
     // Fuzz: fuzz_roughness 0 is the sheen fits' smallest roughness (sheen.h).
     m.sheen.color = p.fuzz_color;
     m.sheen.roughness = sheen_fit::clamp_roughness(p.fuzz_roughness);
+    if (m.reciprocal_layering && m.fuzz > 0) {
+      // F Ē_fuzz = F 2 ∫ R(μ) μ dμ, by the midpoint rule at the normalisation's nodes.
+      double avg = 0;
+      for (int j = 0; j < kNormNodes; ++j) {
+        const Float mu = (Float(j) + Float(0.5)) / kNormNodes;
+        avg += 2.0 * double(sheen_albedo(mu, m.sheen.roughness)) * double(mu) / kNormNodes;
+      }
+      m.fuzz_avg = m.fuzz * Float(avg);
+    }
     // Coat.
     m.coat_dist = distribution(p.coat_roughness, p.coat_roughness_anisotropy);
     m.coat_rot = Rotation::of(p.coat_rotation);
@@ -386,8 +402,13 @@ struct OpenPbrBxDFT {
     } else {
       m.f82_avg_est = fresnel_f82_average(m.metal.fresnel.f0, m.metal.fresnel.f82);
     }
-    if (!m.spec_dist.effectively_smooth() && m.spec_dist.is_isotropic())
-      m.metal.multiscatter = MultiscatterLobeT<U>::make(m.spec_dist, m.f82_avg_est);
+    // Anisotropic roughness too (multiscatter.h: E(μ, φ) tabulated for the distribution,
+    // or taken from `solved`, made from the same distribution). Made whatever the
+    // metalness, so that a model whose base_metalness varies (a texture) takes its table
+    // from `solved` instead of tabulating at each shading point.
+    if (!m.spec_dist.effectively_smooth())
+      m.metal.multiscatter = MultiscatterLobeT<U>::make(m.spec_dist, m.f82_avg_est,
+                                                        solved && solved->metal_aniso ? *solved->metal_aniso : nullptr);
     m.metal_xi = std::clamp(p.specular_weight, Float(0), Float(1));
     // Diffuse: EON of roughness base_diffuse_roughness (eon.h), mixed with the subsurface's.
     const Float r = p.base_diffuse_roughness;
@@ -492,7 +513,7 @@ struct OpenPbrBxDFT {
     if (opacity > 0 && fuzz > 0)
       return "openpbr: the fuzz (LTC sheen, Zeltner et al. 2022) follows wo only, and the layers under it are scaled "
              "by 1 - E_fuzz(wo) (OpenPBR's view-dependent albedo scaling)";
-    if (opacity > 0 && coat > 0)
+    if (opacity > 0 && coat > 0 && !reciprocal_layering)
       return "openpbr: the base under the coat is scaled by 1 - E_coat(wo) (OpenPBR's view-dependent albedo scaling; "
              "the reciprocal form gains energy over a specular base, docs/openpbr.md)";
     return {};
@@ -698,12 +719,35 @@ struct OpenPbrBxDFT {
   }
   // What reaches the base and comes back, seen from v: α (1 − F E_fz(v)) lerp(1, A (1 − E_c(v)), C) Δ.
   U base_scale(const Layers& v, Float mu_o, Float mu_i) const {
-    U s = U(opacity * (1 - v.e_fz));
+    return base_scale(v, v, mu_o, mu_i, false);
+  }
+  // The same for the pair wo, wi with their layers lo, li: with reciprocal_layering each layer
+  // lets through layer_through(...) instead of 1 − E(v) (a lobe of the base that is diffuse
+  // or not: `diffuse`); else, as above, of the view direction (lo in radiance mode, li in
+  // importance mode: the caller passes it as both).
+  U base_scale(const Layers& lo, const Layers& li, Float mu_o, Float mu_i, bool diffuse) const {
+    U s = U(opacity * layer_through(lo.e_fz, li.e_fz, fuzz_avg, diffuse));
     if (coat > 0) {
-      const U through = coat_absorption(mu_o, mu_i) * (1 - v.e_c);
+      const U through = coat_absorption(mu_o, mu_i) * layer_through(lo.e_c, li.e_c, coat_avg, diffuse);
       s = s * ((U(1) - through) * (-coat) + U(1)) * darkening;
     }
     return s;
+  }
+  // The fraction of what lies below a layer of albedos e_o = E(ωo), e_i = E(ωi) (and mean
+  // Ē = e_avg) that it lets out. View-dependent (OpenPBR 1.1 eqs.
+  // `coat_layering_formula_with_albedo_scaling`, `fuzz-layering-approx`): 1 − e_o (the caller
+  // passes the view's albedo as both). reciprocal_layering, symmetric in ωo ↔ ωi (gonio's
+  // extension, docs/openpbr.md), per kind of lobe below: for the diffuse,
+  // (1 − e_o)(1 − e_i)/(1 − Ē), exact for a Lambertian base (2 ∫ (1 − E(μ)) μ dμ = 1 − Ē);
+  // for the specular and glossy lobes, min(1 − e_o, 1 − e_i): exact for a mirror base
+  // (μi = μo), and the largest factor symmetric in ωo ↔ ωi that never exceeds the view
+  // form's 1 − e_o, so that the view's albedo, which that form conserves, cannot grow.
+  // (The product over (1 − Ē) gains 5 % over a mirror at normal incidence; the geometric
+  // mean sqrt((1 − e_o)(1 − e_i)) 10 % over a rough white metal at 85°.)
+  Float layer_through(Float e_o, Float e_i, Float e_avg, bool diffuse) const {
+    if (!reciprocal_layering) return 1 - e_o;
+    if (!diffuse) return std::min(1 - e_o, 1 - e_i);
+    return std::max(Float(0), (1 - e_o) * (1 - e_i)) / std::max(Float(1e-6), 1 - e_avg);
   }
 
   // The specular layer's Fresnel (with the film over thin_film_weight of it).
@@ -788,7 +832,11 @@ struct OpenPbrBxDFT {
       return {e.f * ((1 - metal_w) * opacity * trans), p[kGlass] * e.pdf};
     }
     if (reflection) {
-      const Layers lv = radiance ? lo : layers(wi_u);  // the view direction's layers
+      // wi's layers, only where read: importance mode or reciprocal_layering (a hot path).
+      const Layers li = !radiance || reciprocal_layering ? layers(wi_u) : lo;
+      // The view direction's layers (reciprocal_layering reads both, lo and li).
+      const Layers& lv = radiance || reciprocal_layering ? lo : li;
+      const Layers& lw = reciprocal_layering ? li : lv;
       // Fuzz.
       if (fuzz > 0 && p[kFuzz] > 0) {
         // lo.e_fz = fuzz R(μo): the lobe's albedo is known.
@@ -802,12 +850,12 @@ struct OpenPbrBxDFT {
         if (g.valid) {
           const Float F = fresnel_dielectric(g.cos_h, coat_eta);
           f += fresnel_factor<C>(
-              F * g.f_per_f * (opacity * (1 - lv.e_fz) * coat),
+              F * g.f_per_f * (opacity * layer_through(lv.e_fz, lw.e_fz, fuzz_avg, false) * coat),
               [&] { return broadcast<U>(dielectric_reflection_mueller(g.cos_h, coat_eta)); }, wo, wi);
           pdf += p[kCoat] * g.pdf;
         }
       }
-      const U base = base_scale(lv, wo_u.z, wi_u.z);
+      const U base = base_scale(lv, lw, wo_u.z, wi_u.z, false);
       // Metal.
       if (metal_w > 0) {
         const BSDFEvalT<C> e = metal.eval(spec_rot.in(wo), spec_rot.in(wi), mode);
@@ -828,7 +876,8 @@ struct OpenPbrBxDFT {
           }
         }
         // Diffuse under it, reciprocal albedo scaling.
-        f += C(eon_f(wo_u, wi_u, diff_rho, diff_rho_ms) * base * diffuse_scale(wo_u, wi_u, lo.e_s) * w);
+        const U base_d = reciprocal_layering ? base_scale(lv, lw, wo_u.z, wi_u.z, true) : base;
+        f += C(eon_f(wo_u, wi_u, diff_rho, diff_rho_ms) * base_d * diffuse_scale(wo_u, wi_u, lo.e_s) * w);
         pdf += p[kDiffuse] * eon.pdf(wo_u, wi_u);
       }
       // The rough thin-walled sheet's reflection (rough_sheet).
@@ -865,9 +914,11 @@ struct OpenPbrBxDFT {
       const Vec3 wm{wi_u.x, wi_u.y, -wi_u.z};
       const Glossy g = glossy(spec_dist, spec_rot.in(wo_u), spec_rot.in(wm));
       if (g.valid) {
-        const Layers lv = radiance ? lo : layers(wm);
+        const Layers lm = !radiance || reciprocal_layering ? layers(wm) : lo;
+        const Layers& lv = radiance || reciprocal_layering ? lo : lm;
         const SheetShares r = sheet_shares(g.cos_h);
-        f += fresnel_factor<C>(r.transmit * base_scale(lv, wo_u.z, wm.z) * trans_tint * (g.f_per_f * diel * trans),
+        f += fresnel_factor<C>(r.transmit * base_scale(lv, reciprocal_layering ? lm : lv, wo_u.z, wm.z, false) * trans_tint *
+                                   (g.f_per_f * diel * trans),
                                [&] { return sheet_mueller(g.cos_h, false); }, wo, wi);
         pdf += p[kGlass] * g.pdf * (1 - r.p_reflect);
       }
@@ -875,8 +926,10 @@ struct OpenPbrBxDFT {
     if (thin && sss > 0 && trans < 1) {
       // The thin-walled subsurface's transmission, mirrored to wo's side.
       const Vec3 wm{wi_u.x, wi_u.y, -wi_u.z};
-      const Layers lv = radiance ? lo : layers(wm);
-      f += C(eon_f(wo_u, wm, difft_rho, difft_rho_ms) * base_scale(lv, wo_u.z, wm.z) * diffuse_scale(wo_u, wm, lo.e_s) *
+      const Layers lm = !radiance || reciprocal_layering ? layers(wm) : lo;
+      const Layers& lv = radiance || reciprocal_layering ? lo : lm;
+      f += C(eon_f(wo_u, wm, difft_rho, difft_rho_ms) * base_scale(lv, reciprocal_layering ? lm : lv, wo_u.z, wm.z, true) *
+             diffuse_scale(wo_u, wm, lo.e_s) *
              (diel * (1 - trans)));
       pdf += p[kDiffuseT] * eon.pdf(wo_u, wm);
     }

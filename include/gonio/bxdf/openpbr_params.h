@@ -48,11 +48,14 @@ struct OpenPbrParams {
   U emission_color{Float(1)};
   Float geometry_opacity = 1;
   bool geometry_thin_walled = false;
+  // gonio extension: the coat and fuzz scale what lies below them by both directions'
+  // albedos (reciprocal) instead of the view's (OpenPBR's default; openpbr.h).
+  bool reciprocal_layering = false;
 };
 
 
-// One colour or number parameter of OpenPbrParams<U> (geometry_thin_walled, a flag, is not
-// one): exactly one of `number` and `colour` is set. What a change of it touches in
+// One colour or number parameter of OpenPbrParams<U> (geometry_thin_walled and
+// reciprocal_layering, flags, are not): exactly one of `number` and `colour` is set. What a change of it touches in
 // OpenPbrBxDFT::make(), for with_params (material.h):
 //  * `solved`: what make() solves by quadrature (openpbr::Solved): the diffuse's
 //    normalisation b(μ) (the specular layer's E_s(μ) through its index, roughness and film,

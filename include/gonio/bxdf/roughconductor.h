@@ -59,7 +59,7 @@ struct RoughConductorBxDFT {
     // D / (4 cos θo (1 + Λo)) = D / (2 (T(wo) + cos θo)).
     Float pdf = D / (2 * (to + wo.z));
     if (multiscatter) {
-      const Float eo = multiscatter->E(wo.z), ei = multiscatter->E(wi.z);
+      const Float eo = multiscatter->E(wo), ei = multiscatter->E(wi);
       f += multiscatter->f(eo, ei);
       pdf = multiscatter->mix_pdf(eo, pdf, wi.z, ei);
     }
@@ -78,7 +78,7 @@ struct RoughConductorBxDFT {
     const Float h2 = length_squared(h);
     if (h2 == 0) return 0;
     const Float p = distribution.D_unnormalized(h, h2) / (2 * (distribution.smith_t(wo) + wo.z));  // as in eval
-    return multiscatter ? multiscatter->mix_pdf(multiscatter->E(wo.z), p, wi.z, multiscatter->E(wi.z)) : p;
+    return multiscatter ? multiscatter->mix_pdf(multiscatter->E(wo), p, wi.z, multiscatter->E(wi)) : p;
   }
 
   std::optional<BSDFSampleT<C>> sample(Vec3 wo, Float u_lobe, Float u1, Float u2,
@@ -96,7 +96,7 @@ struct RoughConductorBxDFT {
       // Mixture of the single-scattering lobe and the multiple-scattering one, the latter
       // drawn ∝ (1 − E(μi)) μi; the weight is f |cos θi| / pdf of the mixture, at most the
       // larger of the two lobes' own weights over their selection probabilities.
-      const Vec3 wi = u_lobe < multiscatter->probability(multiscatter->E(wo.z)) ? multiscatter->sample(u1, u2)
+      const Vec3 wi = u_lobe < multiscatter->probability(multiscatter->E(wo)) ? multiscatter->sample(u1, u2)
                                                                : reflect(wo, distribution.sample_visible(wo, u1, u2));
       if (!(wi.z > 0) || grazing(wi)) return std::nullopt;
       const BSDFEvalT<C> e = eval(wo, wi, mode);

@@ -374,14 +374,21 @@ window.gonioLatency = latency;
           }
           series.push({ x: data.theta, y: data.reflectance.map((v) => v[c]), color: colours[c], label: "reflectance", legendColor: "#222" });
           series.push({ x: data.theta, y: data.transmittance.map((v) => v[c]), color: colours[c], dash: [6, 4], label: "transmittance", legendColor: "#222" });
-          series.push({ x: data.theta, y: data.albedo.map((v) => v[c]), color: colours[c], dash: [1, 3], width: 1, label: "albedo", legendColor: "#222" });
+          series.push({ x: data.theta, y: data.albedo.map((v) => v[c]), color: colours[c], dash: [1, 3], width: 1, label: "albedo ρhd(ωo)", legendColor: "#222" });
+          // Not reciprocal: the light's figure (light arriving along θ) beside the view's.
+          if (data.reflectance_light) {
+            const light = data.reflectance_light.map((v, i) => v[c] + data.transmittance_light[i][c]);
+            for (const v of light) max = Math.max(max, v);
+            series.push({ x: data.theta, y: light, color: colours[c], dash: [8, 3, 1, 3], width: 1, label: "light-side albedo (not reciprocal)", legendColor: "#222" });
+          }
         }
       }
-      plot.lines($("albedo"), { xRange: [0, 90], yRange: [0, Math.ceil(max * 10) / 10], xLabel: "θi (incidence)", yLabel: "fraction", series });
+      plot.lines($("albedo"), { xRange: [0, 90], yRange: [0, Math.ceil(max * 10) / 10], xLabel: "θo (view)", yLabel: "fraction", series });
       drawn("albedo");
       $("albedo-readout").textContent = `normal incidence: reflectance ${JSON.stringify(d.reflectance[0].map((v) => +v.toPrecision(4)))}, ` +
         `transmittance ${JSON.stringify(d.transmittance[0].map((v) => +v.toPrecision(4)))}` + (d.exact[0] ? " (exact)" : ` (${d.samples} samples per angle, standard error ≤ ${plot.fmt(Math.max(...d.stderr.flat()))}` +
-        (samples < ALBEDO_SAMPLES[ALBEDO_SAMPLES.length - 1] ? "; refining…)" : ")"));
+        (samples < ALBEDO_SAMPLES[ALBEDO_SAMPLES.length - 1] ? "; refining…)" : ")")) +
+        (d.reflectance_light ? "; not reciprocal: the light-side albedo (light arriving along θ) is drawn apart" : "");
       return !d.exact.every((x) => x) || (db && !db.exact.every((x) => x));
     } catch (e) { shown(e, "albedo"); return false; }
   }
