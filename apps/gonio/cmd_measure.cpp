@@ -84,24 +84,21 @@ std::string duration(double s) {
   return buf;
 }
 
-// Progress on stderr with an estimate of the time left: a redrawn bar on a terminal,
-// else a line every 10%.
+// Progress on stderr with an estimate of the time left: a redrawn bar, only when stderr is a
+// terminal (SPEC §3); otherwise none.
 std::function<void(double)> progress_reporter(const char* what) {
-  const bool tty = isatty(STDERR_FILENO) == 1;
+  if (isatty(STDERR_FILENO) != 1) return {};
   const auto start = std::chrono::steady_clock::now();
   auto last = std::make_shared<int>(-1);
   return [=](double done) {
-    const int step = static_cast<int>(done * (tty ? 100 : 10));
+    const int step = static_cast<int>(done * 100);
     if (step == *last) return;
     *last = step;
     const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     const double left = done > 0 ? elapsed * (1 - done) / done : -1;
-    if (tty)
-      std::fprintf(stderr, "\r%s [%-40s] %3d%%  ETA %-8s", what, std::string(std::size_t(done * 40), '#').c_str(),
-                   int(done * 100), duration(left).c_str());
-    else
-      std::fprintf(stderr, "%s: %d%% (ETA %s)\n", what, step * 10, duration(left).c_str());
-    if (tty && done >= 1) std::fprintf(stderr, "\n");
+    std::fprintf(stderr, "\r%s [%-40s] %3d%%  ETA %-8s", what, std::string(std::size_t(done * 40), '#').c_str(),
+                 int(done * 100), duration(left).c_str());
+    if (done >= 1) std::fprintf(stderr, "\n");
     std::fflush(stderr);
   };
 }

@@ -47,8 +47,8 @@ struct RenderArgs {
   std::string dop;         // --dop: the false-colour DoLP/AoLP image (PNG)
   std::optional<double> polarizer;  // --polarizer DEG: overrides the scene's /camera/polarizer
   std::int64_t seed = -1;  // -1: the scene's
-  std::string sampler;     // empty: the scene's
-  std::string light_sampler;  // empty: the scene's
+  // Unset: the scene's. An option given empty (--sampler '') is a bad value, not "unset".
+  std::optional<std::string> sampler, light_sampler;
   // --sample-range A B: only the per-pixel sample indices [A, B), written as their sums
   // (docs/distributed.md); empty: the whole render.
   std::vector<std::int64_t> sample_range;
@@ -63,6 +63,13 @@ std::string si(double v) {
   else if (v >= 1e3) std::snprintf(buf, sizeof buf, "%.1f k", v / 1e3);
   else std::snprintf(buf, sizeof buf, "%.0f ", v);
   return buf;
+}
+
+// Whether anything in the scene emits: a light, an emitting material, a non-black
+// environment. Without one every path carries zero radiance (SPEC §3 asks for a warning).
+bool has_light(const render::Scene& scene) {
+  if (!scene.point_lights.empty() || !scene.area_lights.empty() || !scene.environment.is_black()) return true;
+  return std::any_of(scene.materials.begin(), scene.materials.end(), [](const render::Material& m) { return m.emits; });
 }
 
 void run_render(const RenderArgs& a) {
@@ -95,14 +102,14 @@ void run_render(const RenderArgs& a) {
                                         : render::load_scene_file(a.scene);
   if (a.spp > 0) scene.settings.spp = a.spp;
   if (a.seed >= 0) scene.settings.seed = static_cast<std::uint64_t>(a.seed);
-  if (!a.sampler.empty()) {
-    const auto type = render::sampler_type_from_name(a.sampler);
-    if (!type) throw InputError("--sampler must be zsobol, sobol or independent, got \"" + a.sampler + "\"");
+  if (a.sampler) {
+    const auto type = render::sampler_type_from_name(*a.sampler);
+    if (!type) throw InputError("--sampler must be zsobol, sobol or independent, got \"" + *a.sampler + "\"");
     scene.settings.sampler = *type;
   }
-  if (!a.light_sampler.empty()) {
-    const auto type = render::light_sampler_type_from_name(a.light_sampler);
-    if (!type) throw InputError("--light-sampler must be bvh, power or uniform, got \"" + a.light_sampler + "\"");
+  if (a.light_sampler) {
+    const auto type = render::light_sampler_type_from_name(*a.light_sampler);
+    if (!type) throw InputError("--light-sampler must be bvh, power or uniform, got \"" + *a.light_sampler + "\"");
     scene.settings.light_sampler = *type;
   }
   if (a.spectral) scene.settings.spectral = true;
@@ -121,6 +128,8 @@ void run_render(const RenderArgs& a) {
   out->reserve(scene.camera.width, scene.camera.height, scene.settings.polarized ? 4 : 1);
   if (dop_out) dop_out->reserve(scene.camera.width, scene.camera.height);
 
+  // After every refusal (SPEC §3: a refusal's error line is alone on stderr), before the work.
+  if (!has_light(scene)) std::fprintf(stderr, "warning: the scene has no lights; the image is black\n");
   const bool tty = isatty(STDERR_FILENO) == 1;
   render::RenderOptions options;
   options.threads = a.threads;
@@ -131,21 +140,16 @@ void run_render(const RenderArgs& a) {
     options.sums = true;
   }
   int last_step = -1;
-  options.progress = [&](double done) {
-    if (tty) {
+  // Progress only on a terminal (SPEC §3): a log or a pipe gets the closing line alone.
+  if (tty)
+    options.progress = [&](double done) {
       const int step = static_cast<int>(done * 40);
       if (step == last_step) return;
       last_step = step;
       std::fprintf(stderr, "\rrendering [%-40s] %3d%%", std::string(static_cast<size_t>(step), '#').c_str(),
                    static_cast<int>(done * 100));
-    } else {
-      const int step = static_cast<int>(done * 10);
-      if (step == last_step) return;
-      last_step = step;
-      std::fprintf(stderr, "rendering: %d%%\n", step * 10);
-    }
-    std::fflush(stderr);
-  };
+      std::fflush(stderr);
+    };
   render::RenderStats stats;
   render::StokesImages stokes;
   // From here on the first signal stops the render between tiles, and the passes done

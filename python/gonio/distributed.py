@@ -23,7 +23,9 @@ import argparse
 import contextlib
 import itertools
 import logging
+import math
 import os
+import stat
 import sys
 import time
 import warnings
@@ -200,7 +202,11 @@ def check_render_inputs(scene, spp, passes, seed):
     return key, int(spp), int(seed), loaded
 
 
-def _load_checkpoint(path, meta):
+def _load_checkpoint(path, meta, nblocks):
+    """The finished blocks' sums kept in `path` for the job `meta`, each checked: a block index
+    of the job, a (height, width, 3) float array of finite sums. A checkpoint whose metadata
+    matches is still a file on disk: a truncated copy, another program's array or a bug must
+    not become the image (a 3x3 block would otherwise broadcast into a 16x16 render)."""
     if path is None or not os.path.exists(path):
         return {}
     try:
@@ -212,6 +218,20 @@ def _load_checkpoint(path, meta):
     if saved != meta:
         raise DistributedError("%s: a checkpoint of another job (%s); remove it to start anew"
                                % (path, ", ".join("%s %s" % (k, saved[k]) for k in meta if saved[k] != meta[k])))
+    shape = (meta["height"], meta["width"], 3)
+    for i, s in sorted(blocks.items()):
+        problem = None
+        if not 0 <= i < nblocks:
+            problem = "block %d is not one of the job's %d blocks" % (i, nblocks)
+        elif s.dtype not in (np.float32, np.float64):
+            problem = "block %d holds %s values, not float sums" % (i, s.dtype)
+        elif s.shape != shape:
+            problem = "block %d is %s, not the image's %dx%dx3" % (i, "x".join(map(str, s.shape)) or "a scalar",
+                                                                 shape[0], shape[1])
+        elif not np.isfinite(s).all():
+            problem = "block %d holds a NaN or infinite sum" % i
+        if problem:
+            raise DistributedError("%s: a damaged checkpoint (%s); remove it to start anew" % (path, problem))
     return blocks
 
 
@@ -220,13 +240,20 @@ def _save_checkpoint(path, meta, blocks):
     arrays["done"] = np.array(sorted(blocks), dtype=np.int64)
     for i, s in blocks.items():
         arrays["block_%d" % i] = s
+    # Written whole under a temporary name, then renamed over the checkpoint: an interrupted
+    # write (Ctrl-C, a full disk) leaves the previous checkpoint, and no temporary behind.
     tmp = path + ".tmp.npz"
-    np.savez(tmp, **arrays)
-    os.replace(tmp, path)
+    try:
+        np.savez(tmp, **arrays)
+        os.replace(tmp, path)
+    except BaseException:
+        with contextlib.suppress(OSError):
+            os.remove(tmp)
+        raise
 
 
 def render(scene=None, spp=None, passes=16, client=None, scheduler=None, seed=None, on_pass=None,
-           workers=None, checkpoint=None, every=BLOCK, progress=None, threads=1):
+           workers=None, checkpoint=None, every=BLOCK, progress=None, threads=1, keep_checkpoint=False):
     """The image (float32 (H, W, 3), linear) of `scene` at `spp` samples per pixel, rendered as
     `passes` tasks on a Dask cluster (see the module's docstring for the merge order).
 
@@ -235,7 +262,8 @@ def render(scene=None, spp=None, passes=16, client=None, scheduler=None, seed=No
     scheduler / workers: see cluster(). on_pass(done, preview): called on the client after
     each block of `every` passes (a power of two) with the number of passes done and the
     image of those passes so far. checkpoint: a .npz path where finished blocks' sums are
-    kept; a job started again with it resumes, and it is removed when the image is done.
+    kept; a job started again with it resumes, and it is removed when the image is done
+    (keep_checkpoint=True: left for the caller to remove once the image is safely written).
     progress(done): called on the client after every pass with the number of passes done.
     threads: render threads per pass (1 for single-threaded workers; a node's cores for one
     worker per node); the image does not depend on it.
@@ -245,8 +273,8 @@ def render(scene=None, spp=None, passes=16, client=None, scheduler=None, seed=No
         raise DistributedError("every must be a power of two, got %r" % (every,))
     meta = {"scene": repr(key), "spp": spp, "passes": passes, "seed": seed, "block": every,
             "width": loaded.width, "height": loaded.height}
-    blocks = _load_checkpoint(checkpoint, meta)
     nblocks = (passes + every - 1) // every
+    blocks = _load_checkpoint(checkpoint, meta, nblocks)
     todo = [i for i in range(nblocks) if i not in blocks]
 
     def samples_of(block_ids):
@@ -287,7 +315,7 @@ def render(scene=None, spp=None, passes=16, client=None, scheduler=None, seed=No
                     on_pass(passes_of(done), preview)
     total = pairwise([blocks[i] for i in range(nblocks)], _add)
     image = normalise(total, spp)
-    if checkpoint is not None and os.path.exists(checkpoint):
+    if checkpoint is not None and not keep_checkpoint and os.path.exists(checkpoint):
         os.remove(checkpoint)
     return image
 
@@ -396,23 +424,20 @@ class _Parser(argparse.ArgumentParser):
 
 
 class _Progress:
-    """A bar on stderr when it is a terminal, else a line at every tenth of the passes."""
+    """A bar on stderr when it is a terminal; otherwise nothing (SPEC §3: progress only on a
+    terminal, so that a log holds the closing line alone)."""
 
-    def __init__(self, total):
-        self.total, self.tty, self.last = total, sys.stderr.isatty(), -1
+    def __init__(self, total, tty=None):
+        self.total = total
+        self.tty = sys.stderr.isatty() if tty is None else tty
 
     def __call__(self, done):
-        if self.tty:
-            n = done * 40 // self.total
-            sys.stderr.write("\rrendering [%-40s] %d/%d passes" % ("#" * n, done, self.total))
-            if done == self.total:
-                sys.stderr.write("\n")
-        else:
-            tenth = done * 10 // self.total
-            if tenth == self.last:
-                return
-            self.last = tenth
-            sys.stderr.write("rendering: %d/%d passes\n" % (done, self.total))
+        if not self.tty:
+            return
+        n = done * 40 // self.total
+        sys.stderr.write("\rrendering [%-40s] %d/%d passes" % ("#" * n, done, self.total))
+        if done == self.total:
+            sys.stderr.write("\n")
         sys.stderr.flush()
 
 
@@ -425,12 +450,42 @@ def _text_or_file(arg):
 
 
 def _check_output(path):
+    """What `gonio render` checks of its -o before rendering (src/io/output_file.cpp): the
+    extension, a writable directory, and a target (through a symbolic link) that is absent or
+    a writable regular file, never a directory, FIFO or device. A job of hours must not end
+    in a write that was bound to fail."""
     ext = os.path.splitext(path)[1].lower()
     if ext not in (".exr", ".png"):
         raise DistributedError("-o %s: the output must end in .exr (linear) or .png (sRGB)" % path)
-    d = os.path.dirname(os.path.abspath(path))
+    target = os.path.realpath(path)
+    try:
+        st = os.stat(target)
+    except FileNotFoundError:
+        st = None
+    except OSError as e:
+        raise DistributedError("-o %s: cannot write the image: %s" % (path, e.strerror or e)) from None
+    if st is not None:
+        if stat.S_ISDIR(st.st_mode):
+            raise DistributedError("-o %s: cannot write the image: it is a directory" % path)
+        if not stat.S_ISREG(st.st_mode):
+            raise DistributedError("-o %s: cannot write the image: it exists and is not a regular file" % path)
+        if not os.access(target, os.W_OK):
+            raise DistributedError("-o %s: cannot write the image: the file is read-only" % path)
+    d = os.path.dirname(target)
     if not os.path.isdir(d) or not os.access(d, os.W_OK):
         raise DistributedError("-o %s: cannot write in %s" % (path, d))
+
+
+def _timeout(text):
+    """--timeout: seconds, a finite positive number (Dask's own error for nan or -5 is not one
+    line about the option)."""
+    try:
+        v = float(text)
+    except ValueError:
+        v = math.nan
+    if not (math.isfinite(v) and v > 0):
+        raise argparse.ArgumentTypeError("must be a positive number of seconds, got %r" % text)
+    return v
 
 
 def main(argv=None):
@@ -467,7 +522,7 @@ def main(argv=None):
         g = q.add_mutually_exclusive_group()
         g.add_argument("--scheduler", help="address of a running Dask scheduler, e.g. tcp://host:8786")
         g.add_argument("--workers", type=int, help="local worker processes (default: one per core)")
-        q.add_argument("--timeout", type=float, default=10.0,
+        q.add_argument("--timeout", type=_timeout, default=10.0,
                        help="seconds to wait for the scheduler of --scheduler (default 10)")
     a = p.parse_args(argv)
     import json
@@ -475,6 +530,7 @@ def main(argv=None):
         if a.command == "render":
             # Every input checked here, before any cluster starts.
             _check_output(a.output)
+            checkpoint = a.output + ".checkpoint.npz"
             check_render_inputs(a.scene, a.spp, a.passes, a.seed)
             if not (a.every >= 1 and a.every & (a.every - 1) == 0):
                 raise DistributedError("--every must be a power of two, got %d" % a.every)
@@ -484,10 +540,17 @@ def main(argv=None):
                 raise DistributedError("--workers must be from 1 to 1024, got %d" % a.workers)
             t0 = time.time()
             with cluster(scheduler=a.scheduler, workers=a.workers, connect_timeout=a.timeout) as c:
-                image = render(a.scene, a.spp, a.passes, client=c, seed=a.seed,
-                               checkpoint=a.output + ".checkpoint.npz", progress=_Progress(a.passes), every=a.every,
-                               threads=a.threads)
-            gonio.write_image(a.output, image)
+                image = render(a.scene, a.spp, a.passes, client=c, seed=a.seed, checkpoint=checkpoint,
+                               progress=_Progress(a.passes), every=a.every, threads=a.threads,
+                               keep_checkpoint=True)
+            try:
+                gonio.write_image(a.output, image)
+            except (ValueError, OSError) as e:
+                raise DistributedError("%s (the finished passes are kept in %s)"
+                                       % (str(e).splitlines()[0] if str(e) else type(e).__name__, checkpoint)) from None
+            # Only now is the work safe elsewhere.
+            with contextlib.suppress(FileNotFoundError):
+                os.remove(checkpoint)
             sys.stderr.write("rendered %dx%d in %d passes in %.2f s\n" % (image.shape[1], image.shape[0], a.passes,
                                                                          time.time() - t0))
             print(a.output)

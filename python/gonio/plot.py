@@ -147,6 +147,15 @@ def _lobe3d(m, ti):
     surf = ax.plot_surface(x.reshape(T.shape), y.reshape(T.shape), z.reshape(T.shape),
                            facecolors=plt.cm.viridis(r / (r.max() or 1)), linewidth=0, antialiased=True)
     surf.set_label("f · cos θo at θi = %g°" % ti)
+    # One scale on the three axes (a cube about the lobe's middle, drawn as a cube):
+    # matplotlib's own limits fit each axis to its data, which stretches a narrow lobe
+    # round (an anisotropic one no longer looks it).
+    lo, hi = np.array([x.min(), y.min(), z.min()]), np.array([x.max(), y.max(), z.max()])
+    mid, half = (lo + hi) / 2, max((hi - lo).max() / 2, 1e-12)
+    ax.set_xlim(mid[0] - half, mid[0] + half)
+    ax.set_ylim(mid[1] - half, mid[1] + half)
+    ax.set_zlim(mid[2] - half, mid[2] + half)
+    ax.set_box_aspect((1, 1, 1))
     ax.set_xlabel("x (1/sr)")
     ax.set_ylabel("y (1/sr)")
     ax.set_zlabel("z, the normal (1/sr)")

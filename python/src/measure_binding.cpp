@@ -123,7 +123,7 @@ py::dict measure_surface(const py::object& surface_arg, const py::object& gantry
     throw InputError("measure: give gantry= (detector readings) or output= (a MERL table to write)");
   if (!gantry_arg.is_none() && !output.empty())
     throw InputError("measure: gantry= (detector readings) and output= (a MERL table) are separate runs; give one");
-  const measure::Surface surface = measure::parse_surface(json_text_of(surface_arg, "surface"), "--surface", "");
+  const measure::Surface surface = measure::parse_surface(json_text_of(surface_arg, "surface"), "surface", "");
   measure::GantrySpec spec;
   if (!gantry_arg.is_none()) spec = measure::parse_gantry(json_text_of(gantry_arg, "gantry"), "--gantry");
   measure::RunOptions options;
@@ -167,7 +167,7 @@ void register_measure(py::module_& mod) {
   // same parse (and image load) as measure's, without a ray.
   mod.def(
       "_check_surface",
-      [](const py::object& surface) { (void)measure::parse_surface(json_text_of(surface, "surface"), "--surface", ""); },
+      [](const py::object& surface) { (void)measure::parse_surface(json_text_of(surface, "surface"), "surface", ""); },
       py::arg("surface"));
   mod.def("measure", &measure_surface, py::arg("surface"), py::arg("gantry") = py::none(), py::kw_only(),
           py::arg("output") = "", py::arg("samples") = py::none(), py::arg("threads") = 0, py::arg("seed") = 0,

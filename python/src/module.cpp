@@ -185,9 +185,10 @@ struct AtWavelength {
 class Material {
  public:
   Material(const py::object& description, std::optional<double> wavelength) : json_(json_text_of(description)) {
-    // "--bsdf" as the source: syntax errors read as the CLI's for the same text.
+    // "Material" as the source: the CLI's message for the same text, named after the Python
+    // class rather than the command line's option (which a Python user never typed).
     if (!wavelength) {
-      rgb_ = parse_material(json_, "--bsdf");
+      rgb_ = parse_material(json_, "Material");
       return;
     }
     const double nm = *wavelength;
@@ -195,7 +196,7 @@ class Material {
       throw InputError("wavelength must be a number of nanometres in [" + format_number(double(kLambdaMin)) + ", " +
                        format_number(double(kLambdaMax)) + "], got " + format_number(nm));
     auto s = std::make_shared<AtWavelength>();
-    s->material = parse_material_with_spectra(json_, "--bsdf");
+    s->material = parse_material_with_spectra(json_, "Material");
     s->wavelengths = SampledWavelengths::single(Float(nm));
     s->bxdf = to_spectral(s->material.bxdf, s->material.spectra, s->wavelengths, s->scratch);
     rgb_ = s->material.bxdf;
@@ -637,14 +638,14 @@ py::dict subsurface(const py::object& description, std::int64_t samples, std::in
   checked_threads(threads);
   const std::string text = json_text_of(description);
   // Checked as `gonio subsurface --bsdf` checks it: first as any material (the same
-  // messages), then the type, then the medium.
-  parse_material(text, "--bsdf");
-  const nlohmann::json j = parse_json_text(text, "--bsdf");
+  // messages, named after the Python argument), then the type, then the medium.
+  parse_material(text, "description");
+  const nlohmann::json j = parse_json_text(text, "description");
   const auto type = j.find("type");
   if (type == j.end() || *type != "subsurface")
-    throw InputError(std::string("--bsdf: subsurface needs a material of type \"subsurface\", got ") +
+    throw InputError(std::string("description: subsurface needs a material of type \"subsurface\", got ") +
                      (type == j.end() ? std::string("none") : json_excerpt(*type)));
-  const Subsurface s = subsurface_from_json(j, "--bsdf");
+  const Subsurface s = subsurface_from_json(j, "description");
   const std::uint64_t paths = checked_count(samples, 1, 1'000'000'000'000, "samples");
   const std::uint64_t sd = checked_count(seed, 0, 2'147'483'647, "seed");
   SlabResult r;
@@ -789,7 +790,7 @@ FitOptions fit_options(const std::string& model, const std::string& distribution
   options.metric = parse_fit_metric(metric);
   if (stride < 1 || stride > 45) throw InputError("stride must be an integer from 1 to 45, got " + std::to_string(stride));
   options.stride = stride;
-  if (!init.is_none()) options.init = parse_json_text(json_text_of(init), "--init");
+  if (!init.is_none()) options.init = parse_json_text(json_text_of(init), "init");
   check_fit_options(options);
   return options;
 }
@@ -847,7 +848,8 @@ A material of SPEC §2, from its JSON text or a dict with the same content.
 
 `wavelength` (nm, 360 to 830): the material at that one wavelength (spectral mode, as
 `gonio eval --wavelength`); colours then have one channel instead of three.
-A bad description raises ValueError with the message `gonio eval --bsdf` prints.
+A bad description raises ValueError with the message `gonio eval --bsdf` prints, the
+source named `Material` instead of `--bsdf`.
 Directions are in the local shading frame (z = the normal), pointing away from the
 surface; they need not be unit length (each row is normalised in double, as the CLI does).
 )doc")

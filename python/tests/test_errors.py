@@ -1,5 +1,6 @@
 """Bad input raises ValueError; a bad material's message is the one the CLI prints after
-"gonio: " for the same description."""
+"gonio: " for the same description, its source named after the Python side (`Material`,
+not the command line's `--bsdf`)."""
 
 import numpy as np
 import pytest
@@ -27,18 +28,34 @@ def cli_message(text):
     return err[len("gonio: "):-1]
 
 
+def python_message(cli):
+    # The CLI's message with its source, the option --bsdf, named as the Python class.
+    assert cli.startswith("--bsdf: "), cli
+    return "Material: " + cli[len("--bsdf: "):]
+
+
 @pytest.mark.parametrize("text", BAD_MATERIALS)
 def test_bad_material_raises_the_cli_message(text):
     with pytest.raises(ValueError) as e:
         gonio.Material(text)
-    assert str(e.value) == cli_message(text)
+    assert str(e.value) == python_message(cli_message(text))
+    assert "--bsdf" not in str(e.value)
 
 
 def test_bad_dict_raises_the_cli_message():
     d = {"type": "roughconductor", "material": "Au", "alpha": 0}
     with pytest.raises(ValueError) as e:
         gonio.Material(d)
-    assert str(e.value) == cli_message('{"type": "roughconductor", "material": "Au", "alpha": 0}')
+    assert str(e.value) == python_message(cli_message('{"type": "roughconductor", "material": "Au", "alpha": 0}'))
+
+
+def test_error_names_the_python_side_not_the_option():
+    # Issue 55: a Python user typed no --bsdf; at a wavelength too, and in gonio.subsurface.
+    for kwargs in ({}, {"wavelength": 550}):
+        with pytest.raises(ValueError, match=r"^Material: roughconductor: unknown parameter 'alpha_u'"):
+            gonio.Material('{"type":"roughconductor","alpha_u":0.3}', **kwargs)
+    with pytest.raises(ValueError, match=r"^description: subsurface needs a material of type"):
+        gonio.subsurface('{"type":"diffuse"}')
 
 
 def test_a_good_dict_is_the_same_material_as_its_text():
@@ -53,7 +70,7 @@ def test_a_good_dict_is_the_same_material_as_its_text():
 def test_nul_byte_in_material_text_is_refused():
     # The JSON parser took a NUL for the end of the text and ignored what followed it.
     for text in ['{"type":"diffuse"}\x00', '{"type":"diffuse"}\x00{"type":"mirror","x":1}']:
-        with pytest.raises(ValueError, match=r"^--bsdf: a NUL byte at byte offset 18 "):
+        with pytest.raises(ValueError, match=r"^Material: a NUL byte at byte offset 18 "):
             gonio.Material(text)
 
 
@@ -197,5 +214,5 @@ def test_tiny_media_are_refused_with_their_range():
     assert status == 2 and out == ""
     with pytest.raises(ValueError) as e:
         gonio.subsurface(text)
-    assert str(e.value) == err[len("gonio: "):-1]
+    assert str(e.value) == "description" + err[len("gonio: --bsdf"):-1]
     assert "transport coefficient" in str(e.value)

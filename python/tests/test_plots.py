@@ -56,6 +56,18 @@ def test_albedo_plot_labels_the_light_side_and_does_not_clip(tmp_path):
     assert not any("light-side" in line.get_label() for line in fig2.axes[0].get_lines())
 
 
+def test_lobe_3d_has_equal_axes():
+    # An anisotropic lobe (α 0.05 along x, 0.5 along y) must look it: the three axes show
+    # one scale (equal ranges, a cubic box).
+    m = gonio.Material({"type": "roughconductor", "material": "Au", "alpha": [0.05, 0.5]})
+    fig = plot.lobe(m, thetas=(30,), surface3d=True)
+    ax = fig.axes[0]
+    spans = [hi - lo for lo, hi in (ax.get_xlim(), ax.get_ylim(), ax.get_zlim())]
+    assert spans[0] > 0 and np.allclose(spans, spans[0], rtol=1e-9), spans
+    assert np.allclose(ax.get_box_aspect() / ax.get_box_aspect()[0], 1), ax.get_box_aspect()
+    plot.plt.close(fig)
+
+
 def test_module_command_writes_svg(tmp_path):
     out = str(tmp_path / "fresnel.svg")
     p = subprocess.run([sys.executable, "-m", "gonio.plot", "fresnel", "--eta", "0.667", "-o", out],

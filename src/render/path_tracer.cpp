@@ -14,6 +14,7 @@
 #include "gonio/polarization/polarized_bxdf.h"
 #include "gonio/render/subsurface_probe.h"
 #include "gonio/render/subsurface_walk.h"
+#include "gonio/render/walk_nee_plane.h"
 #include "gonio/subsurface/diffusion.h"
 #include "gonio/subsurface/guided_walk.h"
 #include "gonio/subsurface/openpbr_interior.h"
@@ -354,31 +355,6 @@ struct WalkNeePlane {
 };
 
 namespace {
-
-// Snell's law through a plane of normal n, from d inside (index eta relative to outside)
-// to ω outside, and |dω/dd|; false where d does not leave (heads in, or total internal
-// reflection).
-bool walk_plane_out(const Vec3& d, const Vec3& n, Float eta, Vec3& omega, Float& jacobian) {
-  const Float cos_d = dot(d, n);
-  if (!(cos_d > 0)) return false;
-  const Float sin2_o = eta * eta * std::max(Float(0), 1 - cos_d * cos_d);
-  if (!(sin2_o < 1)) return false;
-  const Float cos_o = std::sqrt(1 - sin2_o);
-  if (!(cos_o > 0)) return false;
-  omega = normalize((d - n * cos_d) * eta + n * cos_o);
-  jacobian = eta * eta * cos_d / cos_o;
-  return true;
-}
-
-// The inverse: the d inside that leaves as ω; false where none does.
-bool walk_plane_in(const Vec3& omega, const Vec3& n, Float eta, Vec3& d) {
-  const Float cos_o = dot(omega, n);
-  if (!(cos_o > 0)) return false;
-  const Float sin2_d = std::max(Float(0), 1 - cos_o * cos_o) / (eta * eta);
-  if (!(sin2_d < 1)) return false;
-  d = normalize((omega - n * cos_o) / eta + n * std::sqrt(1 - sin2_d));
-  return true;
-}
 
 // Where the ray o + t·dir (t > 0) meets an area light's surface: the point and the
 // light's normal there. (Any crossing: the density of sample_area_light along dir does

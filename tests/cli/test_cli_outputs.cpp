@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <fstream>
 #include <string>
 #include <vector>
 
@@ -82,18 +83,55 @@ TEST(CliOutputErrors, FailedWriteIsOneLineAndLeavesNothingBehind) {
   for (const Case& c : cases) {
     SCOPED_TRACE(c.args[0] + " -> " + c.target);
     const RunResult r = run_gonio_limited(c.args, {c.limit, 0});
-    // measure's progress lines come first on stderr; the error is the one line after them.
+    // The error is the only line on stderr: no progress when stderr is not a terminal
+    // (SPEC §3), measure's included.
     EXPECT_EQ(r.status, 2) << describe(r);
     EXPECT_EQ(r.out, "") << describe(r);
     const std::vector<std::string> lines = split_lines(r.err);
-    ASSERT_FALSE(lines.empty()) << describe(r);
-    for (size_t i = 0; i + 1 < lines.size(); ++i) EXPECT_EQ(lines[i].rfind("measuring: ", 0), 0u) << describe(r);
+    ASSERT_EQ(lines.size(), 1u) << describe(r);
     EXPECT_EQ(lines.back().rfind("gonio: " + c.target + ": ", 0) == 0 ||
                   lines.back().rfind("gonio: --json " + c.target + ": ", 0) == 0,
               true)
         << describe(r);
     EXPECT_TRUE(contains_ci(lines.back(), "too large")) << describe(r);
     EXPECT_EQ(dir.names(), std::vector<std::string>{}) << "a partial file or a temporary was left behind";
+  }
+}
+
+// SPEC §3: a scene without lights renders, with one warning line; progress only on a
+// terminal (here stderr is a pipe: the closing line alone); an option given an empty
+// value is refused, not taken as absent.
+TEST(CliRenderMessages, NoLightsWarnsAndAPipeGetsNoProgress) {
+  ScratchDir dir;
+  const auto scene = [&](const std::string& name, const std::string& lights) {
+    const std::string path = dir.path(name);
+    std::ofstream(path) << R"({"camera": {"position": [0, 0, 4], "look_at": [0, 0, 0], "width": 8, "height": 6},
+      "render": {"spp": 1}, "shapes": [{"type": "sphere", "center": [0, 0, 0], "radius": 1,
+      "material": {"type": "diffuse"}}])" << lights << "}";
+    return path;
+  };
+  const std::string dark = scene("dark.json", ""), lit = scene("lit.json", R"(, "environment": {"radiance": 1})");
+  const std::string emissive = scene("glow.json", R"(, "lights": [{"type": "sphere", "center": [0, 3, 0], "radius": 0.5, "radiance": 0}])");
+  const std::string image = dir.path("out.png");
+  const RunResult r = run_gonio({"render", dark, "-o", image});
+  ASSERT_EQ(r.status, 0) << describe(r);
+  const std::vector<std::string> lines = split_lines(r.err);
+  ASSERT_EQ(lines.size(), 2u) << describe(r);
+  EXPECT_EQ(lines[0], "warning: the scene has no lights; the image is black");
+  EXPECT_EQ(lines[1].rfind("rendered 8x6 at 1 spp", 0), 0u) << describe(r);
+  // Lit by the environment, or holding a light (even a dark one): no warning, and the
+  // closing line alone (a pipe gets no progress).
+  for (const std::string& s : {lit, emissive}) {
+    const RunResult ok = run_gonio({"render", s, "-o", image});
+    ASSERT_EQ(ok.status, 0) << describe(ok);
+    const std::vector<std::string> one = split_lines(ok.err);
+    ASSERT_EQ(one.size(), 1u) << describe(ok);
+    EXPECT_EQ(one[0].rfind("rendered 8x6 at 1 spp", 0), 0u) << describe(ok);
+  }
+  // A refusal's error line is alone: the warning is not printed before it.
+  for (const char* option : {"--sampler", "--light-sampler"}) {
+    SCOPED_TRACE(option);
+    expect_bad_input(run_gonio({"render", dark, "-o", image, option, ""}), {option, "got \"\""});
   }
 }
 

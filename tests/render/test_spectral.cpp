@@ -149,6 +149,31 @@ TEST(SpectralRender, WhiteFurnaceEnvironmentMap) {
   expect_furnace(render_text(scene), d65_white(), "diffuse, white environment map");
 }
 
+// A second guard of the map's D65, independent of the furnace (no surface, no BSDF, no
+// next-event estimation): the camera sees a map of one coloured texel value directly. Its
+// spectrum m S(rgb/m) D65 is made to give back rgb in linear sRGB (Jakob & Hanika 2019 §5:
+// the sigmoid S fits the reflectance rgb/m under D65, whose white is (1, 1, 1) here),
+// so the image is the texel's colour; the texel upsampled without D65 (an equal-energy
+// illuminant) would render it 10–20 % redder (issue 56).
+TEST(SpectralRender, EnvironmentMapSeenDirectlyKeepsItsColour) {
+  const gonio::test::ScratchDir dir("gonio_spectral_env_direct");
+  const std::array<double, 3> colour = {0.7, 0.45, 0.25};
+  Image map(8, 4);
+  for (int y = 0; y < map.height(); ++y)
+    for (int x = 0; x < map.width(); ++x) map.at(x, y) = Color(Float(colour[0]), Float(colour[1]), Float(colour[2]));
+  const std::string path = dir.path("orange.exr");
+  write_exr(map, path);
+  const Image img = render_text(R"({"camera": {"position": [0, 0, 0], "look_at": [0, 0, -1], "fov": 60, "width": 16, "height": 16},
+      "render": {"spectral": true, "spp": )" + std::to_string(spp(64)) + R"(, "seed": 3}, "shapes": [],
+      "environment": {"file": ")" + path + R"("}})");
+  for (int c = 0; c < 3; ++c) {
+    const Stat st = block_stat({img}, 0, 0, 16, 16, c);
+    // 5 standard errors, plus 1 % for the sigmoid fit's round trip.
+    EXPECT_NEAR(st.mean, colour[size_t(c)], 5 * st.se + 0.01 * colour[size_t(c)]) << "channel " << c << " (se " << st.se << ")";
+    EXPECT_LT(st.se, 0.02 * colour[size_t(c)]) << "too noisy to test anything";
+  }
+}
+
 // A dispersive glass sphere (SF11, named glass) in the furnace: a closed non-absorbing
 // dielectric returns the environment's radiance at every wavelength; refraction drops the
 // secondary wavelengths (terminate_secondary) and the image must stay unbiased.

@@ -119,6 +119,8 @@ INSTANTIATE_TEST_SUITE_P(
       R"({"type":"conductor","fresnel":"f82","f0":0,"f82":0})",
       R"({"type":"conductor","fresnel":"f82","f0":1,"f82":0})",
       R"({"type":"roughconductor","alpha":0.3,"fresnel":"f82","f0":[0.95,0.64,0.54],"f82":[0.9,0.6,0.3]})",
+      // F touches 0 at μ̄ = 1/7: the weight's F must be taken at f()'s cosine (issue 56).
+      R"({"type":"roughconductor","alpha":0.3,"fresnel":"f82","f0":1,"f82":0})",
       R"({"type":"roughconductor","alpha":0.6,"fresnel":"f82","f0":[1,0.5,0.02],"f82":[0,0.5,1],"multiscatter":true})",
       R"({"type":"roughconductor","alpha":0.0005,"fresnel":"f82","f0":0.5,"f82":0.2})",
       R"({"type":"phong","kd":0.5,"ks":0.5,"exponent":1})",

@@ -124,16 +124,21 @@ struct RoughConductorBxDFT {
     // D of the half vector of the returned pair, computed as pdf() does: for a narrow lobe
     // D(wm) is steep enough that the rounding of wi alone would move it by more than 1e-4.
     const Vec3 h = wo + wi;
-    const Float pdf = distribution.D_unnormalized<kType>(h, length_squared(h)) / (2 * (to + wo.z));
+    const Float h2 = length_squared(h);
+    const Float pdf = distribution.D_unnormalized<kType>(h, h2) / (2 * (to + wo.z));
     if (!(pdf > 0)) return std::nullopt;
     // weight = f cos θi / pdf = F G2 / G1(wo) (Heitz & d'Eon 2014: the weight of
     // visible-normal sampling is the Fresnel term times the shadowing of wi given wo), with
-    // G2/G1 in the T form of smith_t; D cancels, and F is well-conditioned in wo·wm.
+    // G2/G1 in the T form of smith_t; D cancels. F is taken at the cosine eval() takes,
+    // wo·wm = |wo + wi|/2 of the returned pair, not at √(q wo·m) of the sampler's normal:
+    // the same number in rounding. F itself can be ill-conditioned in it: F82-tint at
+    // f82 = 0, F0 = 1 touches zero at μ̄ = 1/7 (F = 1 − μ (1 − μ)⁶/(μ̄ (1 − μ̄)⁶), a double
+    // root; Hoffman 2023, fresnel.h), where dF/F = 2 dμ/(μ − μ̄), so two roundings of one
+    // μ gave a weight 28 % off f cos θi / pdf (issue 56).
     const Float ti = distribution.smith_t<kType>(wi);
-    const Float cos2_om = std::max(Float(0), q * om);
-    const Float cos_om = std::sqrt(cos2_om);
+    const Float cos_h = std::min(std::sqrt(h2) / 2, Float(1));
     const Vec3 wi_actual{wi.x, wi.y, flip ? -wi.z : wi.z};
-    const C weight = fresnel_factor<C>(fresnel(cos_om, cos2_om), [&] { return fresnel.mueller(cos_om); },
+    const C weight = fresnel_factor<C>(fresnel(cos_h, std::min(h2 / 4, Float(1))), [&] { return fresnel.mueller(cos_h); },
                                        Vec3{wo.x, wo.y, flip ? -wo.z : wo.z}, wi_actual) *
                      (wi.z * (to + wo.z) / (wi.z * to + wo.z * ti));
     return BSDFSampleT<C>{wi_actual, weight, pdf, false, Lobe::Reflection, 1};
