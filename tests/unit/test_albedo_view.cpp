@@ -171,5 +171,20 @@ TEST(ViewAlbedo, ReciprocalLayeringMakesTheCoatReciprocal) {
   EXPECT_FALSE(fuzz.nonreciprocal_reason().empty());
 }
 
+// Issue 56 §2: a thin film of extreme index and thickness over a white base, very near
+// grazing. The film changes the rough specular lobe's albedo fastest there; read from the
+// film table's first node (μ = 1/128), the diffuse under it took the difference as its own
+// (albedo 1.0055 at 89.95° with the default base colour, 1.009 with a white one). A white
+// furnace may not exceed 1 (the allowance: 4σ and the tables' 0.1 %).
+TEST(ViewAlbedo, ExtremeThinFilmHoldsTheFurnaceAtGrazing) {
+  const BxDF m = parse_material(
+      R"({"type":"openpbr","base_color":1,"thin_film_weight":1,"thin_film_ior":10000,"thin_film_thickness":10})");
+  for (double theta : {89.0, 89.8, 89.95, 89.99, 90.0}) {
+    SCOPED_TRACE(theta);
+    const AlbedoEstimate e = directional_albedo(m, view_at(theta), {200'000, 7});
+    for (int c = 0; c < 3; ++c) EXPECT_LE(double(e.albedo[c]), 1 + 4 * double(e.se_albedo[c]) + 1e-3) << c;
+  }
+}
+
 }  // namespace
 }  // namespace gonio

@@ -168,12 +168,18 @@ inline Glossy glossy(const MicrofacetDistribution& d, const Vec3& wo, const Vec3
 // parameters) instead of solving again: a view of that model's tables (nothing is copied
 // until make() takes what it needs; spectral mode makes a model per shading point).
 constexpr int kNormNodes = 64;
+// The film tables hold one more node, at a cosine this close to grazing: the film changes
+// the rough lobe's albedo fastest there (issue 56: from the first node, μ = 1/128, to
+// θ = 89.95° the change grew by 0.009 at a 10 µm film of index 10⁴, and the diffuse under it
+// took that as its own: albedo 1.0055).
+constexpr int kFilmNodes = kNormNodes + 1;
+constexpr Float kFilmGrazingMu = Float(1e-5);
 // Also the averages that make() integrates (2048 panels each, some 13 µs): the coat's and
 // the bare specular layer's Ē, and the glass's compensation lobe.
 struct Solved {
   const std::array<Float, kNormNodes>* diff_b = nullptr;
-  const std::array<Float, kNormNodes>* film_dE = nullptr;
-  const std::array<Color, kNormNodes>* film_dE_rgb = nullptr;  // per RGB channel, with a film
+  const std::array<Float, kFilmNodes>* film_dE = nullptr;
+  const std::array<Color, kFilmNodes>* film_dE_rgb = nullptr;  // per RGB channel, with a film
   const std::array<Color, kNormNodes>* diff_b_rgb = nullptr;
   const Float* coat_avg = nullptr;
   const Float* spec_avg_bare = nullptr;
@@ -188,6 +194,20 @@ T at_nodes(const std::array<T, kNormNodes>& table, Float mu) {
   const int i = std::min(int(x), kNormNodes - 2);
   const Float t = x - Float(i);
   return table[size_t(i)] * (1 - t) + table[size_t(i + 1)] * t;
+}
+// A film table (nodes μ_j, then kFilmGrazingMu) read at μ: below the first node, linearly
+// between the grazing node and it.
+template <typename T>
+T at_film_nodes(const std::array<T, kFilmNodes>& table, Float mu) {
+  constexpr Float first = Float(0.5) / kNormNodes;
+  if (mu >= first) {
+    const Float x = std::min(mu * kNormNodes - Float(0.5), Float(kNormNodes - 1));
+    const int i = std::min(int(x), kNormNodes - 2);
+    const Float t = x - Float(i);
+    return table[size_t(i)] * (1 - t) + table[size_t(i + 1)] * t;
+  }
+  const Float t = std::clamp((mu - kFilmGrazingMu) / (first - kFilmGrazingMu), Float(0), Float(1));
+  return table[size_t(kNormNodes)] * (1 - t) + table[0] * t;
 }
 
 enum Component : int { kPass, kFuzz, kCoat, kMetal, kSpec, kDiffuse, kDiffuseT, kGlass, kLobes };
@@ -254,9 +274,10 @@ struct OpenPbrBxDFT {
   std::array<Float, kNormNodes> diff_b{};
   // A thin film's change of the rough specular lobe's albedo at the same cosines (unused
   // without a film or for a smooth layer, whose film albedo is exact: solve_film_albedo()).
-  std::array<Float, kNormNodes> film_dE{};
+  std::array<Float, openpbr::kFilmNodes> film_dE{};
   U film_norm_ratio{Float(1)};  // (1 − Ē_s)/(1 − Ē_c) per channel with a film (make())
-  std::array<Color, kNormNodes> film_dE_rgb{}, diff_b_rgb{};
+  std::array<Color, openpbr::kFilmNodes> film_dE_rgb{};
+  std::array<Color, kNormNodes> diff_b_rgb{};
   Float spec_avg_bare = 0;       // Ē_s without the film
   openpbr::Solved solved() const {
     return {&diff_b,    &film_dE,       &film_dE_rgb,      &diff_b_rgb,
@@ -637,7 +658,7 @@ struct OpenPbrBxDFT {
     if (!(film_w > 0)) return U(0);
     if constexpr (std::is_same_v<U, Color>) {
       if (!spec_dist.effectively_smooth()) {
-        const Color d = openpbr::at_nodes(film_dE_rgb, mu);
+        const Color d = openpbr::at_film_nodes(film_dE_rgb, mu);
         return (d - Color(d.average())) * film_w;
       }
     }
@@ -676,7 +697,7 @@ struct OpenPbrBxDFT {
       const Float R = film.reflectance(mu, U(spec_eta), U(0)).average();
       return std::clamp(e * (1 - film_w) + R * film_w, Float(0), Float(1));
     }
-    return std::clamp(e + film_w * openpbr::at_nodes(film_dE, mu), Float(0), Float(1));
+    return std::clamp(e + film_w * openpbr::at_film_nodes(film_dE, mu), Float(0), Float(1));
   }
   // ΔE(μ) = ∫ D G2 / (4 μo μi) (R_film(h·wo) − F(h·wo)) μi dωi at the nodes μ_j: the film's
   // change of the rough lobe's albedo (Walter et al. 2007 eq. 20 with the film's Fresnel),
@@ -686,8 +707,8 @@ struct OpenPbrBxDFT {
     MicrofacetDistribution d = spec_dist;
     d.alpha_x = d.alpha_y = iso_alpha();
     constexpr int kGrid = 16;
-    for (int j = 0; j < kNormNodes; ++j) {
-      const Float mu = (Float(j) + Float(0.5)) / kNormNodes;
+    for (int j = 0; j < openpbr::kFilmNodes; ++j) {
+      const Float mu = j < kNormNodes ? (Float(j) + Float(0.5)) / kNormNodes : openpbr::kFilmGrazingMu;
       const Vec3 wo{std::sqrt(1 - mu * mu), 0, mu};
       const Float g1 = d.G1(wo);
       U acc(Float(0));
