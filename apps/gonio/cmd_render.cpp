@@ -128,8 +128,9 @@ void run_render(const RenderArgs& a) {
   out->reserve(scene.camera.width, scene.camera.height, scene.settings.polarized ? 4 : 1);
   if (dop_out) dop_out->reserve(scene.camera.width, scene.camera.height);
 
-  // After every refusal (SPEC §3: a refusal's error line is alone on stderr), before the work.
-  if (!has_light(scene)) std::fprintf(stderr, "warning: the scene has no lights; the image is black\n");
+  // Printed once the image is written (SPEC §3: a refusal's error line is alone on stderr,
+  // and the renderer and the write may still refuse).
+  const bool no_lights = !has_light(scene);
   const bool tty = isatty(STDERR_FILENO) == 1;
   render::RenderOptions options;
   options.threads = a.threads;
@@ -179,6 +180,7 @@ void run_render(const RenderArgs& a) {
     out->write(image, png);  // a polarized PNG shows S0, the intensity through the polarizer
   if (dop_out) dop_out->write_png(render::dop_image(stokes), {0, render::ToneMap::Clamp});
   const unsigned threads = a.threads > 0 ? static_cast<unsigned>(a.threads) : std::max(1u, std::thread::hardware_concurrency());
+  if (no_lights) std::fprintf(stderr, "warning: the scene has no lights; the image is black\n");
   if (stats.stopped)
     std::fprintf(stderr, "interrupted by %s: ", sig_name);
   const char* mode = scene.settings.spectral && scene.settings.polarized ? " (spectral, polarized)"

@@ -60,10 +60,6 @@ const plot = (() => {
       ctx.setLineDash([2, 3]);
       ctx.beginPath(); ctx.moveTo(X(m.x), T); ctx.lineTo(X(m.x), T + h); ctx.stroke();
       ctx.setLineDash([]);
-      ctx.fillStyle = m.color || "#555";
-      const right = X(m.x) > L + 0.6 * w;  // labels near the right edge run leftwards
-      ctx.textAlign = right ? "right" : "left";
-      ctx.fillText(m.label, X(m.x) + (right ? -3 : 3), T + h - 6 - 14 * (m.row || 0));
     }
     for (const s of opts.series) {
       ctx.strokeStyle = s.color || INK;
@@ -73,6 +69,19 @@ const plot = (() => {
       s.x.forEach((x, i) => (i ? ctx.lineTo(X(x), Y(s.y[i])) : ctx.moveTo(X(x), Y(s.y[i]))));
       ctx.stroke();
     }
+    ctx.setLineDash([]);
+    // The markers' labels over the curves, one row each (18 px apart) on a light backing,
+    // so that neither two labels nor a label and a curve run into each other.
+    for (const m of opts.markers || []) {
+      const right = X(m.x) > L + 0.6 * w;  // labels near the right edge run leftwards
+      const x = X(m.x) + (right ? -3 : 3), y = T + h - 8 - 18 * (m.row || 0);
+      const tw = ctx.measureText(m.label).width;
+      ctx.fillStyle = "rgba(255, 255, 255, 0.85)";
+      ctx.fillRect(right ? x - tw - 2 : x - 2, y - 11, tw + 4, 15);
+      ctx.fillStyle = m.color || "#555";
+      ctx.textAlign = right ? "right" : "left";
+      ctx.fillText(m.label, x, y);
+    }
     ctx.restore();
     ctx.setLineDash([]);
     ctx.lineWidth = 1;
@@ -81,6 +90,11 @@ const plot = (() => {
     let ly = T + 14, widest = 0;
     for (const s of opts.series) if (s.label) widest = Math.max(widest, ctx.measureText(s.label).width);
     const lx = L + w - widest - 36;
+    const entries = new Set(opts.series.filter((s) => s.label).map((s) => s.label)).size;
+    if (entries) {  // a light backing, so that the curves under the legend don't cross its text
+      ctx.fillStyle = "rgba(255, 255, 255, 0.85)";
+      ctx.fillRect(lx - 4, T + 2, widest + 36, 15 * entries + 2);
+    }
     ctx.textAlign = "left";
     for (const s of opts.series) {
       if (!s.label || seen.has(s.label)) continue;
