@@ -307,6 +307,33 @@ def distribution_of(mat):
     return Microfacet(mat.get("distribution", "ggx"), ax, ay)
 
 
+def _albedo_E_theta_integral(mf, wo, ph, width, n_t):
+    """The θm integral of albedo_E at the normals' azimuth φm = ph: up to the cut-off θm where
+    wi.z = 0 (found by bisection: wi.z > 0 at θm = 0, < 0 at π/2), by Gauss–Legendre in
+    pieces split at the slope widths k·width."""
+    def wi_z(t):
+        m = sph(t, ph)
+        return 2 * dot(wo, m) * m[2] - wo[2]
+    lo, hi = 0.0, PI / 2
+    for _ in range(60):
+        mid = (lo + hi) / 2
+        if wi_z(mid) > 0: lo = mid
+        else: hi = mid
+    t_max = lo
+    cuts = sorted({0.0, t_max} | {min(t_max, math.atan(k * width)) for k in (0.5, 1, 2, 4)})
+    inner = 0.0
+    for a, b in zip(cuts, cuts[1:]):
+        if b <= a: continue
+        xs, ws = gauss_legendre(n_t, a, b)
+        for t, w in zip(xs, ws):
+            m = sph(t, ph)
+            om = dot(wo, m)
+            wi = add(scale(m, 2 * om), neg(wo))
+            if wi[2] <= 0 or om <= 0: continue
+            inner += w * math.sin(t) * mf.D(m) * mf.G2(wo, wi) * om / wo[2]
+    return inner
+
+
 def albedo_E(kind, alpha, mu, n_t=24, n_phi=48):
     """E(μ): directional albedo of the isotropic single-scattering microfacet BRDF with F = 1
     (height-correlated G2). With dωi = 4 |wo·m| dωm (Walter et al. 2007 eq. 14),
@@ -318,32 +345,12 @@ def albedo_E(kind, alpha, mu, n_t=24, n_phi=48):
     figures by running this file."""
     mf = Microfacet(kind, alpha, alpha)
     wo = (math.sqrt(max(0.0, 1 - mu * mu)), 0.0, mu)
-    def wi_z(t, ph):
-        m = sph(t, ph)
-        return 2 * dot(wo, m) * m[2] - wo[2]
     total = 0.0
     # Symmetric about φ = 0 (wo in the x–z plane): integrate φ in [0, π] and double.
     for j in range(n_phi + 1):
         ph = PI * j / n_phi
         wt = (0.5 if j in (0, n_phi) else 1.0) * (PI / n_phi)
-        lo, hi = 0.0, PI / 2
-        for _ in range(60):  # wi.z > 0 at θm = 0, < 0 at θm = π/2
-            mid = (lo + hi) / 2
-            if wi_z(mid, ph) > 0: lo = mid
-            else: hi = mid
-        t_max = lo
-        cuts = sorted({0.0, t_max} | {min(t_max, math.atan(k * alpha)) for k in (0.5, 1, 2, 4)})
-        inner = 0.0
-        for a, b in zip(cuts, cuts[1:]):
-            if b <= a: continue
-            xs, ws = gauss_legendre(n_t, a, b)
-            for t, w in zip(xs, ws):
-                m = sph(t, ph)
-                om = dot(wo, m)
-                wi = add(scale(m, 2 * om), neg(wo))
-                if wi[2] <= 0 or om <= 0: continue
-                inner += w * math.sin(t) * mf.D(m) * mf.G2(wo, wi) * om / wo[2]
-        total += wt * inner
+        total += wt * _albedo_E_theta_integral(mf, wo, ph, alpha, n_t)
     return 2 * total
 
 
@@ -352,31 +359,11 @@ def albedo_E_dir(mf, wo, n_t=24, n_phi=96):
     integral of albedo_E with the normals' azimuth φm over the whole [0, 2π) (no symmetry
     about wo's plane), the θm pieces split at the slope widths k α(φm), α(φm) = sqrt(αx²
     cos²φm + αy² sin²φm) the width of D's slopes along φm."""
-    def wi_z(t, ph):
-        m = sph(t, ph)
-        return 2 * dot(wo, m) * m[2] - wo[2]
     total = 0.0
     for j in range(n_phi):
         ph = 2 * PI * (j + 0.5) / n_phi
         a_ph = math.sqrt(math.cos(ph) ** 2 * mf.ax ** 2 + math.sin(ph) ** 2 * mf.ay ** 2)
-        lo, hi = 0.0, PI / 2
-        for _ in range(60):
-            mid = (lo + hi) / 2
-            if wi_z(mid, ph) > 0: lo = mid
-            else: hi = mid
-        t_max = lo
-        cuts = sorted({0.0, t_max} | {min(t_max, math.atan(k * a_ph)) for k in (0.5, 1, 2, 4)})
-        inner = 0.0
-        for a, b in zip(cuts, cuts[1:]):
-            if b <= a: continue
-            xs, ws = gauss_legendre(n_t, a, b)
-            for t, w in zip(xs, ws):
-                m = sph(t, ph)
-                om = dot(wo, m)
-                wi = add(scale(m, 2 * om), neg(wo))
-                if wi[2] <= 0 or om <= 0: continue
-                inner += w * math.sin(t) * mf.D(m) * mf.G2(wo, wi) * om / wo[2]
-        total += inner * (2 * PI / n_phi)
+        total += _albedo_E_theta_integral(mf, wo, ph, a_ph, n_t) * (2 * PI / n_phi)
     return total
 
 

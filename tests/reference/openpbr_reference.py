@@ -446,6 +446,20 @@ def eon_base_records(opb, rng, n):
 
 
 # --- coat over a base --------------------------------------------------------------------
+def coat_albedo_seen(opb, ac, eta_c, wo, wi, v, metal):
+    """The coat's albedo E_c that the layers below see: OpenPBR's view-dependent form,
+    E_c(v) (v = wo in radiance mode, wi in importance mode), or, with gonio's extension
+    `reciprocal_layering` (docs/openpbr.md), 1 − t_c from both directions' albedos: for a
+    diffuse base t_c = (1 − E_o)(1 − E_i)/(1 − Ē_c), for a specular one min(1 − E_o, 1 − E_i)."""
+    if not opb.get("reciprocal_layering", False):
+        return dielectric_albedo(ac, v[2], eta_c, transmit=False)
+    eo_c = dielectric_albedo(ac, wo[2], eta_c, transmit=False)
+    ei_c = dielectric_albedo(ac, wi[2], eta_c, transmit=False)
+    t_c = (min(1 - eo_c, 1 - ei_c) if metal
+           else (1 - eo_c) * (1 - ei_c) / (1 - dielectric_albedo_avg(ac, eta_c, transmit=False)))
+    return 1 - t_c
+
+
 def coat_records(opb, rng, n):
     """docs/openpbr.md "Structure" with F = 0 (SPEC-OPB "Coat", eq.
     `coat_layering_formula_with_albedo_scaling`):
@@ -485,16 +499,7 @@ def coat_records(opb, rng, n):
         wo, wi = upper_direction(rng), upper_direction(rng)
         v = wo if mode == "radiance" else wi
         A = [k ** ((1 / mu_t(wo[2]) + 1 / mu_t(wi[2])) / 2) for k in kappa]
-        if opb.get("reciprocal_layering", False):
-            # gonio's extension (docs/openpbr.md): both directions' albedos, for the diffuse
-            # (1 − E_o)(1 − E_i)/(1 − Ē_c), for a specular base min(1 − E_o, 1 − E_i).
-            eo_c = dielectric_albedo(ac, wo[2], eta_c, transmit=False)
-            ei_c = dielectric_albedo(ac, wi[2], eta_c, transmit=False)
-            t_c = (min(1 - eo_c, 1 - ei_c) if metal
-                   else (1 - eo_c) * (1 - ei_c) / (1 - dielectric_albedo_avg(ac, eta_c, transmit=False)))
-            ec = 1 - t_c
-        else:
-            ec = dielectric_albedo(ac, v[2], eta_c, transmit=False)
+        ec = coat_albedo_seen(opb, ac, eta_c, wo, wi, v, metal)
         through = [1 - C + C * a * (1 - ec) for a in A]
         fc = C * R.roughconductor_single(coat_lobe, wo, wi)[0]
         if metal:
@@ -549,16 +554,7 @@ def coat_over_specular_records(opb, rng, n):
         wo, wi = upper_direction(rng), upper_direction(rng)
         v = wo if mode == "radiance" else wi
         A = [k ** ((1 / mu_t(wo[2]) + 1 / mu_t(wi[2])) / 2) for k in kappa]
-        if opb.get("reciprocal_layering", False):
-            # gonio's extension (docs/openpbr.md): both directions' albedos, for the diffuse
-            # (1 − E_o)(1 − E_i)/(1 − Ē_c), for a specular base min(1 − E_o, 1 − E_i).
-            eo_c = dielectric_albedo(ac, wo[2], eta_c, transmit=False)
-            ei_c = dielectric_albedo(ac, wi[2], eta_c, transmit=False)
-            t_c = (min(1 - eo_c, 1 - ei_c) if metal
-                   else (1 - eo_c) * (1 - ei_c) / (1 - dielectric_albedo_avg(ac, eta_c, transmit=False)))
-            ec = 1 - t_c
-        else:
-            ec = dielectric_albedo(ac, v[2], eta_c, transmit=False)
+        ec = coat_albedo_seen(opb, ac, eta_c, wo, wi, v, metal)
         through = [1 - C + C * a * (1 - ec) for a in A]
         fc = C * R.roughconductor_single(coat_lobe, wo, wi)[0]
         fs = R.roughconductor_single(spec_lobe, wo, wi)[0]
