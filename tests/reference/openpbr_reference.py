@@ -554,7 +554,7 @@ def coat_over_specular_records(opb, rng, n):
         wo, wi = upper_direction(rng), upper_direction(rng)
         v = wo if mode == "radiance" else wi
         A = [k ** ((1 / mu_t(wo[2]) + 1 / mu_t(wi[2])) / 2) for k in kappa]
-        ec = coat_albedo_seen(opb, ac, eta_c, wo, wi, v, metal)
+        ec = coat_albedo_seen(opb, ac, eta_c, wo, wi, v, True)  # a specular lobe below: the min form
         through = [1 - C + C * a * (1 - ec) for a in A]
         fc = C * R.roughconductor_single(coat_lobe, wo, wi)[0]
         fs = R.roughconductor_single(spec_lobe, wo, wi)[0]
