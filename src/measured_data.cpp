@@ -15,8 +15,8 @@
 #include "gonio/math/fast_atan.h"
 #include "gonio/math/select.h"
 #include "gonio/math/warp.h"
-#include "gonio/measured_coverage.h"
-#include "gonio/notes.h"
+#include "gonio/merl/coverage.h"
+#include "gonio/io/notes.h"
 
 namespace gonio {
 namespace {

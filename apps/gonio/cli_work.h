@@ -11,7 +11,7 @@
 #include <string>
 
 #include "gonio/error.h"
-#include "gonio/evaluation_cost.h"
+#include "gonio/bxdf/evaluation_cost.h"
 
 namespace gonio::cli {
 

@@ -11,7 +11,7 @@
 #include "cli_work.h"
 #include "commands.h"
 #include "gonio/bxdf.h"
-#include "gonio/measured_coverage.h"
+#include "gonio/merl/coverage.h"
 #include "gonio/validate.h"
 
 #include <nlohmann/json.hpp>

@@ -25,7 +25,7 @@
 #include <cmath>
 #include <memory>
 
-#include "gonio/anisotropic_albedo.h"
+#include "gonio/bxdf/anisotropic_albedo.h"
 #include "gonio/color.h"
 #include "gonio/math/warp.h"
 #include "gonio/microfacet.h"

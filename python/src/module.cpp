@@ -34,7 +34,7 @@
 #include "gonio/material.h"
 #include "gonio/merl.h"
 #include "gonio/named_index.h"
-#include "gonio/notes.h"
+#include "gonio/io/notes.h"
 #include "gonio/reflectance.h"
 #include "gonio/spectral_material.h"
 #include "gonio/tabulate.h"

@@ -22,7 +22,7 @@
 
 #include "explore/material_request.h"
 #include "gonio/batch.h"
-#include "gonio/evaluation_cost.h"
+#include "gonio/bxdf/evaluation_cost.h"
 #include "gonio/error.h"
 #include "gonio/fresnel.h"
 #include "gonio/json_text.h"

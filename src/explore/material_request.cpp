@@ -9,7 +9,7 @@
 #include <string>
 
 #include "gonio/error.h"
-#include "gonio/evaluation_cost.h"
+#include "gonio/bxdf/evaluation_cost.h"
 #include "gonio/json_text.h"
 #include "gonio/material.h"
 

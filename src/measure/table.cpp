@@ -15,7 +15,7 @@
 
 #include "gonio/math/constants.h"
 #include "gonio/measure/merl_bins.h"
-#include "gonio/measured_coverage.h"
+#include "gonio/merl/coverage.h"
 #include "waves.h"
 
 namespace gonio::measure {
@@ -278,7 +278,7 @@ void fill_entries(TableReading& out, const TableSums& in, std::uint64_t n, doubl
         const std::size_t e = MerlTable::index(i, j, k);
         const Pool own = bin_pool(i, j, e);
         // A bin of measure 0 by merl_bins' quadrature whose centre is still above the
-        // horizon (measured_coverage.h; none is known, but the two are computed apart)
+        // horizon (merl/coverage.h; none is known, but the two are computed apart)
         // would be read by the measured model: it is pooled.
         if (!(own.measure > 0) && !merl_entry_above_horizon(i, j, k)) {
           float* f = &out.table.rgb[3 * e];

@@ -12,7 +12,7 @@
 #include "gonio/measure/gaussian_surface.h"
 #include "gonio/measure/merl_bins.h"
 #include "gonio/measure/table.h"
-#include "gonio/measured_coverage.h"
+#include "gonio/merl/coverage.h"
 #include "gonio/measured_data.h"
 #include "gonio/merl.h"
 #include "gonio/rng.h"
@@ -35,7 +35,7 @@ TEST(MerlBins, MeasuresSumToTwoHemispheres) {
   EXPECT_NEAR(total / (4 * kPiD * kPiD), 1, 1e-4);
 }
 
-// merl_entry_above_horizon (the test for a missing entry that matters, measured_coverage.h)
+// merl_entry_above_horizon (the test for a missing entry that matters, merl/coverage.h)
 // against the bins' measures, computed apart by quadrature: a bin whose centre is above
 // has positive measure, and the bins of positive measure with the centre below are those
 // the horizon cuts (a few per cent of the table).

@@ -7,7 +7,7 @@
 
 #include "../cli/run_gonio.h"
 #include "gonio/measure/merl_bins.h"
-#include "gonio/measured_coverage.h"
+#include "gonio/merl/coverage.h"
 #include "gonio/merl.h"
 
 namespace {
@@ -122,7 +122,7 @@ TEST(MeasureCli, TableFillsEveryEntryAboveTheHorizon) {
     for (int jj = 0; jj < 90; ++jj)
       for (int k = 0; k < 180; ++k) {
         // Every bin some part of which is above the horizon (positive measure), which
-        // includes every bin whose centre is (measured_coverage.h).
+        // includes every bin whose centre is (merl/coverage.h).
         const bool up = m[gonio::MerlTable::index(i, jj, k)] > 0;
         ASSERT_EQ(t.measured(i, jj, k), up) << i << " " << jj << " " << k;
         if (gonio::merl_entry_above_horizon(i, jj, k)) {

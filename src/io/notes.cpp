@@ -1,5 +1,5 @@
-// The note sink of include/gonio/notes.h.
-#include "gonio/notes.h"
+// The note sink of include/gonio/io/notes.h.
+#include "gonio/io/notes.h"
 
 #include <cstdio>
 #include <mutex>
