@@ -974,8 +974,8 @@ BxDF parse_description(const json& description, const std::string& where, int bl
     // SPEC §2: {"mtlx": "file.mtlx", "material": "NAME"}, the document's material as its
     // `openpbr` JSON, then parsed as any other; a relative path as `measured`'s file.
     for (const auto& [key, value] : description.items())
-      if (key != "mtlx" && key != "material")
-        throw InputError(at + "mtlx: unknown field '" + key + "' (a MaterialX material takes mtlx and material)");
+      if (key != "mtlx" && key != "material" && key != "uv" && key != "position")
+        throw InputError(at + "mtlx: unknown field '" + key + "' (a MaterialX material takes mtlx, material, uv and position)");
     const json& file = description["mtlx"];
     if (!file.is_string()) throw InputError(at + "mtlx: must be a file name, got " + show(file));
     std::optional<std::string> name;
@@ -983,9 +983,31 @@ BxDF parse_description(const json& description, const std::string& where, int bl
       if (!m->is_string()) throw InputError(at + "mtlx: material must be a material's name, got " + show(*m));
       name = m->get<std::string>();
     }
+    // SPEC §2: the point where the document's node graphs are evaluated (the CLI's --uv
+    // and --position), finite numbers.
+    MaterialxPoint point;
+    const auto numbers = [&](const char* key, size_t n, double* out) {
+      const auto it = description.find(key);
+      if (it == description.end()) return;
+      if (!it->is_array() || it->size() != n)
+        throw InputError(at + "mtlx: " + key + " must be an array of " + std::to_string(n) + " numbers, got " + show(*it));
+      for (size_t i = 0; i < n; ++i) {
+        if (!(*it)[i].is_number() || !std::isfinite((*it)[i].get<double>()))
+          throw InputError(at + "mtlx: " + key + " must be an array of " + std::to_string(n) + " finite numbers, got " + show(*it));
+        out[i] = (*it)[i].get<double>();
+      }
+    };
+    double uv[2] = {point.u, point.v}, pos[3] = {point.px, point.py, point.pz};
+    numbers("uv", 2, uv);
+    numbers("position", 3, pos);
+    point.u = uv[0];
+    point.v = uv[1];
+    point.px = pos[0];
+    point.py = pos[1];
+    point.pz = pos[2];
     std::filesystem::path path = file.get<std::string>();
     if (path.is_relative() && !base_dir.empty()) path = std::filesystem::path(base_dir) / path;
-    const json produced = materialx_file_to_json(path.string(), name);
+    const json produced = materialx_file_to_json(path.string(), name, nullptr, point);
     return parse_description(produced, at + path.string(), blend_depth, spectra, base_dir);
   }
   const auto it = description.find("type");

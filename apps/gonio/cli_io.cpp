@@ -17,6 +17,8 @@
 #include "gonio/json_text.h"
 #include "gonio/material.h"
 
+#include <nlohmann/json.hpp>
+
 namespace gonio::cli {
 
 namespace {
@@ -50,15 +52,38 @@ BsdfText read_bsdf_arg(const std::string& arg) {
   }
   return {arg, "--bsdf"};
 }
+
+// The values of --uv and --position, when given (one command runs per process).
+std::vector<double> g_uv, g_position;
+
+// A {"mtlx": ...} material's text with the point options added; any other text as it is
+// (the parser then reports its own errors).
+BsdfText with_point(BsdfText b) {
+  if (g_uv.empty() && g_position.empty()) return b;
+  nlohmann::json j = nlohmann::json::parse(b.text, nullptr, false);
+  if (!j.is_object() || !j.contains("mtlx")) return b;
+  if (!g_uv.empty()) j["uv"] = g_uv;
+  if (!g_position.empty()) j["position"] = g_position;
+  b.text = j.dump();
+  return b;
+}
 }  // namespace
 
+void add_point_options(CLI::App& cmd) {
+  cmd.add_option("--uv", g_uv, "U V: texture coordinates where a MaterialX material's graph is evaluated (default 0.5 0.5)")
+      ->expected(2);
+  cmd.add_option("--position", g_position,
+                 "X Y Z: the position where a MaterialX material's graph is evaluated (default 0 0 0)")
+      ->expected(3);
+}
+
 BxDF load_bsdf(const std::string& arg) {
-  const BsdfText b = read_bsdf_arg(arg);
+  const BsdfText b = with_point(read_bsdf_arg(arg));
   return parse_material(b.text, b.source);
 }
 
 MaterialWithSpectra load_bsdf_with_spectra(const std::string& arg) {
-  const BsdfText b = read_bsdf_arg(arg);
+  const BsdfText b = with_point(read_bsdf_arg(arg));
   return parse_material_with_spectra(b.text, b.source);
 }
 

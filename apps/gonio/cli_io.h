@@ -27,6 +27,11 @@ BxDF load_bsdf(const std::string& arg);
 // The same material with its spectra recorded (spectral mode: --wavelength).
 MaterialWithSpectra load_bsdf_with_spectra(const std::string& arg);
 
+// --uv U V and --position X Y Z (SPEC §2): where a MaterialX material's node graphs are
+// evaluated. Given, they are added to a --bsdf of the form {"mtlx": ...} as its "uv" and
+// "position" before load_bsdf* parse it; other materials do not vary and ignore them.
+void add_point_options(CLI::App& cmd);
+
 // --wavelength NM (SPEC §1 "Spectral mode"): evaluate at one wavelength in nanometres.
 // The option is read as text so that the error names it and the value as typed.
 CLI::Option* add_wavelength_option(CLI::App& cmd, std::string& text);

@@ -107,6 +107,7 @@ void register_albedo(CLI::App& app) {
       "albedo for wo at --theta (and --phi; 90 reports the limit), or their cosine-weighted average with "
       "--hemispherical; a model that is not reciprocal adds the light's (reflectance_light, transmittance_light)");
   cmd->add_option("--bsdf", args->bsdf, "material JSON text, or @path to a file holding it")->required();
+  add_point_options(*cmd);
   auto* theta = cmd->add_option("--theta", args->theta, "polar angle of wo in degrees, [0, 90]")
                      ->check(decimal_number());
   auto* range = cmd->add_option("--theta-range", args->theta_range,

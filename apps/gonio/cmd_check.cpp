@@ -90,6 +90,7 @@ void register_check(CLI::App& app) {
       "Validate a material: finite, reciprocity, energy, chi2, pdf_integral, consistency, isotropy, "
       "linearity, weights. Exit 0 when all hold, 1 otherwise");
   cmd->add_option("--bsdf", args->bsdf, "material JSON text, or @path to a file holding it")->required();
+  add_point_options(*cmd);
   cmd->add_flag("--json", args->json, "print one JSON object instead of the table");
   cmd->add_option("--seed", args->seed, "random seed, 0 to 2147483647 (default 1)")
       ->transform(decimal_in_range(0, kMaxSeed));

@@ -67,6 +67,7 @@ void register_eval(CLI::App& app) {
       "Evaluate f (1/sr, no cosine) and pdf for lines 'wo_x wo_y wo_z wi_x wi_y wi_z' on stdin; "
       "prints {\"f\":[r,g,b],\"pdf\":p} per line");
   cmd->add_option("--bsdf", args->bsdf, "material JSON text, or @path to a file holding it")->required();
+  add_point_options(*cmd);
   add_mode_option(*cmd, args->mode);
   auto* wavelength = add_wavelength_option(*cmd, args->wavelength);
   cmd->add_flag("--polarized", args->polarized,

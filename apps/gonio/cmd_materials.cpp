@@ -5,13 +5,16 @@
 #include <algorithm>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
 #include "cli_io.h"
 #include "commands.h"
 #include "gonio/io/materialx.h"
+#include "gonio/json_text.h"
 #include "gonio/material.h"
 #include "gonio/material_types.h"
 #include "gonio/metals.h"
@@ -23,6 +26,7 @@ struct MaterialsArgs {
   std::string type;
   bool markdown = false;
   std::string from_mtlx, material;  // --from-mtlx FILE [--material NAME]
+  bool list = false;                 // --list: the document's surface names
 };
 
 std::string join_names(const std::vector<std::string_view>& names, std::string_view quote = "") {
@@ -131,17 +135,37 @@ std::string describe_type(const MaterialTypeSpec& t) {
 }
 
 // --from-mtlx: the document's material as gonio JSON (SPEC §3), checked by the material
-// parser where this build has the openpbr type.
+// parser; with several surfaces and no --material, each on its line (all checked before
+// any is printed); --list: the surfaces' names, one per line.
 void print_from_mtlx(const MaterialsArgs& a, bool material_given) {
   if (a.markdown || !a.type.empty()) throw InputError("materials: --from-mtlx takes no TYPE or --markdown");
-  std::string note;  // the inputs clamped into the model's ranges, if any
-  const nlohmann::json j =
-      materialx_file_to_json(a.from_mtlx, material_given ? std::optional<std::string>(a.material) : std::nullopt, &note);
-  if (find_material_type("openpbr")) material_from_json(j, a.from_mtlx);
-  std::cout << j.dump() << "\n";
-  // Printed only once the material is accepted: on a refusal the error is the only line
-  // on stderr (SPEC §3).
-  if (!note.empty()) std::cerr << note << "\n";
+  // Read once: the path may be a FIFO (docs/materialx.md, "Reading the file").
+  const std::string text = read_text_file(a.from_mtlx, kMaxMaterialxFileBytes, "a MaterialX document");
+  if (a.list) {
+    if (material_given) throw InputError("materials: --list prints every surface's name; give no --material with it");
+    for (const std::string& n : materialx_surface_names(text, a.from_mtlx)) std::cout << n << "\n";
+    return;
+  }
+  std::vector<std::optional<std::string>> names;
+  if (material_given) {
+    names.emplace_back(a.material);
+  } else {
+    const std::vector<std::string> all = materialx_surface_names(text, a.from_mtlx);
+    if (all.size() > 1) names.assign(all.begin(), all.end());
+    else names.emplace_back(std::nullopt);  // the only one, or the reader's "no surface"
+  }
+  std::vector<std::string> lines, notes;
+  for (const auto& name : names) {
+    std::string note;  // the inputs clamped into the model's ranges, what was ignored
+    const nlohmann::json j = materialx_to_json(text, a.from_mtlx, name, &note);
+    material_from_json(j, a.from_mtlx + (name ? ": " + *name : std::string()));
+    lines.push_back(j.dump());
+    if (!note.empty()) notes.push_back(note);
+  }
+  for (const std::string& l : lines) std::cout << l << "\n";
+  // Printed only once every material is accepted: on a refusal the error is the only
+  // line on stderr (SPEC §3).
+  for (const std::string& n : notes) std::cerr << n << "\n";
 }
 
 void run_materials(const MaterialsArgs& a) {
@@ -169,9 +193,10 @@ void register_materials(CLI::App& app) {
   cmd->add_option("TYPE", args->type, "a material type, e.g. roughconductor");
   cmd->add_flag("--markdown", args->markdown, "print docs/materials.md");
   auto* mtlx = cmd->add_option("--from-mtlx", args->from_mtlx,
-                               "print the gonio JSON (openpbr) of a MaterialX document's material (docs/materialx.md)");
+                               "print the gonio JSON of a MaterialX document's surface(s) (docs/materialx.md)");
   auto* name = cmd->add_option("--material", args->material, "the document's material to read (default: its only one)")
                    ->needs(mtlx);
+  cmd->add_flag("--list", args->list, "with --from-mtlx: the document's surface names, one per line")->needs(mtlx);
   cmd->callback([args, mtlx, name] {
     if (mtlx->count()) {
       print_from_mtlx(*args, name->count() > 0);

@@ -155,6 +155,7 @@ void register_sample(CLI::App& app) {
       "Sample wi for lines 'wo_x wo_y wo_z u0 u1 u2' on stdin (u in [0,1); u0 picks the lobe); "
       "prints {\"wi\",\"weight\",\"pdf\",\"delta\",\"lobe\"} or {\"wi\":null}");
   cmd->add_option("--bsdf", args->bsdf, "material JSON text, or @path to a file holding it")->required();
+  add_point_options(*cmd);
   add_mode_option(*cmd, args->mode);
   auto* count = cmd->add_option("--count", args->count,
                                 "N samples per stdin line 'wo_x wo_y wo_z', with gonio's own random u's "

@@ -348,7 +348,8 @@ TEST(Materialx, TextErrorsNameTheSource) {
     return "";
   };
   EXPECT_EQ(error("").rfind("doc.mtlx: malformed MaterialX document", 0), 0u) << error("");
-  EXPECT_EQ(error("<materialx version=\"1.39\"/>"), "doc.mtlx: the document has no surfacematerial");
+  EXPECT_EQ(error("<materialx version=\"1.39\"/>"),
+            "doc.mtlx: the document has no surface (no surfacematerial, nodegraph surfaceshader output or surface shader node)");
   // A control character in a name is escaped: the message stays one line.
   const std::string msg = error(
       "<materialx version=\"1.39\"><surfacematerial name=\"a&#10;b\"><input name=\"surfaceshader\" "
@@ -405,7 +406,7 @@ TEST(Materialx, MaterialParserErrors) {
   EXPECT_NE(elsewhere.find("/nonexistent_dir/several.mtlx"), std::string::npos) << elsewhere;
   // Errors of the document name it.
   const std::string ambiguous = error({{"mtlx", "several.mtlx"}}, dir);
-  EXPECT_NE(ambiguous.find(dir + "/several.mtlx: the document has several materials"), std::string::npos) << ambiguous;
+  EXPECT_NE(ambiguous.find(dir + "/several.mtlx: the document has several surfaces"), std::string::npos) << ambiguous;
 }
 
 
@@ -578,25 +579,27 @@ TEST(Materialx, DuplicateMaterialNamesAreRefused) {
                              "  </surfacematerial>\n";
   doc.insert(doc.find("</materialx>"), second);
   const std::string msg = text_error(doc, "M");
-  EXPECT_EQ(msg, "doc.mtlx: line 8: two surfacematerials are named \"M\" (line 5 and line 8)");
+  EXPECT_EQ(msg, "doc.mtlx: line 8: two surfaces are named \"M\" (line 5 and line 8)");
   EXPECT_EQ(text_error(doc), msg);
 }
 
-// An XInclude is refused wherever it is and whatever its prefix (XInclude 1.0: the
-// element `include` in the namespace http://www.w3.org/2001/XInclude).
-TEST(Materialx, XIncludeIsRefusedUnderAnyPrefixAndInsideANodegraph) {
+// An XInclude is recognised whatever its prefix (XInclude 1.0: the element `include` in
+// the namespace http://www.w3.org/2001/XInclude) and read at the top level
+// (tests/unit/test_materialx_documents.cpp reads included documents); inside an element
+// it is refused.
+TEST(Materialx, XIncludeIsRecognisedUnderAnyPrefixAndRefusedInsideANodegraph) {
   const std::string base = doc_with_shader("open_pbr_surface", "");
   const auto with = [&](const std::string& element) {
     std::string d = base;
     d.insert(d.find("  <surfacematerial"), element);
     return text_error(d);
   };
-  const std::string other = with("  <inc:include xmlns:inc=\"http://www.w3.org/2001/XInclude\" href=\"a.mtlx\" />\n");
-  EXPECT_NE(other.find("line 5: <inc:include> (an XInclude) is not supported"), std::string::npos) << other;
-  const std::string deflt = with("  <include xmlns=\"http://www.w3.org/2001/XInclude\" href=\"a.mtlx\" />\n");
-  EXPECT_NE(deflt.find("<include> (an XInclude) is not supported"), std::string::npos) << deflt;
+  const std::string other = with("  <inc:include xmlns:inc=\"http://www.w3.org/2001/XInclude\" href=\"gonio_absent_a.mtlx\" />\n");
+  EXPECT_NE(other.find("line 5: <inc:include> \"gonio_absent_a.mtlx\": no such document"), std::string::npos) << other;
+  const std::string deflt = with("  <include xmlns=\"http://www.w3.org/2001/XInclude\" href=\"gonio_absent_a.mtlx\" />\n");
+  EXPECT_NE(deflt.find("<include> \"gonio_absent_a.mtlx\": no such document"), std::string::npos) << deflt;
   const std::string nested = with("  <nodegraph name=\"NG\">\n    <xi:include href=\"a.mtlx\" />\n  </nodegraph>\n");
-  EXPECT_NE(nested.find("line 6: <xi:include> (an XInclude) is not supported"), std::string::npos) << nested;
+  EXPECT_NE(nested.find("line 6: <xi:include> (an XInclude) inside an element is not supported"), std::string::npos) << nested;
   // The same local name in another namespace is not an inclusion (and is not read).
   EXPECT_EQ(with("  <o:include xmlns:o=\"urn:other\" />\n"), "");
 }

@@ -21,6 +21,9 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <vector>
+
+#include "gonio/io/materialx_graph.h"
 
 #include <nlohmann/json_fwd.hpp>
 
@@ -29,14 +32,30 @@ namespace gonio {
 // Largest .mtlx file read (a hand-written material is a few KB).
 inline constexpr std::size_t kMaxMaterialxFileBytes = std::size_t(16) << 20;  // 16 MiB
 
-// The material `name` (nullopt: the document's only material) of the document text
-// `xml`; `source` names the document in messages (its path).
+// Where a document's node graphs are evaluated (SPEC §2: `--uv U V`, default 0.5 0.5;
+// `--position X Y Z`, default 0 0 0).
+using MaterialxPoint = mtlxgraph::ShadingPoint;
+
+// The surface `name` (nullopt: the document's only surface) of the document text `xml`,
+// by SPEC §2's naming rule (a surfacematerial; in a document without materials a
+// nodegraph's surfaceshader output "NODEGRAPH/OUTPUT" or a top-level surface shader
+// node); `source` names the document in messages (its path; xi:includes resolve from its
+// folder). Connected inputs are evaluated by the node graph compiler at `at`. `note`
+// receives the clamped values and what was ignored (displacement, volumes, normal maps),
+// one line each.
 nlohmann::json materialx_to_json(std::string_view xml, const std::string& source,
-                                 const std::optional<std::string>& name = std::nullopt, std::string* note = nullptr);
+                                 const std::optional<std::string>& name = std::nullopt, std::string* note = nullptr,
+                                 const MaterialxPoint& at = {});
 
 // The same, read from the file `path` (bounded: kMaxMaterialxFileBytes; read whatever it
 // is, a FIFO included, as a scene file is: docs/materialx.md).
 nlohmann::json materialx_file_to_json(const std::string& path, const std::optional<std::string>& name = std::nullopt,
-                                      std::string* note = nullptr);
+                                      std::string* note = nullptr, const MaterialxPoint& at = {});
+
+// The names of the surfaces of the document `path`, in document order (SPEC §3
+// `gonio materials --from-mtlx FILE --list`).
+std::vector<std::string> materialx_surface_names(const std::string& path);
+// The same of the document text `xml` named `source` (read once: a FIFO cannot be read twice).
+std::vector<std::string> materialx_surface_names(std::string_view xml, const std::string& source);
 
 }  // namespace gonio
