@@ -426,6 +426,11 @@ int main(int argc, char** argv) {
   register_textured("openpbr_coat_fuzz_base_color", kOpenPbrCoatFuzz, "base_color", Color(0.2f, 0.5f, 0.7f), Color(0.6f));
   register_textured("openpbr_coat_fuzz_specular_roughness", kOpenPbrCoatFuzz, "specular_roughness", Color(0.2f), Color(0.25f));
   register_textured("openpbr_default_specular_roughness", R"({"type":"openpbr"})", "specular_roughness", Color(0.2f), Color(0.25f));
+  // Anisotropic: the compensation reads the process's grid of E tables (anisotropic_albedo.h);
+  // it tabulated E (20–30 ms) at every call before 2026-12-08.
+  register_textured("openpbr_anisotropic_metal_specular_roughness",
+                    R"({"type":"openpbr","base_metalness":1,"specular_roughness_anisotropy":0.5})", "specular_roughness",
+                    Color(0.2f), Color(0.25f));
   register_textured("openpbr_film_base_color", kOpenPbrFilm, "base_color", Color(0.2f, 0.5f, 0.7f), Color(0.6f));
   register_textured("openpbr_film_thin_film_thickness", kOpenPbrFilm, "thin_film_thickness", Color(0.3f), Color(0.35f));
 

@@ -1166,9 +1166,7 @@ void finish(RoughConductorBxDF& m, const Changed& c) {
     m.multiscatter.reset();  // as material_from_json does for a smooth distribution
     return;
   }
-  // An anisotropic distribution's E(μ, φ) table (multiscatter.h) is kept while α is.
-  m.multiscatter = MultiscatterLobe::make(m.distribution, c.fresnel ? conductor_average_fresnel(m.fresnel) : m.multiscatter->f_avg,
-                                          c.alpha ? nullptr : m.multiscatter->aniso);
+  m.multiscatter = MultiscatterLobe::make(m.distribution, c.fresnel ? conductor_average_fresnel(m.fresnel) : m.multiscatter->f_avg);
 }
 
 // openpbr: the model made again from its parameters with the new values (make() derives

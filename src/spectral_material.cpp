@@ -105,7 +105,7 @@ struct Converter {
         f_avg = spectra.f_avg->eval(w);
       else
         f_avg = conductor_average_fresnel(s.fresnel);  // a textured index: per shading point
-      s.multiscatter = MultiscatterLobeT<SS>::make(m.distribution, f_avg, m.multiscatter->aniso);
+      s.multiscatter = MultiscatterLobeT<SS>::make(m.distribution, f_avg);
     }
     return s;
   }
