@@ -46,7 +46,8 @@ TEST(CliMaterials, DocsMaterialsMdIsTheGeneratedReference) {
 const std::vector<std::string> kImplemented = {"diffuse", "mirror",     "conductor", "dielectric", "roughconductor",
                                                "roughdielectric", "orennayar", "phong", "blinnphong", "ward",
                                                "ashikhminshirley", "plastic", "blend", "measured", "subsurface",
-                                               "eon", "sheen", "thindielectric", "layered", "openpbr"};
+                                               "eon", "sheen", "thindielectric", "layered", "openpbr",
+                                               "gltf_pbr"};
 
 TEST(CliMaterials, ListsEveryTypeOnOneLine) {
   const RunResult r = run_gonio({"materials"});
@@ -133,6 +134,7 @@ const std::map<std::string, nlohmann::json>& minimal_descriptions() {
       {"sheen", {{"type", "sheen"}}},
       {"thindielectric", {{"type", "thindielectric"}}},
       {"openpbr", {{"type", "openpbr"}}},
+      {"gltf_pbr", {{"type", "gltf_pbr"}}},
   };
   return descriptions;
 }
@@ -197,6 +199,9 @@ TEST(CliMaterials, ParserFollowsTheReference) {
         EXPECT_EQ(explicit_default.pdf(wo, wi), implicit.pdf(wo, wi)) << type << "." << key;
       }
       if (!p.range.present) continue;
+      // gltf_pbr's iridescence is declared (MaterialX's input) but refused above 0 until it is
+      // implemented (docs/gltf_pbr.md): tests/unit/test_gltf_pbr.cpp checks the refusal.
+      if (type == "gltf_pbr" && key == "iridescence") continue;
       const double lo = p.range.lo, hi = p.range.hi;
       // A value strictly inside, the two ends, and two values beyond them.
       // (A whole number for the counts: layered's max_depth and samples.)

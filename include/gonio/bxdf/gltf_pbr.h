@@ -191,6 +191,10 @@ struct GltfPbrBxDFT {
                           transmit ? Lobe::Transmission : Lobe::Reflection, crossed};
   }
 
+  // The emitted radiance (glTF 2.0 §3.9.3 emissiveFactor, KHR_materials_emissive_strength):
+  // uniform over directions, times the coverage (a hole emits nothing).
+  C emission() const { return params.emissive * (params.emissive_strength * coverage()); }
+
   // --- the pieces (public for tests and docs) ------------------------------------------
 
   // The dielectric Fresnel F_d(c) (KHR_materials_specular with KHR_materials_ior).
@@ -334,7 +338,7 @@ struct GltfPbrBxDFT {
         const Vec3 h = d.sample_visible(vv, u1, u2);  // h.z > 0
         const Float e = outside ? params.ior : 1 / params.ior;
         const auto t = gltf_pbr::refract_through(va, outside ? h : -h, e);
-        if (!t) return std::nullopt;
+        if (!t || !((t->z > 0) != outside)) return std::nullopt;  // TIR, or not to the other side
         wi = from_aniso(*t);
         break;
       }
@@ -369,9 +373,10 @@ struct GltfPbrBxDFT {
     const Float h2 = length_squared(hu);
     if (!(h2 > 0)) return {};
     const Vec3 h = hu * (1 / std::sqrt(h2));
-    const Float c = std::clamp(dot(wo, h), Float(0), Float(1));
     // A facet that faces away from wo (and wi: wo·h = wi·h) reflects nothing (as D_visible).
-    const bool facing = c > 0 && dot(wi, h) > 0;
+    const bool facing = dot(wo, h) > 0 && dot(wi, h) > 0;
+    // wo·h = wi·h = |wo + wi| / 2 for unit directions: the same number for (wo, wi) and (wi, wo).
+    const Float c = facing ? std::min(Float(0.5) * std::sqrt(h2), Float(1)) : Float(0);
     const Float mu_o = wo.z, mu_i = wi.z;
     // The base's microfacet lobe in the anisotropy frame.
     const MicrofacetDistribution d = distribution();
@@ -469,8 +474,8 @@ struct GltfPbrBxDFT {
     const Float h2 = length_squared(hu);
     if (!(h2 > 0)) return {};
     const Vec3 h = hu * (1 / std::sqrt(h2));
-    const Float c = std::clamp(dot(vo, h), Float(0), Float(1));
-    if (!(c > 0 && dot(vi, h) > 0)) return {};
+    if (!(dot(vo, h) > 0 && dot(vi, h) > 0)) return {};
+    const Float c = std::min(Float(0.5) * std::sqrt(h2), Float(1));  // symmetric, as in reflection()
     const MicrofacetDistribution d = distribution();
     const Vec3 ao = to_aniso(vo), ai = to_aniso(vi), ah = to_aniso(h);
     const Float spec = d.D(ah) * d.G2(ao, ai) / (4 * vo.z * vi.z);
