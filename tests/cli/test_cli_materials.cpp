@@ -204,9 +204,10 @@ TEST(CliMaterials, ParserFollowsTheReference) {
       if (type == "gltf_pbr" && key == "iridescence") continue;
       const double lo = p.range.lo, hi = p.range.hi;
       // A value strictly inside, the two ends, and two values beyond them.
-      // (A whole number for the counts: layered's max_depth and samples.)
+      // (A whole number for the counts: layered's max_depth and samples; gltf_pbr's alpha_mode.)
       const double inside = lo + 0.25 * (hi - lo);
-      EXPECT_TRUE(parses(with(key == "max_depth" || key == "samples" ? std::round(inside) : inside))) << type << "." << key;
+      const bool whole = key == "max_depth" || key == "samples" || key == "alpha_mode";
+      EXPECT_TRUE(parses(with(whole ? std::round(inside) : inside))) << type << "." << key;
       std::string err;
       EXPECT_EQ(parses(with(lo), &err), !p.range.lo_open) << type << "." << key << " = " << lo << ": " << err;
       EXPECT_EQ(parses(with(hi), &err), !p.range.hi_open) << type << "." << key << " = " << hi << ": " << err;
