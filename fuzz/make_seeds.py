@@ -28,6 +28,7 @@ materials = [
     '{"type":"blend","weight":0.25,"bsdfs":[{"type":"diffuse"},{"type":"conductor","material":"Ag"}]}',
     '{"type":"sheen","color":[0.9,0.4,0.1],"roughness":0.3}',
     '{"type":"eon","reflectance":[0.9,0.5,0.2],"roughness":0.7}',
+    '{"type":"gltf_pbr","metallic":0,"roughness":0.3,"transmission":0.5,"thickness":1,"sheen_color":0.5,"clearcoat":1}',
     '{"type":"roughconductor","alpha":0.2,"fresnel":"f82","f0":[0.95,0.64,0.54],"f82":[0.9,0.6,0.3],"multiscatter":true}',
     '{"type":"layered","top":{"type":"roughdielectric","alpha":0.2,"eta":1.5},"bottom":{"type":"diffuse","reflectance":0.8},"thickness":0.3,"albedo":0.9,"g":0.5,"max_depth":20,"samples":2}',
     '{"type":"layered","top":{"type":"dielectric","eta":1.5},"bottom":{"type":"mirror"},"thickness":0.5}',

@@ -820,6 +820,19 @@ BxDF make_openpbr(Params& p) {
   return OpenPbrBxDF::make(o, openpbr_film(o, true), nullptr, {openpbr_metal_film(o), openpbr_glass_film(o)});
 }
 
+// gltf_pbr (issues 57, 58): every parameter from the registry (bxdf/gltf_pbr_params.h).
+BxDF make_gltf_pbr(Params& p) {
+  GltfPbrParams<Color> g;
+  for (const auto& f : kGltfPbrFields<Color>) {
+    if (f.number) g.*f.number = Float(p.number(f.key.data()));
+    else g.*f.colour = p.color(f.key.data());
+  }
+  if (g.alpha_mode != std::floor(g.alpha_mode)) p.fail("alpha_mode must be 0, 1 or 2, got " + std::to_string(g.alpha_mode));
+  if (g.iridescence > 0)
+    p.fail("iridescence is not implemented yet (docs/gltf_pbr.md); it must be 0, got " + std::to_string(g.iridescence));
+  return GltfPbrBxDF::make(g);
+}
+
 // The constructor of each type of the registry but blend (which needs its place and depth).
 struct TypeEntry {
   std::string_view name;
@@ -844,6 +857,7 @@ constexpr TypeEntry kMakers[] = {
     {"sheen", make_sheen},
     {"thindielectric", make_thindielectric},
     {"openpbr", make_openpbr},
+    {"gltf_pbr", make_gltf_pbr},
 };
 
 }  // namespace
@@ -1211,11 +1225,37 @@ OpenPbrBxDF with_openpbr_params(const OpenPbrBxDF& model, std::span<const ParamV
   return OpenPbrBxDF::make(p, std::move(film), same_solved ? &solved : nullptr, std::move(films));
 }
 
+// gltf_pbr: the new values set in its parameters (make() derives nothing else).
+GltfPbrBxDF with_gltf_pbr_params(const GltfPbrBxDF& model, std::span<const ParamValue> values) noexcept {
+  GltfPbrParams<Color> p = model.params;
+  for (const ParamValue& v : values) {
+    const size_t i = size_t(v.param) - kGltfPbrFirst;
+    if (size_t(v.param) < kGltfPbrFirst || i >= kGltfPbrFieldCount) continue;
+    const auto& f = kGltfPbrFields<Color>[i];
+    if (f.number) p.*f.number = v.value[0];
+    else p.*f.colour = v.value;
+  }
+  return GltfPbrBxDF::make(p);
+}
+
 }  // namespace
 
 const MaterialParamInfo& material_param_info(MaterialParam p) {
   const size_t i = static_cast<size_t>(p);
   if (i < std::size(kParamInfo)) return kParamInfo[i];
+  if (i >= kGltfPbrFirst) {
+    // gltf_pbr's, from its field table; each probe is the parameter's default.
+    static const auto gltf = [] {
+      const GltfPbrParams<Color> d;
+      std::array<MaterialParamInfo, kGltfPbrFieldCount> info{};
+      for (size_t k = 0; k < kGltfPbrFieldCount; ++k) {
+        const auto& f = kGltfPbrFields<Color>[k];
+        info[k] = {f.key, f.number != nullptr, double(f.number ? d.*f.number : (d.*f.colour)[0])};
+      }
+      return info;
+    }();
+    return gltf[std::min(i - kGltfPbrFirst, kGltfPbrFieldCount - 1)];
+  }
   // openpbr's, from its field table; each probe is the parameter's default, which its
   // range accepts whatever the others (make_openpbr checks no combination).
   static const auto openpbr = [] {
@@ -1231,6 +1271,11 @@ const MaterialParamInfo& material_param_info(MaterialParam p) {
 }
 
 std::optional<MaterialParam> varying_param(std::string_view type, std::string_view key) {
+  if (type == GltfPbrBxDF::kName) {
+    for (size_t i = 0; i < kGltfPbrFieldCount; ++i)
+      if (kGltfPbrFields<Color>[i].varying && kGltfPbrFields<Color>[i].key == key) return MaterialParam(kGltfPbrFirst + i);
+    return std::nullopt;
+  }
   if (type == OpenPbrBxDF::kName) {
     for (size_t i = 0; i < kOpenPbrFieldCount; ++i)
       if (kOpenPbrFields<Color>[i].key == key) return MaterialParam(size_t(MP::OpenPbrFirst) + i);
@@ -1246,6 +1291,9 @@ std::string varying_param_keys(std::string_view type) {
   const auto add = [&keys](std::string_view key) { keys += (keys.empty() ? "" : ", ") + std::string(key); };
   if (type == OpenPbrBxDF::kName)
     for (const auto& f : kOpenPbrFields<Color>) add(f.key);
+  if (type == GltfPbrBxDF::kName)
+    for (const auto& f : kGltfPbrFields<Color>)
+      if (f.varying) add(f.key);
   for (const auto& v : kVarying)
     if (v.type == type) add(material_param_info(v.param).key);
   return keys;
@@ -1282,6 +1330,8 @@ BxDF with_params(const BxDF& model, std::span<const ParamValue> values) noexcept
         using M = std::decay_t<decltype(base)>;
         if constexpr (std::is_same_v<M, OpenPbrBxDF>) {
           return with_openpbr_params(base, values);
+        } else if constexpr (std::is_same_v<M, GltfPbrBxDF>) {
+          return with_gltf_pbr_params(base, values);
         } else if constexpr (std::is_same_v<M, BlendBxDF> || std::is_same_v<M, UserBxDF> ||
                              std::is_same_v<M, MeasuredBxDF> || std::is_same_v<M, LayeredBxDF>) {
           return base;  // nothing of theirs varies

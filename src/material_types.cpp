@@ -192,6 +192,54 @@ constexpr ParamSpec kThinDielectric[] = {
 // (OpenPBR's parameter reference; the hard ranges, [0, 1] where OpenPBR's is the soft one
 // only for weights and colours), plus gonio's rotations. thin_film_thickness in µm.
 constexpr ParamRange kUnbounded = closed(0, 1e9);
+// gltf_pbr (issues 57, 58; SPEC §2 "Wave 4"): MaterialX 1.39's ND_gltf_pbr_surfaceshader
+// inputs (names, defaults), the glTF 2.0 / KHR_materials_* ranges, in the order of
+// kGltfPbrFields (bxdf/gltf_pbr_params.h). normal, clearcoat_normal and occlusion are not
+// material parameters (docs/gltf_pbr.md).
+constexpr ParamSpec kGltfPbr[] = {
+    {"base_color", K::Colour, "1", kUnit, "", "", false, "Diffuse albedo of the dielectric and F0 of the metal (baseColorFactor)."},
+    {"metallic", K::Number, "1", kUnit, "", "", false, "Mix weight of the metal against the dielectric (metallicFactor)."},
+    {"roughness", K::Number, "1", kUnit, "", "", false,
+     "Perceptual roughness; GGX alpha = roughness^2 (at least 0.002: no lobe is a delta)."},
+    {"transmission", K::Number, "0", kUnit, "", "", false,
+     "Share of the dielectric's base that is a specular transmission tinted by base_color (KHR_materials_transmission)."},
+    {"specular", K::Number, "1", kUnit, "", "", false, "Strength of the dielectric's specular reflection, f90 (KHR_materials_specular)."},
+    {"specular_color", K::Colour, "1", kUnit, "", "", false,
+     "Tint of the dielectric's F0: f0 = min(((ior-1)/(ior+1))^2 specular_color, 1) specular (KHR_materials_specular)."},
+    {"ior", K::Number, "1.5", closed(1, kMaxIndex), "", "", false,
+     "Index of refraction of the dielectric (KHR_materials_ior); refracts where thickness > 0."},
+    {"alpha", K::Number, "1", kUnit, "", "", false, "Coverage (baseColorFactor's alpha), read by alpha_mode."},
+    {"alpha_mode", K::Number, "0", closed(0, 2), "", "", false,
+     "0 OPAQUE (alpha ignored), 1 MASK (opaque where alpha >= alpha_cutoff, else a hole), 2 BLEND (alpha is the "
+     "coverage); the uncovered share passes straight through."},
+    {"alpha_cutoff", K::Number, "0.5", kUnit, "", "", false, "The MASK threshold."},
+    {"iridescence", K::Number, "0", kUnit, "", "", false, "Weight of the thin-film interference (KHR_materials_iridescence)."},
+    {"iridescence_ior", K::Number, "1.3", closed(1, kMaxIndex), "", "", false, "Index of the film."},
+    {"iridescence_thickness", K::Number, "100", closed(0, 10000), "nm", "", false, "Thickness of the film."},
+    {"sheen_color", K::Colour, "0", kUnit, "", "", false, "Colour of the Charlie sheen layer; 0 is none (KHR_materials_sheen)."},
+    {"sheen_roughness", K::Number, "0", kUnit, "", "", false,
+     "Charlie alpha of the sheen (KHR_materials_sheen: alphaG = sheenRoughness); taken as 0.07 below 0.07."},
+    {"clearcoat", K::Number, "0", kUnit, "", "", false, "Weight of the clear coat, ior 1.5 (KHR_materials_clearcoat)."},
+    {"clearcoat_roughness", K::Number, "0", kUnit, "", "", false, "Perceptual roughness of the coat (alpha = roughness^2, at least 0.002)."},
+    {"emissive", K::Colour, "0", kUnit, "", "", false, "Emitted colour (emissiveFactor); the renderer's, not the BSDF's."},
+    {"emissive_strength", K::Number, "1", closed(0, 1e9), "", "", false, "Multiplier on emissive (KHR_materials_emissive_strength)."},
+    {"thickness", K::Number, "0", closed(0, 1e9), "units", "", false,
+     "Thickness of the volume (KHR_materials_volume): 0 is thin-walled (no refraction), > 0 makes the transmission refract at ior."},
+    {"attenuation_distance", K::Number, "0", closed(0, 1e9), "units", "", false,
+     "Distance at which light in the volume keeps attenuation_color; 0 means infinite (glTF's default): no absorption."},
+    {"attenuation_color", K::Colour, "1", kUnit, "", "", false, "Colour light in the volume keeps after attenuation_distance."},
+    {"anisotropy_strength", K::Number, "0", kUnit, "", "", false,
+     "KHR_materials_anisotropy: alpha along the anisotropy direction is mix(alpha, 1, strength^2)."},
+    {"anisotropy_rotation", K::Number, "0", closed(-1000, 1000), "radians", "", false,
+     "Angle of the anisotropy direction from the tangent, counter-clockwise."},
+    {"dispersion", K::Number, "0", closed(0, 1e4), "", "", false,
+     "KHR_materials_dispersion, 20 / Abbe number (gonio's extension of MaterialX's inputs); spectral mode only."},
+    {"diffuse_transmission", K::Number, "0", kUnit, "", "", false,
+     "Share of the diffuse that is transmitted, Lambertian, to the other side (KHR_materials_diffuse_transmission; "
+     "gonio's extension of MaterialX's inputs)."},
+    {"diffuse_transmission_color", K::Colour, "1", kUnit, "", "", false, "Colour of the diffuse transmission."},
+};
+
 constexpr ParamSpec kOpenPbr[] = {
     {"base_weight", K::Number, "1", kUnit, "", "", false, "Multiplier on base_color (diffuse albedo and metal F0)."},
     {"base_color", K::Colour, "0.8", kUnit, "", "", false, "Diffuse albedo of the glossy-diffuse base and F0 of the metal."},
@@ -328,6 +376,13 @@ constexpr MaterialTypeSpec kTypes[] = {
      "docs/openpbr.md: the layering per layer (reciprocal albedo scaling for specular over diffuse, view-dependent for coat "
      "and fuzz, so a coat or fuzz makes it non-reciprocal), what the BSDF leaves to the renderer (emission, interior "
      "media, subsurface transport, dispersion) and the furnace errors."},
+    {"gltf_pbr", "glTF 2.0 metallic-roughness with KHR_materials_* extensions, MaterialX's gltf_pbr inputs.",
+     "glTF 2.0 specification, Appendix B; KHR_materials_ior, _specular, _transmission, _volume, _clearcoat, _sheen "
+     "(Estevez & Kulla 2017), _emissive_strength, _anisotropy, _dispersion, _diffuse_transmission; Walter et al. 2007",
+     kGltfPbr,
+     "docs/gltf_pbr.md: the formulas per extension, what the BSDF leaves to the renderer (normal maps, occlusion, "
+     "emission, the volume's absorption) and the furnace figures (the specification's mixing is not exactly "
+     "energy-preserving). iridescence is refused until implemented."},
 };
 
 std::string number_text(double v) {

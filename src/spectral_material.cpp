@@ -222,6 +222,25 @@ struct Converter {
     const openpbr::Solved solved = m.solved();
     return OpenPbrBxDFT<SS>::make(s, film(m.film), &solved);
   }
+  // gltf_pbr: its colours upsampled at the path's wavelengths (as openpbr's). Dispersion
+  // (KHR_materials_dispersion: η(λ) = η_d + (η_d − 1)/V (523655/λ² − 1.5168), V = 20 /
+  // dispersion, the formula of openpbr_dispersion.h): where the material refracts, the
+  // index at the hero wavelength, and the path goes on with the hero only.
+  SpectralBxDF operator()(const GltfPbrBxDF& m) const {
+    const GltfPbrParams<Color>& p = m.params;
+    GltfPbrParams<SS> s;
+    for (size_t i = 0; i < kGltfPbrFieldCount; ++i) {
+      const auto& from = kGltfPbrFields<Color>[i];
+      const auto& to = kGltfPbrFields<SS>[i];
+      if (from.number) s.*to.number = p.*from.number;
+      else s.*to.colour = upsample_colour(MP::Reflectance, p.*from.colour, w);
+    }
+    if (m.volume() && p.dispersion > 0) {
+      s.ior = std::max(Float(1), openpbr::cauchy_index(p.ior, 20 / p.dispersion, w[0]));
+      w.terminate_secondary();
+    }
+    return GltfPbrBxDFT<SS>::make(s);
+  }
   SpectralBxDF operator()(const UserBxDF&) const { return DiffuseBxDFT<SS>{SS(0)}; }
 
   SpectralBxDF convert(const BxDF& rgb) const {

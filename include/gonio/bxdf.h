@@ -18,6 +18,7 @@
 #include "gonio/bxdf/dielectric.h"
 #include "gonio/bxdf/diffuse.h"
 #include "gonio/bxdf/eon.h"
+#include "gonio/bxdf/gltf_pbr.h"
 #include "gonio/bxdf/layered.h"
 #include "gonio/bxdf/measured.h"
 #include "gonio/bxdf/mirror.h"
@@ -43,7 +44,7 @@ class BxDFT {
                               RoughConductorBxDFT<C>, RoughDielectricBxDFT<C>, OrenNayarBxDFT<C>, PhongBxDFT<C>,
                               BlinnPhongBxDFT<C>, WardBxDFT<C>, AshikhminShirleyBxDFT<C>, PlasticBxDFT<C>,
                               MeasuredBxDFT<C>, BlendBxDFT<C>, UserBxDFT<C>, SheenBxDFT<C>, EonBxDFT<C>,
-                              ThinDielectricBxDFT<C>, LayeredBxDFT<C>, OpenPbrBxDFT<C>>;
+                              ThinDielectricBxDFT<C>, LayeredBxDFT<C>, OpenPbrBxDFT<C>, GltfPbrBxDFT<C>>;
 
   BxDFT() = default;
   template <typename M>

@@ -230,7 +230,9 @@ Color surface_emission(const Material& m, const Vec3& n, const Vec3& w, const Ve
   if (m.emits_both_sides) mu = std::abs(mu);
   if (!(mu > 0)) return Color(0);
   std::optional<BxDF> scratch;
-  const auto* model = std::get_if<OpenPbrBxDF>(&m.at(uv, scratch).models());
+  const BxDF& at = m.at(uv, scratch);
+  if (const auto* g = std::get_if<GltfPbrBxDF>(&at.models())) return g->emission();
+  const auto* model = std::get_if<OpenPbrBxDF>(&at.models());
   return model ? model->emission(mu) : Color(0);
 }
 

@@ -204,6 +204,10 @@ struct Loader {
   // mode), or scattering (the random walk of a `subsurface` medium, with its limits: RGB,
   // closed shapes).
   void openpbr_surface(Material& m, const Node& desc) {
+    if (const auto* g = std::get_if<GltfPbrBxDF>(&m.bxdf.models())) {
+      gltf_pbr_surface(m, *g, desc);
+      return;
+    }
     const auto* model = std::get_if<OpenPbrBxDF>(&m.bxdf.models());
     if (!model) return;
     const OpenPbrParams<Color>& p = model->params;
@@ -680,9 +684,36 @@ struct Loader {
   // radiance cannot say: it is found by paths only (with the textured model), as a mesh's.
   static bool sampled_emitter(const Material& m) { return m.emits && m.textures.empty(); }
 
+  // What a `gltf_pbr` material adds beyond its BSDF (docs/gltf_pbr.md, "Rendering"): its
+  // emission (emissive × emissive_strength, a Lambertian emitter on the front face, glTF 2.0
+  // §3.9.3), and with a volume (KHR_materials_volume: thickness > 0) the absorbing interior,
+  // σa = −ln(attenuation_color) / attenuation_distance (none for an infinite distance).
+  void gltf_pbr_surface(Material& m, const GltfPbrBxDF& model, const Node& desc) {
+    const GltfPbrParams<Color>& p = model.params;
+    m.emits = p.emissive_strength > 0 && !p.emissive.is_black() && model.coverage() > 0;
+    if (!model.volume() || !(p.attenuation_distance > 0) || p.attenuation_color == Color(1)) return;
+    Color sigma;
+    for (int i = 0; i < 3; ++i)
+      sigma[i] = openpbr::extinction_from_colour(std::clamp(p.attenuation_color[i], Float(0), Float(1)), p.attenuation_distance);
+    m.absorption = sigma;
+    m.absorption_depth = p.attenuation_distance;
+    try {
+      m.absorption_colour.emplace(std::clamp(p.attenuation_color[0], Float(0), Float(1)),
+                                  std::clamp(p.attenuation_color[1], Float(0), Float(1)),
+                                  std::clamp(p.attenuation_color[2], Float(0), Float(1)));
+    } catch (const InputError& e) {
+      desc.fail(std::string("gltf_pbr: attenuation_color: ") + e.what());
+    }
+  }
+
   int emitting_shape(AreaLight light, int material) {
-    const auto& model = std::get<OpenPbrBxDF>(scene.materials[static_cast<size_t>(material)].bxdf.models());
-    const Color peak = model.params.emission_color * model.params.emission_luminance;
+    const BxDF& bxdf = scene.materials[static_cast<size_t>(material)].bxdf;
+    Color peak;
+    if (const auto* g = std::get_if<GltfPbrBxDF>(&bxdf.models())) peak = g->emission();
+    else {
+      const auto& model = std::get<OpenPbrBxDF>(bxdf.models());
+      peak = model.params.emission_color * model.params.emission_luminance;
+    }
     std::visit([&](auto& l) { l.radiance = peak; }, light);
     scene.area_lights.push_back(light);
     scene.area_light_material.push_back(material);

@@ -46,7 +46,8 @@ TEST(CliMaterials, DocsMaterialsMdIsTheGeneratedReference) {
 const std::vector<std::string> kImplemented = {"diffuse", "mirror",     "conductor", "dielectric", "roughconductor",
                                                "roughdielectric", "orennayar", "phong", "blinnphong", "ward",
                                                "ashikhminshirley", "plastic", "blend", "measured", "subsurface",
-                                               "eon", "sheen", "thindielectric", "layered", "openpbr"};
+                                               "eon", "sheen", "thindielectric", "layered", "openpbr",
+                                               "gltf_pbr"};
 
 TEST(CliMaterials, ListsEveryTypeOnOneLine) {
   const RunResult r = run_gonio({"materials"});
@@ -133,6 +134,7 @@ const std::map<std::string, nlohmann::json>& minimal_descriptions() {
       {"sheen", {{"type", "sheen"}}},
       {"thindielectric", {{"type", "thindielectric"}}},
       {"openpbr", {{"type", "openpbr"}}},
+      {"gltf_pbr", {{"type", "gltf_pbr"}}},
   };
   return descriptions;
 }
@@ -197,11 +199,15 @@ TEST(CliMaterials, ParserFollowsTheReference) {
         EXPECT_EQ(explicit_default.pdf(wo, wi), implicit.pdf(wo, wi)) << type << "." << key;
       }
       if (!p.range.present) continue;
+      // gltf_pbr's iridescence is declared (MaterialX's input) but refused above 0 until it is
+      // implemented (docs/gltf_pbr.md): tests/unit/test_gltf_pbr.cpp checks the refusal.
+      if (type == "gltf_pbr" && key == "iridescence") continue;
       const double lo = p.range.lo, hi = p.range.hi;
       // A value strictly inside, the two ends, and two values beyond them.
-      // (A whole number for the counts: layered's max_depth and samples.)
+      // (A whole number for the counts: layered's max_depth and samples; gltf_pbr's alpha_mode.)
       const double inside = lo + 0.25 * (hi - lo);
-      EXPECT_TRUE(parses(with(key == "max_depth" || key == "samples" ? std::round(inside) : inside))) << type << "." << key;
+      const bool whole = key == "max_depth" || key == "samples" || key == "alpha_mode";
+      EXPECT_TRUE(parses(with(whole ? std::round(inside) : inside))) << type << "." << key;
       std::string err;
       EXPECT_EQ(parses(with(lo), &err), !p.range.lo_open) << type << "." << key << " = " << lo << ": " << err;
       EXPECT_EQ(parses(with(hi), &err), !p.range.hi_open) << type << "." << key << " = " << hi << ": " << err;

@@ -110,6 +110,8 @@ std::map<std::string, std::string> grey_materials(double g) {
       {"layered", R"({"type":"layered","top":{"type":"roughdielectric","alpha":0.3,"eta":1.4},"bottom":{"type":"diffuse","reflectance":)" +
                       G + R"(},"thickness":0.2,"albedo":)" + H + "}"},
       {"thindielectric", R"({"type":"thindielectric","eta":1.4})"},
+      {"gltf_pbr", R"({"type":"gltf_pbr","base_color":)" + G + R"(,"metallic":0.3,"roughness":0.4,"clearcoat":0.5,"sheen_color":)" + H +
+                       R"(,"transmission":0.4,"specular_color":)" + G + "}"},
       {"openpbr", R"({"type":"openpbr","base_color":)" + G + R"(,"base_diffuse_roughness":0.4,"coat_weight":0.5,"fuzz_weight":0.3,"fuzz_color":)" +
                       G + R"(,"base_metalness":0.3,"transmission_weight":0.2})"},
   };
