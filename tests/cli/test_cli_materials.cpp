@@ -46,7 +46,9 @@ TEST(CliMaterials, DocsMaterialsMdIsTheGeneratedReference) {
 const std::vector<std::string> kImplemented = {"diffuse", "mirror",     "conductor", "dielectric", "roughconductor",
                                                "roughdielectric", "orennayar", "phong", "blinnphong", "ward",
                                                "ashikhminshirley", "plastic", "blend", "measured", "subsurface",
-                                               "eon", "sheen", "thindielectric", "layered", "openpbr"};
+                                               "eon", "sheen", "thindielectric", "layered", "openpbr",
+                                               "oren_nayar_diffuse_bsdf", "conductor_bsdf", "dielectric_bsdf",
+                                               "sheen_bsdf", "mix", "add", "multiply", "layer"};
 
 TEST(CliMaterials, ListsEveryTypeOnOneLine) {
   const RunResult r = run_gonio({"materials"});
@@ -133,6 +135,14 @@ const std::map<std::string, nlohmann::json>& minimal_descriptions() {
       {"sheen", {{"type", "sheen"}}},
       {"thindielectric", {{"type", "thindielectric"}}},
       {"openpbr", {{"type", "openpbr"}}},
+      {"oren_nayar_diffuse_bsdf", {{"type", "oren_nayar_diffuse_bsdf"}}},
+      {"conductor_bsdf", {{"type", "conductor_bsdf"}}},
+      {"dielectric_bsdf", {{"type", "dielectric_bsdf"}}},
+      {"sheen_bsdf", {{"type", "sheen_bsdf"}}},
+      {"mix", {{"type", "mix"}, {"fg", {{"type", "sheen_bsdf"}}}, {"bg", {{"type", "oren_nayar_diffuse_bsdf"}}}}},
+      {"add", {{"type", "add"}, {"in1", {{"type", "sheen_bsdf"}}}, {"in2", {{"type", "oren_nayar_diffuse_bsdf"}}}}},
+      {"multiply", {{"type", "multiply"}, {"in1", {{"type", "oren_nayar_diffuse_bsdf"}}}}},
+      {"layer", {{"type", "layer"}, {"top", {{"type", "dielectric_bsdf"}}}, {"base", {{"type", "oren_nayar_diffuse_bsdf"}}}}},
   };
   return descriptions;
 }
