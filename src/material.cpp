@@ -895,28 +895,30 @@ BxDF make_blend(Params& p, const std::string& where, int depth) {
 // --- MaterialX pbrlib nodes (SPEC §2, wave 4; issue 57; bxdf/pbr_node.h) -------------
 
 // E(μ) of a layerable node's untinted reflection lobe: the mean of its sample weights over
-// the upper hemisphere, stratified (16 × 16 in u1, u2; 4 azimuths of wo, for an
-// anisotropic alpha), channels averaged; exact for a lobe whose sample weight is its
-// albedo (a delta lobe, sheen).
+// the upper hemisphere, stratified (24 × 24 in u1, u2; an anisotropic lobe 16 × 16 at each
+// of 4 azimuths of wo), channels averaged; exact for a lobe whose sample weight is its
+// albedo (a delta lobe, Zeltner's sheen).
 std::shared_ptr<const PbrAlbedoTable> pbr_albedo_table(const BxDF& lobe) {
   auto t = std::make_shared<PbrAlbedoTable>();
-  constexpr int kGrid = 16, kAzimuths = 4;
+  const bool iso = lobe.is_isotropic();
+  const int grid = iso ? 24 : 16, azimuths = iso ? 1 : 4;
   for (int i = 0; i < PbrAlbedoTable::kSize; ++i) {
-    const double mu = std::max(double(i) / (PbrAlbedoTable::kSize - 1), 1e-3);
+    const double x = double(i) / (PbrAlbedoTable::kSize - 1);
+    const double mu = std::max(x * x, 1e-6);
     const double sin_o = std::sqrt(1 - mu * mu);
     double sum = 0;
-    for (int a = 0; a < kAzimuths; ++a) {
-      const double phi = (a + 0.5) * kPiD / (2 * kAzimuths);
+    for (int a = 0; a < azimuths; ++a) {
+      const double phi = (a + 0.5) * kPiD / (2 * azimuths);
       const Vec3 wo(Float(sin_o * std::cos(phi)), Float(sin_o * std::sin(phi)), Float(mu));
-      for (int j = 0; j < kGrid; ++j)
-        for (int k = 0; k < kGrid; ++k) {
-          const double u_lobe = std::fmod((j * kGrid + k) * 0.6180339887498949 + 0.5, 1.0);
-          const auto s = lobe.sample(wo, Float(u_lobe), Float((j + 0.5) / kGrid), Float((k + 0.5) / kGrid),
+      for (int j = 0; j < grid; ++j)
+        for (int k = 0; k < grid; ++k) {
+          const double u_lobe = std::fmod((j * grid + k) * 0.6180339887498949 + 0.5, 1.0);
+          const auto s = lobe.sample(wo, Float(u_lobe), Float((j + 0.5) / grid), Float((k + 0.5) / grid),
                                      TransportMode::Radiance);
           if (s && s->wi.z > 0) sum += double(s->weight.average());
         }
     }
-    t->e[size_t(i)] = Float(sum / (kAzimuths * kGrid * kGrid));
+    t->e[size_t(i)] = Float(sum / (azimuths * grid * grid));
   }
   return t;
 }

@@ -40,14 +40,16 @@ namespace gonio {
 template <typename C>
 class BxDFT;
 
-// E(μ) of a layerable node's lobe on a uniform grid μ = i / (kSize − 1), its channels
-// averaged (MaterialX's throughputs are grey but for generalized_schlick's, which averages
-// them too); made by src/pbr_node.cpp.
+// E(μ) of a layerable node's lobe on a grid uniform in √μ, μ = (i / (kSize − 1))², dense
+// towards grazing where a sheen's albedo climbs steeply (Charlie sheen r 0.4: 0.49 at 80°,
+// 0.79 at 89.94°), linear between nodes; its channels averaged (MaterialX's throughputs
+// are grey but for generalized_schlick's, which averages them too); made by
+// src/material.cpp (pbr_albedo_table).
 struct PbrAlbedoTable {
-  static constexpr int kSize = 33;
+  static constexpr int kSize = 65;
   std::array<Float, kSize> e{};
   Float at(Float mu) const {
-    const Float x = std::clamp(std::abs(mu), Float(0), Float(1)) * (kSize - 1);
+    const Float x = std::sqrt(std::clamp(std::abs(mu), Float(0), Float(1))) * (kSize - 1);
     const int i = std::min(int(x), kSize - 2);
     const Float t = x - Float(i);
     return e[size_t(i)] * (1 - t) + e[size_t(i) + 1] * t;
