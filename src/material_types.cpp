@@ -296,6 +296,71 @@ constexpr ParamSpec kOpenPbr[] = {
      "becomes reciprocal (the fuzz lobe itself stays view-keyed)."},
 };
 
+// MaterialX pbrlib's BSDF nodes (SPEC §2, wave 4; issue 57): MaterialX's input names and
+// defaults (documents/Specification/MaterialX.PBRSpec.md, "BSDF Nodes" and "Utility
+// Nodes"). Every node's weight scales its response; docs/materialx.md says what each
+// becomes among gonio's models.
+constexpr ParamSpec kMxWeight{"weight", K::Number, "1", kUnit, "", "", false, "Weight of the BSDF contribution."};
+constexpr ParamSpec kMxRoughness{"roughness", K::Roughness, "[0.05, 0.05]", kUnit, "", "", false,
+                                 "Microfacet alpha along the tangent and bitangent (a number: both), used as given; "
+                                 "below 1e-3 the surface is smooth."};
+constexpr ParamSpec kMxRetro{"retroreflective", K::Boolean, "false", {}, "", "", false,
+                             "Retroreflection mode: not supported (true is refused)."};
+constexpr ParamSpec kMxFilmThickness{"thinfilm_thickness", K::Number, "0", closed(0, 1e4), "nm", "", false,
+                                     "Thickness of the iridescent thin film; 0: none."};
+constexpr ParamSpec kMxFilmIor{"thinfilm_ior", K::Number, "1.5", closed(1, kMaxIndex), "", "", false,
+                               "Index of refraction of the thin film."};
+constexpr ParamSpec kMxDistribution{"distribution", K::Choice, "\"ggx\"", {}, "", "ggx", false,
+                                    "Microfacet distribution (MaterialX defines GGX only)."};
+constexpr ParamSpec kMxScatterMode{"scatter_mode", K::Choice, "\"R\"", {}, "", "R|T|RT", false,
+                                   "Reflection (R), transmission (T) or both (RT)."};
+constexpr ParamSpec kMxOrenNayar[] = {
+    kMxWeight,
+    {"color", K::Colour, "0.18", kUnit, "", "", false, "Diffuse albedo rho."},
+    {"roughness", K::Number, "0", kUnit, "", "", false, "Oren-Nayar sigma in radians (qualitative), or EON's roughness."},
+    {"energy_compensation", K::Boolean, "false", {}, "", "", false,
+     "false: the qualitative Oren-Nayar model (gonio orennayar); true: energy-preserving Oren-Nayar (gonio eon)."},
+};
+constexpr ParamSpec kMxConductor[] = {
+    kMxWeight,
+    {"ior", K::Colour, "[0.183, 0.421, 1.373]", kIndex, "", "", false, "Real part of the complex index, per channel."},
+    {"extinction", K::Colour, "[3.424, 2.346, 1.770]", kExtinction, "", "", false, "Imaginary part of the index, per channel."},
+    kMxRoughness, kMxRetro, kMxFilmThickness, kMxFilmIor, kMxDistribution,
+};
+constexpr ParamSpec kMxDielectric[] = {
+    kMxWeight,
+    {"tint", K::Colour, "1", kUnit, "", "", false, "Colour on the reflected and transmitted light (not on the throughput)."},
+    {"ior", K::Number, "1.5", closed(0, kMaxIndex), "", "", false,
+     "Index of refraction relative to the outside; 0 disables the Fresnel curve (F = 1; scatter_mode R only)."},
+    kMxRoughness, kMxRetro, kMxFilmThickness, kMxFilmIor, kMxDistribution, kMxScatterMode,
+};
+constexpr ParamSpec kMxSheen[] = {
+    kMxWeight,
+    {"color", K::Colour, "1", kUnit, "", "", false, "Sheen colour (not on the throughput)."},
+    {"roughness", K::Number, "0.3", kUnit, "", "", false, "Fibre roughness r (zeltner: below 0.01 taken as 0.01)."},
+    {"mode", K::Choice, "\"conty_kulla\"", {}, "", "conty_kulla|zeltner", false,
+     "conty_kulla: Conty & Kulla 2017 (Estevez & Kulla's Charlie sheen); zeltner: Zeltner et al. 2022 (gonio sheen)."},
+};
+constexpr ParamSpec kMxMix[] = {
+    {"fg", K::Material, "", {}, "", "", true, "The foreground BSDF (a material)."},
+    {"bg", K::Material, "", {}, "", "", true, "The background BSDF (a material)."},
+    {"mix", K::Number, "0", kUnit, "", "", false, "bg (1 - mix) + fg mix."},
+};
+constexpr ParamSpec kMxAdd[] = {
+    {"in1", K::Material, "", {}, "", "", true, "The first BSDF (a material)."},
+    {"in2", K::Material, "", {}, "", "", true, "The second BSDF (a material)."},
+};
+constexpr ParamSpec kMxMultiply[] = {
+    {"in1", K::Material, "", {}, "", "", true, "The BSDF (a material)."},
+    {"in2", K::Colour, "1", kUnit, "", "", false, "The colour or number it is multiplied by."},
+};
+constexpr ParamSpec kMxLayer[] = {
+    {"top", K::Material, "", {}, "", "", true,
+     "The top BSDF: a layerable node (dielectric_bsdf, generalized_schlick_bsdf, sheen_bsdf) or an operator of them; "
+     "any other material is opaque."},
+    {"base", K::Material, "", {}, "", "", true, "The base BSDF (a material)."},
+};
+
 constexpr MaterialTypeSpec kTypes[] = {
     {"diffuse", "Ideal diffuse (Lambertian) reflection, f = ρ/π.", "Lambert 1760; the lecture, §5.1", kDiffuse, ""},
     {"mirror", "Perfect specular reflection with a constant reflectance.", "The lecture, §5.2, eq. 23", kMirror, ""},
@@ -383,6 +448,33 @@ constexpr MaterialTypeSpec kTypes[] = {
      "docs/gltf_pbr.md: the formulas per extension, what the BSDF leaves to the renderer (normal maps, occlusion, "
      "emission, the volume's absorption) and the furnace figures (the specification's mixing is not exactly "
      "energy-preserving). iridescence is refused until implemented."},
+    {"oren_nayar_diffuse_bsdf", "MaterialX's Oren-Nayar diffuse node: qualitative Oren-Nayar, or EON with energy_compensation.",
+     "MaterialX PBR spec, oren_nayar_diffuse_bsdf; Oren & Nayar 1994 (qualitative model); Portsmouth, Kutz & Hill 2025 (EON)",
+     kMxOrenNayar, "weight x orennayar(color, sigma = roughness rad) or weight x eon(color, roughness). Opaque under layer."},
+    {"conductor_bsdf", "MaterialX's conductor node: GGX microfacet reflection with the exact complex Fresnel.",
+     "MaterialX PBR spec, conductor_bsdf; Walter et al. 2007; Kulla & Conty 2017 (energy compensation); Belcour & Barla 2017",
+     kMxConductor, "weight x roughconductor(eta = ior, k = extinction, alpha = roughness), multiscatter on (without a thin "
+     "film: gonio's compensation tables are of the bare metal). Opaque under layer."},
+    {"dielectric_bsdf", "MaterialX's dielectric node: GGX microfacet reflection (R), transmission (T) or both (RT).",
+     "MaterialX PBR spec, dielectric_bsdf; Walter et al. 2007; Kulla & Conty 2017; Belcour & Barla 2017", kMxDielectric,
+     "R: weight x tint x the reflection of a roughconductor with the dielectric's index (k = 0); RT: weight x tint x "
+     "roughdielectric. Its throughput under layer is 1 - weight E(mu_v), E the untinted reflection albedo. "
+     "scatter_mode T is not supported yet (refused)."},
+    {"sheen_bsdf", "MaterialX's sheen node (cloth): Conty-Kulla or Zeltner.",
+     "MaterialX PBR spec, sheen_bsdf; Estevez & Kulla 2017 (Charlie sheen, as Conty & Kulla 2017); Zeltner, Burley & "
+     "Chiang 2022", kMxSheen,
+     "conty_kulla: weight x color x D / (4 (mu_i + mu_o - mu_i mu_o)), D = (2 + 1/r) sin(theta_h)^(1/r) / (2 pi), r "
+     "floored at 0.005 (reciprocal); zeltner: weight x sheen(color, roughness) (not reciprocal). Throughput "
+     "1 - weight E(mu_v), E the untinted lobe's albedo."},
+    {"mix", "MaterialX's mix of two BSDFs: bg (1 - mix) + fg mix.", "MaterialX PBR spec, mix (genglsl mx_mix_bsdf)",
+     kMxMix, "Operators nest at most 8 deep (leaf nodes count as a level)."},
+    {"add", "MaterialX's sum of two BSDFs (not energy-bounded).", "MaterialX PBR spec, add (genglsl mx_add_bsdf)", kMxAdd,
+     "Throughput max(T1 + T2 - 1, 0)."},
+    {"multiply", "MaterialX's BSDF times a colour or a number in [0, 1].", "MaterialX PBR spec, multiply (genglsl mx_multiply_bsdf_color3)",
+     kMxMultiply, "The throughput is in1's."},
+    {"layer", "MaterialX's vertical layering by albedo scaling: top + base (1 - E_top(v)).",
+     "MaterialX PBR spec, layer (genglsl mx_layer_bsdf)", kMxLayer,
+     "Not reciprocal: the base's weight is a function of the view direction v alone (docs/materialx.md measures it)."},
 };
 
 std::string number_text(double v) {

@@ -123,6 +123,9 @@ struct Converter {
   SpectralBxDF operator()(const SheenBxDF& m) const {
     return SheenBxDFT<SS>{colour(MP::SheenColor, m.color), m.roughness};
   }
+  SpectralBxDF operator()(const CharlieSheenBxDF& m) const {
+    return CharlieSheenBxDFT<SS>{colour(MP::SheenColor, m.color), m.roughness};
+  }
   SpectralBxDF operator()(const OrenNayarBxDF& m) const {
     OrenNayarBxDFT<SS> s;
     s.reflectance = colour(MP::Reflectance, m.reflectance);
@@ -240,6 +243,22 @@ struct Converter {
       w.terminate_secondary();
     }
     return GltfPbrBxDFT<SS>::make(s);
+  }
+  // A MaterialX node (pbr_node.h): its inputs in one scratch slot, its factor upsampled
+  // as a reflectance, the throughput table shared with the RGB model.
+  SpectralBxDF operator()(const PbrNodeBxDF& m) const {
+    std::array<SpectralBxDF, 2>* parts = scratch.next_parts();
+    if (!parts || spectra.parts.size() != 2) return DiffuseBxDFT<SS>{SS(0)};
+    const size_t n = m.op == PbrOp::Scale ? 1 : 2;
+    for (size_t i = 0; i < n; ++i) (*parts)[i] = Converter{spectra.parts[i], w, scratch, 0}.convert((*m.parts)[i]);
+    PbrNodeBxDFT<SS> s;
+    s.op = m.op;
+    s.through = m.through;
+    s.scale = m.scale == Color(1) ? SS(1) : upsample_colour(MP::Reflectance, m.scale, w);
+    s.weight = m.weight;
+    s.albedo_table = m.albedo_table;
+    s.parts = parts;
+    return s;
   }
   SpectralBxDF operator()(const UserBxDF&) const { return DiffuseBxDFT<SS>{SS(0)}; }
 

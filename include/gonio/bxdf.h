@@ -12,6 +12,7 @@
 #include "gonio/bxdf/ashikhminshirley.h"
 #include "gonio/bxdf/blend.h"
 #include "gonio/bxdf/blinnphong.h"
+#include "gonio/bxdf/charlie_sheen.h"
 #include "gonio/bxdf/conductor.h"
 #include "gonio/bxdf/contract.h"
 #include "gonio/bxdf/custom.h"
@@ -24,6 +25,7 @@
 #include "gonio/bxdf/mirror.h"
 #include "gonio/bxdf/openpbr.h"
 #include "gonio/bxdf/orennayar.h"
+#include "gonio/bxdf/pbr_node.h"
 #include "gonio/bxdf/phong.h"
 #include "gonio/bxdf/plastic.h"
 #include "gonio/bxdf/roughconductor.h"
@@ -44,7 +46,8 @@ class BxDFT {
                               RoughConductorBxDFT<C>, RoughDielectricBxDFT<C>, OrenNayarBxDFT<C>, PhongBxDFT<C>,
                               BlinnPhongBxDFT<C>, WardBxDFT<C>, AshikhminShirleyBxDFT<C>, PlasticBxDFT<C>,
                               MeasuredBxDFT<C>, BlendBxDFT<C>, UserBxDFT<C>, SheenBxDFT<C>, EonBxDFT<C>,
-                              ThinDielectricBxDFT<C>, LayeredBxDFT<C>, OpenPbrBxDFT<C>, GltfPbrBxDFT<C>>;
+                              ThinDielectricBxDFT<C>, LayeredBxDFT<C>, OpenPbrBxDFT<C>, GltfPbrBxDFT<C>,
+                              PbrNodeBxDFT<C>, CharlieSheenBxDFT<C>>;
 
   BxDFT() = default;
   template <typename M>
@@ -185,5 +188,7 @@ std::optional<DirectionalAlbedoT<C>> BlendBxDFT<C>::albedo(const Vec3& wo, Trans
 
 // LayeredBxDF, now that BxDF is complete.
 #include "gonio/bxdf/layered_impl.h"  // IWYU pragma: export
+// PbrNodeBxDF (MaterialX's operators), likewise.
+#include "gonio/bxdf/pbr_node_impl.h"  // IWYU pragma: export
 // Where the models' code is generated (once, in the library).
 #include "gonio/bxdf/instances.h"  // IWYU pragma: export

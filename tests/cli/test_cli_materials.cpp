@@ -47,7 +47,9 @@ const std::vector<std::string> kImplemented = {"diffuse", "mirror",     "conduct
                                                "roughdielectric", "orennayar", "phong", "blinnphong", "ward",
                                                "ashikhminshirley", "plastic", "blend", "measured", "subsurface",
                                                "eon", "sheen", "thindielectric", "layered", "openpbr",
-                                               "gltf_pbr"};
+                                               "gltf_pbr",
+                                               "oren_nayar_diffuse_bsdf", "conductor_bsdf", "dielectric_bsdf",
+                                               "sheen_bsdf", "mix", "add", "multiply", "layer"};
 
 TEST(CliMaterials, ListsEveryTypeOnOneLine) {
   const RunResult r = run_gonio({"materials"});
@@ -135,6 +137,14 @@ const std::map<std::string, nlohmann::json>& minimal_descriptions() {
       {"thindielectric", {{"type", "thindielectric"}}},
       {"openpbr", {{"type", "openpbr"}}},
       {"gltf_pbr", {{"type", "gltf_pbr"}}},
+      {"oren_nayar_diffuse_bsdf", {{"type", "oren_nayar_diffuse_bsdf"}}},
+      {"conductor_bsdf", {{"type", "conductor_bsdf"}}},
+      {"dielectric_bsdf", {{"type", "dielectric_bsdf"}}},
+      {"sheen_bsdf", {{"type", "sheen_bsdf"}}},
+      {"mix", {{"type", "mix"}, {"fg", {{"type", "sheen_bsdf"}}}, {"bg", {{"type", "oren_nayar_diffuse_bsdf"}}}}},
+      {"add", {{"type", "add"}, {"in1", {{"type", "sheen_bsdf"}}}, {"in2", {{"type", "oren_nayar_diffuse_bsdf"}}}}},
+      {"multiply", {{"type", "multiply"}, {"in1", {{"type", "oren_nayar_diffuse_bsdf"}}}}},
+      {"layer", {{"type", "layer"}, {"top", {{"type", "dielectric_bsdf"}}}, {"base", {{"type", "oren_nayar_diffuse_bsdf"}}}}},
   };
   return descriptions;
 }
