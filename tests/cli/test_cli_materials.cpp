@@ -46,7 +46,8 @@ TEST(CliMaterials, DocsMaterialsMdIsTheGeneratedReference) {
 const std::vector<std::string> kImplemented = {"diffuse", "mirror",     "conductor", "dielectric", "roughconductor",
                                                "roughdielectric", "orennayar", "phong", "blinnphong", "ward",
                                                "ashikhminshirley", "plastic", "blend", "measured", "subsurface",
-                                               "eon", "sheen", "thindielectric", "layered", "openpbr"};
+                                               "eon", "sheen", "thindielectric", "layered", "openpbr",
+                                               "hair", "chiang_hair_bsdf"};
 
 TEST(CliMaterials, ListsEveryTypeOnOneLine) {
   const RunResult r = run_gonio({"materials"});
@@ -133,6 +134,8 @@ const std::map<std::string, nlohmann::json>& minimal_descriptions() {
       {"sheen", {{"type", "sheen"}}},
       {"thindielectric", {{"type", "thindielectric"}}},
       {"openpbr", {{"type", "openpbr"}}},
+      {"hair", {{"type", "hair"}}},
+      {"chiang_hair_bsdf", {{"type", "chiang_hair_bsdf"}}},
   };
   return descriptions;
 }

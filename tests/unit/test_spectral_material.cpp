@@ -111,7 +111,8 @@ std::map<std::string, std::string> grey_materials(double g) {
                       G + R"(},"thickness":0.2,"albedo":)" + H + "}"},
       {"thindielectric", R"({"type":"thindielectric","eta":1.4})"},
       {"openpbr", R"({"type":"openpbr","base_color":)" + G + R"(,"base_diffuse_roughness":0.4,"coat_weight":0.5,"fuzz_weight":0.3,"fuzz_color":)" +
-                      G + R"(,"base_metalness":0.3,"transmission_weight":0.2})"},
+                      G + R"(,"base_metalness":0.3,"transmission_weight":0.2})"},      {"hair", R"({"type":"hair","tint_R":)" + G + R"(,"sigma_a":0.4,"alpha":3})"},
+      {"chiang_hair_bsdf", R"({"type":"chiang_hair_bsdf","tint_TT":)" + G + R"(,"absorption_coefficient":0.2})"},
   };
 }
 
