@@ -273,8 +273,9 @@ struct HairBxDFT {
   Float offset_prob(int k) const { return average_h ? hair::gauss_prob(k) : Float(1); }
 
   // S(wo, wi) and the sampling density of wi (radiance mode), together.
-  BSDFEvalT<C> scatter(const Vec3& wo, const Vec3& wi) const {
-    const Outgoing o = outgoing(wo);
+  BSDFEvalT<C> scatter(const Vec3& wo, const Vec3& wi) const { return scatter(outgoing(wo), wi, -1, nullptr); }
+  // The same from wo's terms, with those of offset node `known_k` already at hand (sample()).
+  BSDFEvalT<C> scatter(const Outgoing& o, const Vec3& wi, int known_k, const AtOffset* known) const {
     const Float sin_i = std::clamp(wi.x, Float(-1), Float(1));
     const Float cos_i = std::sqrt(std::max(Float(0), 1 - sin_i * sin_i));
     const Float dphi = std::atan2(wi.z, wi.y) - o.phi_o;
@@ -283,8 +284,10 @@ struct HairBxDFT {
       mp[p] = hair::longitudinal(sin_i, cos_i, o.sin_p[p], o.cos_p[p], v[p], log_norm[p]);
     C sum(0.0f);
     Float pdf = 0;
+    AtOffset computed{};
     for (int k = 0; k < offsets(); ++k) {
-      const AtOffset a = at_offset(o, offset(k));
+      if (k != known_k) computed = at_offset(o, offset(k));
+      const AtOffset& a = k == known_k ? *known : computed;
       C sk(0.0f);
       Float pk = 0;
       for (int p = 0; p < 3; ++p) {
@@ -340,7 +343,7 @@ struct HairBxDFT {
       if (u_lobe < kImportanceUniform) {
         // The uniform sphere: z = 1 − 2 u1, φ = 2π u2.
         const Float z = 1 - 2 * u1, r = std::sqrt(std::max(Float(0), 1 - z * z)), ph = 2 * kPi * u2;
-        return finish_sample(wo, Vec3{r * std::cos(ph), r * std::sin(ph), z}, mode);
+        return finish_sample(wo, Vec3{r * std::cos(ph), r * std::sin(ph), z}, mode, nullptr, -1, nullptr);
       }
       u_lobe = std::min((u_lobe - kImportanceUniform) / (1 - kImportanceUniform), kOneMinusEpsilon);
     }
@@ -379,11 +382,19 @@ struct HairBxDFT {
     const Float phi_p = 2 * Float(p) * a.gamma_t - 2 * a.gamma_o + Float(p) * kPi;
     const Float dphi = p < 3 ? phi_p + hair::sample_trimmed_logistic(u_lobe, s[size_t(p)]) : 2 * kPi * u_lobe;
     const Float phi_i = o.phi_o + dphi;
-    return finish_sample(wo, Vec3{sin_i, cos_i * std::cos(phi_i), cos_i * std::sin(phi_i)}, mode);
+    return finish_sample(wo, Vec3{sin_i, cos_i * std::cos(phi_i), cos_i * std::sin(phi_i)}, mode, &o, k, &a);
   }
-  std::optional<BSDFSampleT<C>> finish_sample(const Vec3& wo, const Vec3& wi, TransportMode mode) const {
+  // f and pdf at the sampled wi: radiance mode reuses wo's terms and those of the node drawn.
+  std::optional<BSDFSampleT<C>> finish_sample(const Vec3& wo, const Vec3& wi, TransportMode mode, const Outgoing* o,
+                                              int k, const AtOffset* a) const {
     if (wi.z == 0) return std::nullopt;
-    const BSDFEvalT<C> e = eval(wo, wi, mode);
+    BSDFEvalT<C> e;
+    if (mode == TransportMode::Radiance && o) {
+      e = scatter(*o, wi, k, a);
+      e.f *= inv_cos(wi.z);
+    } else {
+      e = eval(wo, wi, mode);
+    }
     // A direction of density below 1e-30 (the far tail of a narrow lobe, drawn only at
     // u = 0 or 1 exactly) is dropped: its weight would overflow.
     if (!(e.pdf > Float(1e-30))) return std::nullopt;
