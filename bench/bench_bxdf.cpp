@@ -390,6 +390,10 @@ int main(int argc, char** argv) {
   // Issue 34: EON against Oren–Nayar (target: f ≤ 2×), F82-tint against Schlick on the
   // same rough conductor (target: ≤ +10 %).
   register_model("eon_0.5", EonBxDF::make(Color(0.5f), 0.5f));
+  // Issue 60: the hair fibre at one h (target: f <= 250 ns, sample <= 350 ns) and averaged
+  // over h (8-point Gauss–Legendre, published separately).
+  register_model("hair_h0.3", std::get<HairBxDF>(parse_material(R"({"type":"hair","h":0.3,"eumelanin":0.8})").models()));
+  register_model("hair_h_averaged", std::get<HairBxDF>(parse_material(R"({"type":"hair","eumelanin":0.8})").models()));
   // Issue 35: openpbr with its defaults, and a dielectric base with coat and fuzz (target:
   // eval <= 150 ns, sample <= 250 ns).
   register_model("openpbr_default", std::get<OpenPbrBxDF>(parse_material(R"({"type":"openpbr"})").models()));

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <algorithm>
 #include <array>
 #include <iterator>
 #include <type_traits>
@@ -199,6 +200,33 @@ class Params {
     check_range(key, a);
     check_range(key, b);
     return {a, b};
+  }
+
+  // A fibre's per-lobe value: a number (one for every lobe) or [R, TT, TRT], each in range.
+  // `single` tells which form was given.
+  std::array<double, 3> lobes(const char* key, bool* single = nullptr) {
+    const json& v = value(key);
+    std::array<double, 3> r{};
+    if (v.is_number()) {
+      r.fill(finite(key, v));
+      if (single) *single = true;
+    } else if (v.is_array() && v.size() == 3 && v[0].is_number() && v[1].is_number() && v[2].is_number()) {
+      for (size_t i = 0; i < 3; ++i) r[i] = finite(key, v[i]);
+      if (single) *single = false;
+    } else {
+      fail(std::string(key) + " must be a number or [R, TT, TRT], got " + show(v));
+    }
+    for (double x : r) check_range(key, x);
+    return r;
+  }
+  // [a, b] (MaterialX's vector2), each in range.
+  std::array<double, 2> pair(const char* key) {
+    const json& v = value(key);
+    if (!(v.is_array() && v.size() == 2 && v[0].is_number() && v[1].is_number()))
+      fail(std::string(key) + " must be [a, b] (two numbers), got " + show(v));
+    const std::array<double, 2> r{finite(key, v[0]), finite(key, v[1])};
+    for (double x : r) check_range(key, x);
+    return r;
   }
 
   const json& raw(const char* key) { return value(key); }
@@ -570,6 +598,69 @@ BxDF make_sheen(Params& p) {
   return m;
 }
 
+// The hair fibre (bxdf/hair.h; SPEC §2): absorption from sigma_a, a colour (Chiang eq. 9)
+// or melanin concentrations (d'Eon et al. 2011), roughness per lobe, tilt in degrees.
+BxDF make_hair(Params& p) {
+  HairBxDF m;
+  bool single_m = true, single_n = true;
+  const auto bm = p.lobes("beta_m", &single_m), bn = p.lobes("beta_n", &single_n);
+  (void)single_n;
+  m.set_roughness({Float(bm[0]), Float(bm[1]), Float(bm[2])}, {Float(bn[0]), Float(bn[1]), Float(bn[2])});
+  if (single_m) {
+    // Chiang §4.1 after Marschner: TT and TRT have half and twice R's width.
+    m.v[1] = m.v[0] / 4;
+    m.v[2] = m.v[3] = 4 * m.v[0];
+    m.prepare();
+  }
+  m.set_alpha(Float(p.number("alpha") * kPiD / 180));
+  m.eta = Float(p.number("eta"));
+  m.tint = {p.color("tint_R"), p.color("tint_TT"), p.color("tint_TRT")};
+  if (p.has("h")) {
+    m.h = Float(p.number("h"));
+    m.average_h = false;
+  }
+  const bool has_sigma = p.has("sigma_a"), has_color = p.has("color");
+  const bool has_melanin = p.has("eumelanin") || p.has("pheomelanin");
+  if (int(has_sigma) + int(has_color) + int(has_melanin) > 1)
+    p.fail("give one of sigma_a, color, or eumelanin/pheomelanin");
+  if (has_sigma) {
+    m.sigma_a = p.color("sigma_a");
+  } else if (has_color) {
+    const Color c = p.color("color");
+    m.sigma_a = map(c, [&](Float x) { return hair::sigma_a_from_color(x, Float(bn[0])); });
+  } else {
+    const double ce = has_melanin ? (p.has("eumelanin") ? p.number("eumelanin") : 0) : 1.3;
+    const double cp = p.has("pheomelanin") ? p.number("pheomelanin") : 0;
+    for (int c = 0; c < 3; ++c)
+      m.sigma_a[c] = Float(ce * hair::kEumelanin[c] + cp * hair::kPheomelanin[c]);
+  }
+  return m;
+}
+
+// MaterialX's chiang_hair_bsdf (SPEC §2): (v, s) per lobe as chiang_hair_roughness gives
+// them (the logistic's scale is s sqrt(pi/8), MaterialX's mx_hair_trimmed_logistic),
+// clamped to [0.001, 1] as MaterialX's genglsl does; alpha = (cuticle_angle − 0.5) pi.
+BxDF make_chiang_hair(Params& p) {
+  HairBxDF m;
+  const char* keys[3] = {"roughness_R", "roughness_TT", "roughness_TRT"};
+  for (size_t i = 0; i < 3; ++i) {
+    const auto vs = p.pair(keys[i]);
+    m.v[i] = Float(std::clamp(vs[0], 0.001, 1.0));
+    m.s[i] = Float(std::clamp(vs[1], 0.001, 1.0)) * hair::kSqrtPiOver8;
+  }
+  m.v[3] = m.v[2];
+  m.prepare();
+  m.set_alpha(Float((p.number("cuticle_angle") - 0.5) * kPiD));
+  m.eta = Float(p.number("ior"));
+  m.tint = {p.color("tint_R"), p.color("tint_TT"), p.color("tint_TRT")};
+  m.sigma_a = p.color("absorption_coefficient");
+  if (p.has("h")) {
+    m.h = Float(p.number("h"));
+    m.average_h = false;
+  }
+  return m;
+}
+
 BxDF make_eon(Params& p) {
   return EonBxDF::make(p.color("reflectance"), Float(p.number("roughness")));
 }
@@ -874,6 +965,8 @@ constexpr TypeEntry kMakers[] = {
     {"thindielectric", make_thindielectric},
     {"openpbr", make_openpbr},
     {"gltf_pbr", make_gltf_pbr},
+    {"hair", make_hair},
+    {"chiang_hair_bsdf", make_chiang_hair},
 };
 
 }  // namespace
@@ -1586,7 +1679,8 @@ BxDF with_params(const BxDF& model, std::span<const ParamValue> values) noexcept
           return with_gltf_pbr_params(base, values);
         } else if constexpr (std::is_same_v<M, BlendBxDF> || std::is_same_v<M, UserBxDF> || std::is_same_v<M, PbrNodeBxDF> ||
                              std::is_same_v<M, CharlieSheenBxDF> ||
-                             std::is_same_v<M, MeasuredBxDF> || std::is_same_v<M, LayeredBxDF>) {
+                             std::is_same_v<M, MeasuredBxDF> || std::is_same_v<M, LayeredBxDF> ||
+                             std::is_same_v<M, HairBxDF>) {
           return base;  // nothing of theirs varies
         } else {
           M m = base;

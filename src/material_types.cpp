@@ -359,6 +359,51 @@ constexpr ParamSpec kMxLayer[] = {
      "The top BSDF: a layerable node (dielectric_bsdf, generalized_schlick_bsdf, sheen_bsdf) or an operator of them; "
      "any other material is opaque."},
     {"base", K::Material, "", {}, "", "", true, "The base BSDF (a material)."},
+// The Chiang et al. 2016 hair fibre (bxdf/hair.h; SPEC §2) and MaterialX's node for it.
+constexpr ParamRange kFibreRoughness = open_closed(0, 1);
+constexpr ParamSpec kHair[] = {
+    {"sigma_a", K::Colour, "", closed(0, 1e4), "per unit radius", "", false,
+     "Absorption coefficient inside the fibre, per unit radius (the path across it is 2 cos gamma_t / cos theta_t); "
+     "excludes color and the melanins."},
+    {"color", K::Colour, "", open_closed(0, 1), "", "", false,
+     "The fibre's colour, mapped to sigma_a by Chiang et al.'s inverse (eq. 9, with beta_n of R); excludes sigma_a and "
+     "the melanins."},
+    {"eumelanin", K::Number, "", closed(0, 100), "", "", false,
+     "Eumelanin concentration: sigma_a += eumelanin x (0.419, 0.697, 1.37) (d'Eon et al. 2011, pbrt-v4). With none "
+     "of sigma_a, color and the melanins, eumelanin is 1.3 (brown)."},
+    {"pheomelanin", K::Number, "", closed(0, 100), "", "", false,
+     "Pheomelanin concentration: sigma_a += pheomelanin x (0.187, 0.4, 1.05)."},
+    {"beta_m", K::Lobes, "0.3", kFibreRoughness, "", "", false,
+     "Longitudinal roughness; a number gives R that value and TT, TRT the variances v/4 and 4v (Marschner's widths), "
+     "an array gives each lobe its own (Chiang eq. 7: v = (0.726 b + 0.812 b^2 + 3.7 b^20)^2)."},
+    {"beta_n", K::Lobes, "0.3", kFibreRoughness, "", "", false,
+     "Azimuthal roughness, one or per lobe (Chiang eq. 8: s = sqrt(pi/8) (0.265 b + 1.194 b^2 + 5.372 b^22))."},
+    {"alpha", K::Number, "2", ParamRange{-90, 90, true, true, true}, "degrees", "", false,
+     "Cuticle scale tilt: R shifted by -2 alpha, TT by +alpha, TRT by +4 alpha (pbrt-v4)."},
+    {"eta", K::Number, "1.55", open_closed(1, 10), "", "", false, "Index of refraction of the fibre (> 1)."},
+    {"tint_R", K::Colour, "1", kUnit, "", "", false, "Colour multiplying the R lobe."},
+    {"tint_TT", K::Colour, "1", kUnit, "", "", false, "Colour multiplying the TT lobe."},
+    {"tint_TRT", K::Colour, "1", kUnit, "", "", false, "Colour multiplying TRT and the residual lobe."},
+    {"h", K::Number, "", closed(-1, 1), "", "", false,
+     "Offset across the fibre; unset: averaged over h by 8-point Gauss-Legendre (eval, sample and pdf alike)."},
+};
+constexpr ParamSpec kChiangHair[] = {
+    {"tint_R", K::Colour, "1", kUnit, "", "", false, "Colour multiplying the R lobe."},
+    {"tint_TT", K::Colour, "1", kUnit, "", "", false, "Colour multiplying the TT lobe."},
+    {"tint_TRT", K::Colour, "1", kUnit, "", "", false, "Colour multiplying TRT and the residual lobe."},
+    {"ior", K::Number, "1.55", open_closed(1, 10), "", "", false, "Index of refraction of the fibre (> 1)."},
+    {"roughness_R", K::Pair, "[0.1, 0.1]", closed(0, 1), "", "", false,
+     "(v, s) of the R lobe as chiang_hair_roughness makes them: the longitudinal variance v and the azimuthal "
+     "scale s before sqrt(pi/8); each clamped to [0.001, 1] as MaterialX does."},
+    {"roughness_TT", K::Pair, "[0.05, 0.05]", closed(0, 1), "", "", false, "(v, s) of the TT lobe."},
+    {"roughness_TRT", K::Pair, "[0.2, 0.2]", closed(0, 1), "", "", false,
+     "(v, s) of the TRT lobe and the residual's v."},
+    {"cuticle_angle", K::Number, "0.5", closed(0, 1), "", "", false,
+     "Cuticle tilt as a fraction: alpha = (cuticle_angle - 0.5) pi radians (0.5: no tilt)."},
+    {"absorption_coefficient", K::Colour, "0", closed(0, 1e4), "", "", false,
+     "sigma_a of the fibre, per unit radius."},
+    {"h", K::Number, "", closed(-1, 1), "", "", false,
+     "Offset across the fibre; unset: averaged over h by 8-point Gauss-Legendre."},
 };
 
 constexpr MaterialTypeSpec kTypes[] = {
@@ -475,6 +520,20 @@ constexpr MaterialTypeSpec kTypes[] = {
     {"layer", "MaterialX's vertical layering by albedo scaling: top + base (1 - E_top(v)).",
      "MaterialX PBR spec, layer (genglsl mx_layer_bsdf)", kMxLayer,
      "Not reciprocal: the base's weight is a function of the view direction v alone (docs/materialx.md measures it)."},
+    {"hair",
+     "Hair fibre (Chiang et al. 2016): R, TT, TRT and residual lobes with d'Eon's longitudinal and a trimmed "
+     "logistic azimuthal scattering, tilted cuticles and absorption; the fibre runs along +x.",
+     "Chiang, Bitterli, Tappan & Burley 2016 (CGF 35(2)), eqs. 3-9; d'Eon et al. 2011 (Mp, melanin); d'Eon et al. 2013 "
+     "(sampling); Marschner et al. 2003; pbrt-v4 HairBxDF (frame and tilt)",
+     kHair,
+     "At most one of sigma_a, color, (eumelanin, pheomelanin). f = S/|wi.z| (SPEC §2): f |cos| integrates to the "
+     "fibre's albedo over the whole sphere. Not reciprocal and not isotropic about z: gonio check reports both as not "
+     "applicable and tests sampling over the whole sphere. docs/hair.md. Polarized mode: depolarizing."},
+    {"chiang_hair_bsdf",
+     "MaterialX's chiang_hair_bsdf: the hair model with MaterialX's inputs (per-lobe tints and (v, s) roughnesses).",
+     "MaterialX PBR specification 1.39 (chiang_hair_bsdf); Chiang et al. 2016", kChiangHair,
+     "The same model as hair: v is the variance (the residual takes TRT's), the logistic scale is s sqrt(pi/8) "
+     "(MaterialX's genglsl mx_hair_trimmed_logistic), alpha = (cuticle_angle - 0.5) pi."},
 };
 
 std::string number_text(double v) {

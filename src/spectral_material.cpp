@@ -120,6 +120,23 @@ struct Converter {
                            : DielectricMultiscatterLobe::remake(m.distribution, s.eta, spectra.f_avg->eval(w[0]));
     return s;
   }
+  // A fibre: sigma_a (like an index: linear between the channels' wavelengths, as its
+  // RGB coefficients are values at them) and the tints upsampled as reflectances.
+  SpectralBxDF operator()(const HairBxDF& m) const {
+    HairBxDFT<SS> s;
+    s.sigma_a = upsample_colour(MP::Eta, m.sigma_a, w);
+    s.eta = m.eta;
+    s.h = m.h;
+    s.average_h = m.average_h;
+    s.v = m.v;
+    s.s = m.s;
+    for (size_t i = 0; i < 3; ++i) s.tint[i] = upsample_colour(MP::Reflectance, m.tint[i], w);
+    s.sin_tilt = m.sin_tilt;
+    s.cos_tilt = m.cos_tilt;
+    s.log_norm = m.log_norm;
+    s.inv_trim = m.inv_trim;
+    return s;
+  }
   SpectralBxDF operator()(const SheenBxDF& m) const {
     return SheenBxDFT<SS>{colour(MP::SheenColor, m.color), m.roughness};
   }

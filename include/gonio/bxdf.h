@@ -20,6 +20,7 @@
 #include "gonio/bxdf/diffuse.h"
 #include "gonio/bxdf/eon.h"
 #include "gonio/bxdf/gltf_pbr.h"
+#include "gonio/bxdf/hair.h"
 #include "gonio/bxdf/layered.h"
 #include "gonio/bxdf/measured.h"
 #include "gonio/bxdf/mirror.h"
@@ -47,7 +48,7 @@ class BxDFT {
                               BlinnPhongBxDFT<C>, WardBxDFT<C>, AshikhminShirleyBxDFT<C>, PlasticBxDFT<C>,
                               MeasuredBxDFT<C>, BlendBxDFT<C>, UserBxDFT<C>, SheenBxDFT<C>, EonBxDFT<C>,
                               ThinDielectricBxDFT<C>, LayeredBxDFT<C>, OpenPbrBxDFT<C>, GltfPbrBxDFT<C>,
-                              PbrNodeBxDFT<C>, CharlieSheenBxDFT<C>>;
+                              PbrNodeBxDFT<C>, CharlieSheenBxDFT<C>, HairBxDFT<C>>;
 
   BxDFT() = default;
   template <typename M>
@@ -76,6 +77,16 @@ class BxDFT {
         [](const auto& m) -> Float {
           if constexpr (requires { m.relative_eta(); }) return m.relative_eta();
           else return 1;
+        },
+        m_);
+  }
+  // A fibre (hair.h): its frame's x is the fibre's axis, z no normal; `check` tests it
+  // over the whole sphere and reports isotropy about z as not applicable.
+  bool is_fibre() const {
+    return std::visit(
+        [](const auto& m) -> bool {
+          if constexpr (requires { m.is_fibre(); }) return m.is_fibre();
+          else return false;
         },
         m_);
   }

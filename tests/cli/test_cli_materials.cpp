@@ -49,7 +49,8 @@ const std::vector<std::string> kImplemented = {"diffuse", "mirror",     "conduct
                                                "eon", "sheen", "thindielectric", "layered", "openpbr",
                                                "gltf_pbr",
                                                "oren_nayar_diffuse_bsdf", "conductor_bsdf", "dielectric_bsdf",
-                                               "sheen_bsdf", "mix", "add", "multiply", "layer"};
+                                               "sheen_bsdf", "mix", "add", "multiply", "layer",
+                                               "hair", "chiang_hair_bsdf"};
 
 TEST(CliMaterials, ListsEveryTypeOnOneLine) {
   const RunResult r = run_gonio({"materials"});
@@ -145,6 +146,8 @@ const std::map<std::string, nlohmann::json>& minimal_descriptions() {
       {"add", {{"type", "add"}, {"in1", {{"type", "sheen_bsdf"}}}, {"in2", {{"type", "oren_nayar_diffuse_bsdf"}}}}},
       {"multiply", {{"type", "multiply"}, {"in1", {{"type", "oren_nayar_diffuse_bsdf"}}}}},
       {"layer", {{"type", "layer"}, {"top", {{"type", "dielectric_bsdf"}}}, {"base", {{"type", "oren_nayar_diffuse_bsdf"}}}}},
+      {"hair", {{"type", "hair"}}},
+      {"chiang_hair_bsdf", {{"type", "chiang_hair_bsdf"}}},
   };
   return descriptions;
 }

@@ -113,7 +113,8 @@ std::map<std::string, std::string> grey_materials(double g) {
       {"gltf_pbr", R"({"type":"gltf_pbr","base_color":)" + G + R"(,"metallic":0.3,"roughness":0.4,"clearcoat":0.5,"sheen_color":)" + H +
                        R"(,"transmission":0.4,"specular_color":)" + G + "}"},
       {"openpbr", R"({"type":"openpbr","base_color":)" + G + R"(,"base_diffuse_roughness":0.4,"coat_weight":0.5,"fuzz_weight":0.3,"fuzz_color":)" +
-                      G + R"(,"base_metalness":0.3,"transmission_weight":0.2})"},
+                      G + R"(,"base_metalness":0.3,"transmission_weight":0.2})"},      {"hair", R"({"type":"hair","tint_R":)" + G + R"(,"sigma_a":0.4,"alpha":3})"},
+      {"chiang_hair_bsdf", R"({"type":"chiang_hair_bsdf","tint_TT":)" + G + R"(,"absorption_coefficient":0.2})"},
   };
 }
 
