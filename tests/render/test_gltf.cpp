@@ -245,9 +245,9 @@ TEST(Gltf, MalformedFilesAreRefusedInOneLine) {
     Doc d;
     d.root(d.node({{"mesh", d.quad(c, e1, e2, -1)}}));
     d.j["meshes"][0]["primitives"][0].erase("material");
-    const int bad = d.indices({0, 1, 7});
+    const int bad = d.indices({0, 1, 4});  // 4 vertices: 4 is the first index beyond them
     d.j["meshes"][0]["primitives"][0]["indices"] = bad;
-    expect_refused(dir.file("index.gltf", d.text()), "index 7");
+    expect_refused(dir.file("index.gltf", d.text()), "index 4");
   }
   {  // a NaN position
     Doc d;
@@ -297,14 +297,15 @@ TEST(Gltf, NodeHierarchyComposesMatrixAndTrs) {
   const float c[3] = {0, 0, 0}, e1[3] = {1, 0, 0}, e2[3] = {0, 1, 0};
   const int mesh = d.quad(c, e1, e2, -1);
   d.j["meshes"][0]["primitives"][0].erase("material");
-  // Parent: a matrix translating by (10, 0, 0) (column-major); child: scale 2 then a 90°
-  // turn about z (quaternion (0, 0, sin 45°, cos 45°)) then translation (0, 1, 0).
-  const int child = d.node({{"mesh", mesh}, {"scale", {2, 2, 2}}, {"rotation", {0, 0, 0.70710678, 0.70710678}}, {"translation", {0, 1, 0}}});
+  // Parent: a matrix translating by (10, 0, 0) (column-major); child: scale (2, 3, 1) then
+  // a 90° turn about z (quaternion (0, 0, sin 45°, cos 45°)) then translation (0, 1, 0).
+  const int child = d.node({{"mesh", mesh}, {"scale", {2, 3, 1}}, {"rotation", {0, 0, 0.70710678, 0.70710678}}, {"translation", {0, 1, 0}}});
   d.root(d.node({{"matrix", {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 10, 0, 0, 1}}, {"children", {child}}}));
   Scene s;
   append_gltf(s, dir.file("tree.gltf", d.text()), {}, "");
   ASSERT_EQ(s.meshes.size(), 1u);
-  // Vertex (1, 0, 0) → scale (2, 0, 0) → turn (0, 2, 0) → + (0, 1, 0) → + (10, 0, 0).
+  // Vertex (1, 0, 0) → scale (2, 0, 0) → turn (0, 2, 0) → + (0, 1, 0) → + (10, 0, 0)
+  // (turning before scaling would give y = 3 + 1).
   const Vec3 p = s.meshes[0].positions[1];
   EXPECT_NEAR(p.x, 10, 1e-5);
   EXPECT_NEAR(p.y, 3, 1e-5);
