@@ -359,6 +359,7 @@ constexpr ParamSpec kMxLayer[] = {
      "The top BSDF: a layerable node (dielectric_bsdf, generalized_schlick_bsdf, sheen_bsdf) or an operator of them; "
      "any other material is opaque."},
     {"base", K::Material, "", {}, "", "", true, "The base BSDF (a material)."},
+};
 // The Chiang et al. 2016 hair fibre (bxdf/hair.h; SPEC §2) and MaterialX's node for it.
 constexpr ParamRange kFibreRoughness = open_closed(0, 1);
 constexpr ParamSpec kHair[] = {

@@ -533,10 +533,10 @@ class GltfReader {
     return s;
   }
 
-  // A texture driving openpbr parameter `key`: the texel's RGB (channel < 0) or one channel, times factor.
+  // A texture driving gltf_pbr parameter `key`: the texel's RGB (channel < 0) or one channel, times factor.
   void bind(Material& m, const TexRef& r, const char* key, int channel, const Color& factor, bool srgb, const std::string& at) {
     if (r.texture < 0) return;
-    const auto param = varying_param("openpbr", key);
+    const auto param = varying_param("gltf_pbr", key);
     if (!param) return;
     ParamTexture pt;
     pt.param = *param;
@@ -551,16 +551,19 @@ class GltfReader {
     m.textures.push_back(std::move(pt));
   }
 
+  // A glTF material as gonio's `gltf_pbr` (SPEC §3: the Khronos model, one piece of code
+  // with MaterialX's gltf_pbr nodes; docs/gltf_pbr.md), its factors as the parameters and its
+  // textures driving them per hit.
   int material(int index, const std::string& at) {
     if (auto it = material_index_.find(index); it != material_index_.end()) return it->second;
-    json d = {{"type", "openpbr"}, {"base_diffuse_roughness", 0.0}};
+    json d = {{"type", "gltf_pbr"}};
     const tinygltf::Material* gm = nullptr;
     std::string mat = "/materials/" + std::to_string(index);
     if (index >= 0) {
       if (size_t(index) >= model_.materials.size()) fail(at + ": material " + std::to_string(index) + " does not exist");
       gm = &model_.materials[size_t(index)];
     }
-    // glTF's default material (§3.9.6): white, metallic 1, roughness 1.
+    // glTF's default material (§3.9.6): white, metallic 1, roughness 1 (gltf_pbr's defaults).
     std::array<double, 4> bc{1, 1, 1, 1};
     double metallic = 1, roughness = 1;
     std::array<double, 3> emissive{0, 0, 0};
@@ -583,6 +586,8 @@ class GltfReader {
       if (!(v >= 0 && v <= 1)) fail(mat + "/" + field + ": must be in [0, 1], got " + std::to_string(v));
       return v;
     };
+    auto clamp01 = [](double v) { return std::clamp(v, 0.0, 1.0); };
+    auto colour01 = [&](const std::array<double, 3>& c) { return json{clamp01(c[0]), clamp01(c[1]), clamp01(c[2])}; };
     for (int i = 0; i < 4; ++i) in01(bc[size_t(i)], "pbrMetallicRoughness/baseColorFactor");
     in01(metallic, "pbrMetallicRoughness/metallicFactor");
     in01(roughness, "pbrMetallicRoughness/roughnessFactor");
@@ -590,92 +595,91 @@ class GltfReader {
     if (!(strength >= 0 && std::isfinite(strength))) fail(mat + "/extensions/KHR_materials_emissive_strength/emissiveStrength: must be >= 0");
     const bool unlit = ext("KHR_materials_unlit").IsObject();
     d["base_color"] = {bc[0], bc[1], bc[2]};
-    d["base_metalness"] = metallic;
-    d["specular_roughness"] = roughness;
-    d["specular_ior"] = std::clamp(num(ext("KHR_materials_ior"), "ior", 1.5), 1.0, 5.0);
+    d["metallic"] = metallic;
+    d["roughness"] = roughness;
+    d["ior"] = std::clamp(num(ext("KHR_materials_ior"), "ior", 1.5), 1.0, 5.0);
     if (const auto& s = ext("KHR_materials_specular"); s.IsObject()) {
-      d["specular_weight"] = std::clamp(num(s, "specularFactor", 1), 0.0, 1.0);
-      const auto c = vec3v(s, "specularColorFactor", {1, 1, 1});
-      d["specular_color"] = {std::clamp(c[0], 0.0, 1.0), std::clamp(c[1], 0.0, 1.0), std::clamp(c[2], 0.0, 1.0)};
+      d["specular"] = clamp01(num(s, "specularFactor", 1));
+      d["specular_color"] = colour01(vec3v(s, "specularColorFactor", {1, 1, 1}));
     }
-    const double transmission = std::clamp(num(ext("KHR_materials_transmission"), "transmissionFactor", 0), 0.0, 1.0);
-    if (transmission > 0) {
-      d["transmission_weight"] = transmission;
-      const auto& vol = ext("KHR_materials_volume");
-      const double thickness = num(vol, "thicknessFactor", 0);
-      if (!(thickness > 0)) d["geometry_thin_walled"] = true;
-      else {
-        const double dist = num(vol, "attenuationDistance", 0);
-        if (dist > 0 && std::isfinite(dist)) {
-          const auto c = vec3v(vol, "attenuationColor", {1, 1, 1});
-          d["transmission_color"] = {std::clamp(c[0], 0.0, 1.0), std::clamp(c[1], 0.0, 1.0), std::clamp(c[2], 0.0, 1.0)};
-          d["transmission_depth"] = dist;
-        }
+    const double transmission = clamp01(num(ext("KHR_materials_transmission"), "transmissionFactor", 0));
+    d["transmission"] = transmission;
+    if (const auto& vol = ext("KHR_materials_volume"); vol.IsObject()) {
+      d["thickness"] = std::clamp(num(vol, "thicknessFactor", 0), 0.0, 1e9);
+      const double dist = num(vol, "attenuationDistance", 0);
+      if (dist > 0 && std::isfinite(dist)) {
+        d["attenuation_distance"] = std::min(dist, 1e9);
+        d["attenuation_color"] = colour01(vec3v(vol, "attenuationColor", {1, 1, 1}));
       }
     }
     if (const auto& c = ext("KHR_materials_clearcoat"); c.IsObject()) {
-      d["coat_weight"] = std::clamp(num(c, "clearcoatFactor", 0), 0.0, 1.0);
-      d["coat_roughness"] = std::clamp(num(c, "clearcoatRoughnessFactor", 0), 0.0, 1.0);
-      d["coat_ior"] = 1.5;
+      d["clearcoat"] = clamp01(num(c, "clearcoatFactor", 0));
+      d["clearcoat_roughness"] = clamp01(num(c, "clearcoatRoughnessFactor", 0));
     }
     if (const auto& s = ext("KHR_materials_sheen"); s.IsObject()) {
-      const auto c = vec3v(s, "sheenColorFactor", {0, 0, 0});
-      if (c[0] > 0 || c[1] > 0 || c[2] > 0) {
-        d["fuzz_weight"] = 1.0;
-        d["fuzz_color"] = {std::clamp(c[0], 0.0, 1.0), std::clamp(c[1], 0.0, 1.0), std::clamp(c[2], 0.0, 1.0)};
-        d["fuzz_roughness"] = std::clamp(num(s, "sheenRoughnessFactor", 0), 0.0, 1.0);
-      }
+      d["sheen_color"] = colour01(vec3v(s, "sheenColorFactor", {0, 0, 0}));
+      d["sheen_roughness"] = clamp01(num(s, "sheenRoughnessFactor", 0));
     }
-    if (const auto& s = ext("KHR_materials_iridescence"); s.IsObject()) {
-      d["thin_film_weight"] = std::clamp(num(s, "iridescenceFactor", 0), 0.0, 1.0);
-      d["thin_film_ior"] = std::clamp(num(s, "iridescenceIor", 1.3), 1.0, 3.0);
-      d["thin_film_thickness"] = std::clamp(num(s, "iridescenceThicknessMaximum", 400), 0.0, 1e5) / 1000.0;  // nm → µm
+    if (const auto& a = ext("KHR_materials_anisotropy"); a.IsObject()) {
+      d["anisotropy_strength"] = clamp01(num(a, "anisotropyStrength", 0));
+      d["anisotropy_rotation"] = std::clamp(num(a, "anisotropyRotation", 0), -1000.0, 1000.0);
     }
+    if (const auto& x = ext("KHR_materials_dispersion"); x.IsObject())
+      d["dispersion"] = std::clamp(num(x, "dispersion", 0), 0.0, 1e4);
+    if (const auto& x = ext("KHR_materials_diffuse_transmission"); x.IsObject()) {
+      d["diffuse_transmission"] = clamp01(num(x, "diffuseTransmissionFactor", 0));
+      d["diffuse_transmission_color"] = colour01(vec3v(x, "diffuseTransmissionColorFactor", {1, 1, 1}));
+    }
+    if (ext("KHR_materials_iridescence").IsObject())
+      once("KHR_materials_iridescence is not implemented yet (gltf_pbr, docs/gltf_pbr.md): rendered without the film");
     const double emit = std::max({emissive[0], emissive[1], emissive[2]});
     if (emit > 0 && strength > 0) {
-      d["emission_color"] = {emissive[0], emissive[1], emissive[2]};
-      d["emission_luminance"] = strength;
+      d["emissive"] = {emissive[0], emissive[1], emissive[2]};
+      d["emissive_strength"] = std::min(strength, 1e9);
     }
     if (unlit) {
       // KHR_materials_unlit: the surface shows its base colour whatever the light: an
-      // emitter of radiance base colour that reflects nothing.
-      d = {{"type", "openpbr"}, {"base_weight", 0.0}, {"specular_weight", 0.0}, {"emission_color", {bc[0], bc[1], bc[2]}}, {"emission_luminance", 1.0}};
+      // emitter of radiance base colour that reflects nothing (a black dielectric without
+      // specular reflection).
+      d = {{"type", "gltf_pbr"}, {"base_color", 0.0}, {"metallic", 0.0}, {"specular", 0.0},
+           {"emissive", {bc[0], bc[1], bc[2]}}, {"emissive_strength", 1.0}};
     }
     // Alpha (§3.9.4): OPAQUE ignores alpha; MASK cuts out where alpha < alphaCutoff; BLEND
-    // is coverage. Here from the factor only (a texture's alpha is not read yet).
-    if (gm && gm->alphaMode == "MASK") d["geometry_opacity"] = bc[3] >= gm->alphaCutoff ? 1.0 : 0.0;
-    else if (gm && gm->alphaMode == "BLEND") d["geometry_opacity"] = bc[3];
-    if (gm && !gm->doubleSided && transmission == 0) {}  // single-sided: gonio shades both sides alike (docs/gltf.md)
+    // is coverage. From the factor only (a texture's alpha is not read yet).
+    if (gm && gm->alphaMode == "MASK") {
+      d["alpha_mode"] = 1;
+      d["alpha"] = bc[3];
+      d["alpha_cutoff"] = clamp01(gm->alphaCutoff);
+    } else if (gm && gm->alphaMode == "BLEND") {
+      d["alpha_mode"] = 2;
+      d["alpha"] = bc[3];
+    }
     if (gm && (gm->normalTexture.index >= 0)) once("normal textures are not applied yet (shading normals come from NORMAL)");
     if (gm && (gm->occlusionTexture.index >= 0)) once("occlusion textures are ignored (a path tracer computes occlusion)");
 
     Material m;
     m.name = gm ? gm->name : "gltf default";
-    try {
-      MaterialWithSpectra parsed = material_with_spectra_from_json(d, name() + ": " + mat, "");
-      m.bxdf = std::move(parsed.bxdf);
-      m.spectra = std::move(parsed.spectra);
-    } catch (const InputError& e) {
-      throw;
-    }
+    MaterialWithSpectra parsed = material_with_spectra_from_json(d, name() + ": " + mat, "");
+    m.bxdf = std::move(parsed.bxdf);
+    m.spectra = std::move(parsed.spectra);
     if (gm && !unlit) {
       const auto& pbr = gm->pbrMetallicRoughness;
       bind(m, texref(pbr.baseColorTexture, mat + "/pbrMetallicRoughness/baseColorTexture"), "base_color", -1,
            Color(Float(bc[0]), Float(bc[1]), Float(bc[2])), true, mat);
       const TexRef mr = texref(pbr.metallicRoughnessTexture, mat + "/pbrMetallicRoughness/metallicRoughnessTexture");
-      bind(m, mr, "specular_roughness", 1, Color(Float(roughness)), false, mat);  // roughness in G
-      bind(m, mr, "base_metalness", 2, Color(Float(metallic)), false, mat);       // metalness in B
+      bind(m, mr, "roughness", 1, Color(Float(roughness)), false, mat);  // roughness in G
+      bind(m, mr, "metallic", 2, Color(Float(metallic)), false, mat);    // metalness in B
       if (emit > 0 && strength > 0)
-        bind(m, texref(gm->emissiveTexture, mat + "/emissiveTexture"), "emission_color", -1,
+        bind(m, texref(gm->emissiveTexture, mat + "/emissiveTexture"), "emissive", -1,
              Color(Float(emissive[0]), Float(emissive[1]), Float(emissive[2])), true, mat);
     } else if (gm && unlit) {
-      bind(m, texref(gm->pbrMetallicRoughness.baseColorTexture, mat + "/pbrMetallicRoughness/baseColorTexture"), "emission_color", -1,
+      bind(m, texref(gm->pbrMetallicRoughness.baseColorTexture, mat + "/pbrMetallicRoughness/baseColorTexture"), "emissive", -1,
            Color(Float(bc[0]), Float(bc[1]), Float(bc[2])), true, mat);
     }
-    if (const auto* model = std::get_if<OpenPbrBxDF>(&m.bxdf.models())) {
+    if (const auto* model = std::get_if<GltfPbrBxDF>(&m.bxdf.models())) {
       const auto& p = model->params;
-      m.emits = p.emission_luminance > 0 && !p.emission_color.is_black() && p.geometry_opacity > 0;
-      m.emits_both_sides = p.geometry_thin_walled;
+      m.emits = p.emissive_strength > 0 && !p.emissive.is_black() && model->coverage() > 0;
+      m.emits_both_sides = false;  // glTF 2.0 §3.9.3: emission leaves the front face
     }
     scene_->materials.push_back(std::move(m));
     const int id = int(scene_->materials.size()) - 1;
