@@ -237,6 +237,40 @@ TEST(RglModel, PdfIntegratesToOneAndMatchesSampling) {
   EXPECT_EQ(worst, 0.0);
 }
 
+TEST(RglModel, BoundedAtTheHorizonAndReciprocal) {
+  // The interpolated f·cos does not vanish at the horizon: f is read from the side of the
+  // larger cosine (bxdf/rgl.h), so it stays bounded, the albedo at grazing stays below 1,
+  // and f is reciprocal. A plain value(wo, wi)/cos θi gave f = 1e27 and an albedo of 17.
+  RglWriteOptions opt;
+  opt.n_theta_i = 8;
+  opt.n_ndf = 32;
+  opt.n_sample = 16;
+  opt.wavelengths = {450, 550, 650};
+  auto data = std::make_shared<const RglData>(rgl_roundtrip(R"({"type":"roughconductor","alpha":0.4,"material":"Au"})", opt));
+  const RglBxDF m = RglBxDF::make(data);
+  const Color f = m.f(Vec3{0, 0, 1}, Vec3{0.9998f, 0.02f, 1e-30f}, TransportMode::Radiance);
+  EXPECT_TRUE(std::isfinite(f.max_component()) && f.max_component() < 1) << f.max_component();
+  const Vec3 grazing{std::sqrt(1 - 0.0017f * 0.0017f), 0, 0.0017f};
+  double albedo = 0;
+  const int n = 100000;
+  for (int k = 0; k < n; ++k) {
+    const double z = (k + 0.5) / n, r = std::sqrt(1 - z * z), ph = k * 2.39996322972865;
+    const Vec3 wi{Float(r * std::cos(ph)), Float(r * std::sin(ph)), Float(z)};
+    albedo += m.f(grazing, wi, TransportMode::Radiance).max_component() * z;
+  }
+  albedo *= 2 * 3.14159265358979 / n;
+  EXPECT_LT(albedo, 1.0);
+  std::mt19937 rng(4);
+  std::uniform_real_distribution<float> u(-1, 1);
+  for (int k = 0; k < 200; ++k) {
+    Vec3 a{u(rng), u(rng), std::abs(u(rng)) + 0.01f}, b{u(rng), u(rng), std::abs(u(rng)) + 0.01f};
+    a = normalize(a);
+    b = normalize(b);
+    const Color x = m.f(a, b, TransportMode::Radiance), y = m.f(b, a, TransportMode::Radiance);
+    for (int c = 0; c < 3; ++c) EXPECT_EQ(x[c], y[c]);
+  }
+}
+
 TEST(RglFile, RefusesInconsistentShapesNamingTheField) {
   RglWriteOptions opt;
   opt.n_theta_i = 3;
