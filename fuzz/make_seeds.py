@@ -149,6 +149,23 @@ with open(os.path.join(corpus, "merl", "seed-file-header-only"), "wb") as f:
 with open(os.path.join(corpus, "merl", "seed-file-wrong-header"), "wb") as f:
     f.write(b"\x00" + struct.pack("<3i", 90, 90, 360) + struct.pack("<d", 1.0))
 
+# RGL .bsdf files for fuzz_rgl (its header says how the bytes describe a file): byte 0
+# odd: float bytes over a small valid file; byte 0 even: a whole tensor_file.
+os.makedirs(os.path.join(corpus, "rgl"), exist_ok=True)
+def tensor_file(fields):
+    head = b"tensor_file\x00" + bytes([1, 0]) + struct.pack("<I", len(fields))
+    offset = len(head) + sum(2 + len(n) + 2 + 1 + 8 + 8 * len(shape) for n, _, shape, _ in fields)
+    table, blobs = b"", b""
+    for name, dtype, shape, data in fields:
+        table += struct.pack("<H", len(name)) + name + struct.pack("<HBQ", len(shape), dtype, offset + len(blobs))
+        table += b"".join(struct.pack("<Q", s) for s in shape)
+        blobs += data
+    return head + table + blobs
+with open(os.path.join(corpus, "rgl", "seed-values-constant"), "wb") as f:
+    f.write(b"\x01" + struct.pack("<f", 0.25) * 64)
+with open(os.path.join(corpus, "rgl", "seed-file-two-fields"), "wb") as f:
+    f.write(b"\x00" + tensor_file([(b"theta_i", 10, [2], struct.pack("<2f", 0, 1)), (b"jacobian", 1, [1], b"\x01")]))
+
 # Surface descriptions for fuzz_surface (SPEC §3 `gonio measure --surface`).
 surfaces = [
     '{"type":"flat","material":{"type":"diffuse"}}',

@@ -722,6 +722,20 @@ BxDF make_measured(Params& p) {
   }
 }
 
+// An RGL .bsdf file (SPEC §2 `rgl`, issue 59): read once per file (load_rgl), a relative
+// path as `measured`'s.
+BxDF make_rgl(Params& p) {
+  const std::string file = p.string("file");
+  if (file.empty()) p.fail("file must name an RGL .bsdf file, got \"\"");
+  std::filesystem::path path(file);
+  if (path.is_relative() && !p.base_dir().empty()) path = std::filesystem::path(p.base_dir()) / path;
+  try {
+    return RglBxDF::make(load_rgl(path.string()));
+  } catch (const InputError& e) {
+    p.fail(e.what());
+  }
+}
+
 // --- subsurface (SPEC §2, issue 14) --------------------------------------------------
 
 // The key of the albedo table: what A(ϖ) depends on besides ϖ (hexadecimal floats, exact).
@@ -960,6 +974,7 @@ constexpr TypeEntry kMakers[] = {
     {"ashikhminshirley", make_ashikhminshirley},
     {"plastic", make_plastic},
     {"measured", make_measured},
+    {"rgl", make_rgl},
     {"subsurface", make_subsurface},
     {"sheen", make_sheen},
     {"thindielectric", make_thindielectric},
@@ -1680,7 +1695,7 @@ BxDF with_params(const BxDF& model, std::span<const ParamValue> values) noexcept
         } else if constexpr (std::is_same_v<M, BlendBxDF> || std::is_same_v<M, UserBxDF> || std::is_same_v<M, PbrNodeBxDF> ||
                              std::is_same_v<M, CharlieSheenBxDF> ||
                              std::is_same_v<M, MeasuredBxDF> || std::is_same_v<M, LayeredBxDF> ||
-                             std::is_same_v<M, HairBxDF>) {
+                             std::is_same_v<M, HairBxDF> || std::is_same_v<M, RglBxDF>) {
           return base;  // nothing of theirs varies
         } else {
           M m = base;

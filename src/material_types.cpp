@@ -121,6 +121,10 @@ constexpr ParamSpec kMeasured[] = {
     {"file", K::File, "", {}, "", "", true,
      "A MERL .binary table (SPEC §2); relative to the scene file, or to the working directory on the command line."},
 };
+constexpr ParamSpec kRgl[] = {
+    {"file", K::File, "", {}, "", "", true,
+     "An RGL .bsdf tensor file (SPEC §2; Dupuy & Jakob 2018); relative to the scene file, or to the working directory on the command line."},
+};
 constexpr ParamSpec kBlend[] = {
     {"weight", K::Number, "", closed(0, 1), "", "", true, "w in (1 - w) f0 + w f1."},
     {"bsdfs", K::Materials, "", {}, "", "", true, "The two materials [f0, f1]; blends nest at most 8 deep."},
@@ -444,6 +448,10 @@ constexpr MaterialTypeSpec kTypes[] = {
      "Matusik et al. 2003 (MERL format); Rusinkiewicz 1998 (half/difference angles)", kMeasured,
      "Reflection only; an entry whose f (stored x scale) exceeds 1e30 1/sr is refused. docs/measured.md says how it "
      "interpolates, treats unmeasured entries and samples."},
+    {"rgl", "A measured BRDF in the RGL .bsdf format: NDF, VNDF and luminance warps and spectra on the warped grid, isotropic or anisotropic.",
+     "Dupuy & Jakob 2018 (An Adaptive Parameterization for Efficient Material Acquisition and Rendering)", kRgl,
+     "Reflection only; the file's theta_i/phi_i axis is wo. Reciprocal only up to the table's interpolation error "
+     "(docs/measured.md)."},
     {"subsurface", "Dielectric boundary (smooth or rough) over a homogeneous scattering medium (a BSSRDF).",
      "Henyey & Greenstein 1941 (phase function); Jensen et al. 2001 (measured media); Chiang, Kutz & Burley 2016 "
      "(random walk, albedo and mfp)",

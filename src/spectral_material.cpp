@@ -188,6 +188,12 @@ struct Converter {
     s.wavelengths = w;
     return s;
   }
+  SpectralBxDF operator()(const RglBxDF& m) const {
+    RglBxDFT<SS> s;
+    s.data = m.data;  // the parsed material's table outlives the spectral model
+    s.wavelengths = w;
+    return s;
+  }
   SpectralBxDF operator()(const BlendBxDF& m) const {
     std::array<SpectralBxDF, 2>* parts = scratch.next_parts();
     if (!parts || spectra.parts.size() != 2) return DiffuseBxDFT<SS>{SS(0)};

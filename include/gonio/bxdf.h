@@ -31,6 +31,7 @@
 #include "gonio/bxdf/plastic.h"
 #include "gonio/bxdf/roughconductor.h"
 #include "gonio/bxdf/roughdielectric.h"
+#include "gonio/bxdf/rgl.h"
 #include "gonio/bxdf/sheen.h"
 #include "gonio/bxdf/thindielectric.h"
 #include "gonio/bxdf/ward.h"
@@ -48,7 +49,7 @@ class BxDFT {
                               BlinnPhongBxDFT<C>, WardBxDFT<C>, AshikhminShirleyBxDFT<C>, PlasticBxDFT<C>,
                               MeasuredBxDFT<C>, BlendBxDFT<C>, UserBxDFT<C>, SheenBxDFT<C>, EonBxDFT<C>,
                               ThinDielectricBxDFT<C>, LayeredBxDFT<C>, OpenPbrBxDFT<C>, GltfPbrBxDFT<C>,
-                              PbrNodeBxDFT<C>, CharlieSheenBxDFT<C>, HairBxDFT<C>>;
+                              PbrNodeBxDFT<C>, CharlieSheenBxDFT<C>, HairBxDFT<C>, RglBxDFT<C>>;
 
   BxDFT() = default;
   template <typename M>
@@ -108,6 +109,16 @@ class BxDFT {
           if constexpr (requires { m.nonreciprocal_reason(); }) return m.nonreciprocal_reason();
           else if constexpr (requires { M::kReciprocal; }) return M::kReciprocal ? std::string_view{} : M::kNonReciprocalReason;
           else return {};
+        },
+        m_);
+  }
+  // The reciprocity threshold of a model reciprocal only up to a documented error (a
+  // measured table's interpolation error, `rgl`); 0 for the others (the validator's own).
+  Float reciprocity_tolerance() const {
+    return std::visit(
+        [](const auto& m) -> Float {
+          if constexpr (requires { m.reciprocity_tolerance(); }) return m.reciprocity_tolerance();
+          else return 0;
         },
         m_);
   }

@@ -6,10 +6,12 @@
 #include <map>
 #include <sstream>
 #include <string>
+#include <cstdint>
 #include <vector>
 
 #include "../merl_files.h"
 #include "gonio/material.h"
+#include "gonio/rgl_write.h"
 #include "gonio/material_types.h"
 #include "run_gonio.h"
 
@@ -43,9 +45,26 @@ TEST(CliMaterials, DocsMaterialsMdIsTheGeneratedReference) {
 
 // The types of SPEC §2 this build implements, in SPEC §2's order (written out here, not
 // taken from the registry).
+// A small RGL .bsdf file (a Lambertian, written by gonio's own writer at a low resolution).
+const std::string& small_rgl_file() {
+  static const gonio_test_merl::TempTable file(gonio_test_merl::temp_path("materials_rgl"));
+  static const bool written = [] {
+    gonio::RglWriteOptions opt;
+    opt.n_theta_i = 4;
+    opt.n_ndf = 16;
+    opt.n_sample = 8;
+    const std::vector<std::uint8_t> bytes =
+        gonio::tabulate_rgl(gonio::parse_material(R"({"type":"diffuse","reflectance":0.5})"), opt);
+    gonio_test_merl::write_bytes(file.path, std::vector<unsigned char>(bytes.begin(), bytes.end()));
+    return true;
+  }();
+  (void)written;
+  return file.path;
+}
+
 const std::vector<std::string> kImplemented = {"diffuse", "mirror",     "conductor", "dielectric", "roughconductor",
                                                "roughdielectric", "orennayar", "phong", "blinnphong", "ward",
-                                               "ashikhminshirley", "plastic", "blend", "measured", "subsurface",
+                                               "ashikhminshirley", "plastic", "blend", "measured", "rgl", "subsurface",
                                                "eon", "sheen", "thindielectric", "layered", "openpbr",
                                                "gltf_pbr",
                                                "oren_nayar_diffuse_bsdf", "conductor_bsdf", "dielectric_bsdf",
@@ -133,6 +152,7 @@ const std::map<std::string, nlohmann::json>& minimal_descriptions() {
       {"blend", {{"type", "blend"}, {"weight", 0.5}, {"bsdfs", {{{"type", "diffuse"}}, {{"type", "mirror"}}}}}},
       {"layered", {{"type", "layered"}, {"top", {{"type", "dielectric"}}}, {"bottom", {{"type", "diffuse"}}}}},
       {"measured", {{"type", "measured"}, {"file", gonio_test_merl::lambert_table()}}},
+      {"rgl", {{"type", "rgl"}, {"file", small_rgl_file()}}},
       {"subsurface", {{"type", "subsurface"}, {"sigma_s", 1}, {"sigma_a", 0.1}}},
       {"sheen", {{"type", "sheen"}}},
       {"thindielectric", {{"type", "thindielectric"}}},
