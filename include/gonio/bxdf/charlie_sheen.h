@@ -15,6 +15,7 @@
 #include <optional>
 #include <string_view>
 
+#include "gonio/bxdf/charlie_distribution.h"
 #include "gonio/bxdf/contract.h"
 #include "gonio/math/constants.h"
 #include "gonio/math/warp.h"
@@ -31,11 +32,7 @@ struct CharlieSheenBxDFT {
   static constexpr BxDFFlags flags() { return BxDFFlags::GlossyReflection; }
 
   // D(θh) from cos θh.
-  Float d(Float cos_h) const {
-    const Float inv_r = 1 / std::max(roughness, Float(0.005));
-    const Float sin2 = std::max(Float(0), 1 - cos_h * cos_h);
-    return (2 + inv_r) * std::pow(sin2, inv_r * Float(0.5)) / (2 * kPi);
-  }
+  Float d(Float cos_h) const { return charlie_d(cos_h, std::max(roughness, Float(0.005))); }
   C f(Vec3 wo, Vec3 wi, TransportMode = TransportMode::Radiance) const {
     if (!(wo.z * wi.z > 0)) return C(0);
     if (wo.z < 0) {

@@ -40,6 +40,7 @@
 #include <optional>
 #include <string_view>
 
+#include "gonio/bxdf/charlie_distribution.h"
 #include "gonio/bxdf/contract.h"
 #include "gonio/bxdf/gltf_pbr_params.h"
 #include "gonio/fresnel.h"
@@ -64,13 +65,7 @@ inline Float schlick_weight(Float c) {
   return m2 * m2 * m;
 }
 
-// Charlie sheen distribution (Estevez & Kulla 2017, eq. 2; KHR_materials_sheen "Sheen
-// distribution"): D(h) = (2 + 1/α) sin^(1/α) θh / (2π).
-inline Float charlie_d(Float cos_h, Float alpha) {
-  const Float sin2 = std::max(Float(0), 1 - cos_h * cos_h);
-  const Float inv = 1 / alpha;
-  return (2 + inv) * std::pow(sin2, Float(0.5) * inv) * kInv2Pi;
-}
+// The Charlie distribution D: charlie_distribution.h (KHR_materials_sheen "Sheen distribution").
 // Its Λ fit (Estevez & Kulla 2017, §3, Table 1 interpolated by (1 − α)²; KHR_materials_sheen
 // "Sheen visibility").
 inline Float charlie_l(Float x, Float alpha) {
