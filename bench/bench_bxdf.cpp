@@ -390,10 +390,19 @@ int main(int argc, char** argv) {
   // Issue 34: EON against Oren–Nayar (target: f ≤ 2×), F82-tint against Schlick on the
   // same rough conductor (target: ≤ +10 %).
   register_model("eon_0.5", EonBxDF::make(Color(0.5f), 0.5f));
+  // Issue 60: the hair fibre at one h (target: f <= 250 ns, sample <= 350 ns) and averaged
+  // over h (8-point Gauss–Legendre, published separately).
+  register_model("hair_h0.3", std::get<HairBxDF>(parse_material(R"({"type":"hair","h":0.3,"eumelanin":0.8})").models()));
+  register_model("hair_h_averaged", std::get<HairBxDF>(parse_material(R"({"type":"hair","eumelanin":0.8})").models()));
   // Issue 35: openpbr with its defaults, and a dielectric base with coat and fuzz (target:
   // eval <= 150 ns, sample <= 250 ns).
   register_model("openpbr_default", std::get<OpenPbrBxDF>(parse_material(R"({"type":"openpbr"})").models()));
   register_model("openpbr_coat_fuzz", std::get<OpenPbrBxDF>(parse_material(kOpenPbrCoatFuzz).models()));
+  // Issues 57/58: gltf_pbr, the core (a dielectric, roughness 0.5) and with coat and sheen.
+  register_model("gltf_pbr_dielectric", std::get<GltfPbrBxDF>(parse_material(
+      R"({"type":"gltf_pbr","base_color":[0.8,0.5,0.2],"metallic":0,"roughness":0.5})").models()));
+  register_model("gltf_pbr_coat_sheen", std::get<GltfPbrBxDF>(parse_material(
+      R"({"type":"gltf_pbr","base_color":[0.8,0.5,0.2],"metallic":0,"roughness":0.5,"clearcoat":1,"clearcoat_roughness":0.1,"sheen_color":0.5,"sheen_roughness":0.3})").models()));
   {
     ConductorFresnel schlick = gold(FresnelModel::Schlick), f82 = schlick;
     f82.model = FresnelModel::F82;
@@ -425,7 +434,14 @@ int main(int argc, char** argv) {
                     "alpha", Color(0.2f), Color(0.25f));
   register_textured("openpbr_coat_fuzz_base_color", kOpenPbrCoatFuzz, "base_color", Color(0.2f, 0.5f, 0.7f), Color(0.6f));
   register_textured("openpbr_coat_fuzz_specular_roughness", kOpenPbrCoatFuzz, "specular_roughness", Color(0.2f), Color(0.25f));
+  // gltf_pbr's roughness per hit (with_params copies the parameters: nothing is solved).
+  register_textured("gltf_pbr_roughness", R"({"type":"gltf_pbr","metallic":0,"roughness":0.5})", "roughness", Color(0.2f), Color(0.25f));
   register_textured("openpbr_default_specular_roughness", R"({"type":"openpbr"})", "specular_roughness", Color(0.2f), Color(0.25f));
+  // Anisotropic: the compensation reads the process's grid of E tables (anisotropic_albedo.h);
+  // it tabulated E (20–30 ms) at every call before 2026-12-08.
+  register_textured("openpbr_anisotropic_metal_specular_roughness",
+                    R"({"type":"openpbr","base_metalness":1,"specular_roughness_anisotropy":0.5})", "specular_roughness",
+                    Color(0.2f), Color(0.25f));
   register_textured("openpbr_film_base_color", kOpenPbrFilm, "base_color", Color(0.2f, 0.5f, 0.7f), Color(0.6f));
   register_textured("openpbr_film_thin_film_thickness", kOpenPbrFilm, "thin_film_thickness", Color(0.3f), Color(0.35f));
 

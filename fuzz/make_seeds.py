@@ -28,6 +28,7 @@ materials = [
     '{"type":"blend","weight":0.25,"bsdfs":[{"type":"diffuse"},{"type":"conductor","material":"Ag"}]}',
     '{"type":"sheen","color":[0.9,0.4,0.1],"roughness":0.3}',
     '{"type":"eon","reflectance":[0.9,0.5,0.2],"roughness":0.7}',
+    '{"type":"gltf_pbr","metallic":0,"roughness":0.3,"transmission":0.5,"thickness":1,"sheen_color":0.5,"clearcoat":1}',
     '{"type":"roughconductor","alpha":0.2,"fresnel":"f82","f0":[0.95,0.64,0.54],"f82":[0.9,0.6,0.3],"multiscatter":true}',
     '{"type":"layered","top":{"type":"roughdielectric","alpha":0.2,"eta":1.5},"bottom":{"type":"diffuse","reflectance":0.8},"thickness":0.3,"albedo":0.9,"g":0.5,"max_depth":20,"samples":2}',
     '{"type":"layered","top":{"type":"dielectric","eta":1.5},"bottom":{"type":"mirror"},"thickness":0.5}',
@@ -147,6 +148,23 @@ with open(os.path.join(corpus, "merl", "seed-file-header-only"), "wb") as f:
     f.write(b"\x00" + struct.pack("<3i", 90, 90, 180))
 with open(os.path.join(corpus, "merl", "seed-file-wrong-header"), "wb") as f:
     f.write(b"\x00" + struct.pack("<3i", 90, 90, 360) + struct.pack("<d", 1.0))
+
+# RGL .bsdf files for fuzz_rgl (its header says how the bytes describe a file): byte 0
+# odd: float bytes over a small valid file; byte 0 even: a whole tensor_file.
+os.makedirs(os.path.join(corpus, "rgl"), exist_ok=True)
+def tensor_file(fields):
+    head = b"tensor_file\x00" + bytes([1, 0]) + struct.pack("<I", len(fields))
+    offset = len(head) + sum(2 + len(n) + 2 + 1 + 8 + 8 * len(shape) for n, _, shape, _ in fields)
+    table, blobs = b"", b""
+    for name, dtype, shape, data in fields:
+        table += struct.pack("<H", len(name)) + name + struct.pack("<HBQ", len(shape), dtype, offset + len(blobs))
+        table += b"".join(struct.pack("<Q", s) for s in shape)
+        blobs += data
+    return head + table + blobs
+with open(os.path.join(corpus, "rgl", "seed-values-constant"), "wb") as f:
+    f.write(b"\x01" + struct.pack("<f", 0.25) * 64)
+with open(os.path.join(corpus, "rgl", "seed-file-two-fields"), "wb") as f:
+    f.write(b"\x00" + tensor_file([(b"theta_i", 10, [2], struct.pack("<2f", 0, 1)), (b"jacobian", 1, [1], b"\x01")]))
 
 # Surface descriptions for fuzz_surface (SPEC §3 `gonio measure --surface`).
 surfaces = [

@@ -13,7 +13,7 @@ src="$(cd "$(dirname "$0")" && pwd)"
 build="$(cd "$1" && pwd)"
 seconds="${2:-14400}"
 out="${3:-/tmp/gonio-fuzz-long}"
-for t in ${GONIO_FUZZ_TARGETS:-material merl scene obj png exr surface mtlx}; do
+for t in ${GONIO_FUZZ_TARGETS:-material merl scene obj png exr surface mtlx gltf rgl}; do
   mkdir -p "$out/$t/corpus" "$out/$t/bin"
   cp "$build/bin/fuzz_$t" "$out/$t/bin/"  # a rebuild must not replace the running binary
   dict=()

@@ -11,6 +11,8 @@ packages=(
   libceres-dev              # gonio fit (GONIO_BUILD_FIT)
   libembree-dev libtbb-dev libopenexr-dev libpng-dev libtinyobjloader-dev
   libfftw3-dev              # gonio measure: Gaussian random height fields
+  libopenimageio-dev        # textures and environment maps in any format (PNG, JPEG, EXR, HDR, TIFF)
+  libtinygltf-dev           # glTF 2.0 scenes (gonio render scene.gltf|.glb)
   libcpp-httplib-dev        # gonio explore: the HTTP server of the explorer (GONIO_BUILD_EXPLORE)
   chromium                  # gonio explore's browser tests (headless; tests/explore)
   clang libclang-rt-14-dev  # libFuzzer and the sanitizer runtimes of the fuzz pass

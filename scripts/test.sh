@@ -91,7 +91,7 @@ fuzz_one() {
     -artifact_prefix="build-sanitize/artifacts/$t/" "build-sanitize/corpus/$t" "fuzz/corpus/$t" \
     >"build-sanitize/fuzz_$t.log" 2>&1
 }
-targets=(material merl scene obj png exr surface mtlx)
+targets=(material merl scene obj png exr surface mtlx gltf rgl)
 [ -x build-sanitize/bin/fuzz_explore ] && targets+=(explore)  # built with cpp-httplib (gonio explore)
 for ((i = 0; i < ${#targets[@]}; i += jobs)); do
   batch=("${targets[@]:i:jobs}")

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <algorithm>
 #include <array>
 #include <iterator>
 #include <type_traits>
@@ -199,6 +200,33 @@ class Params {
     check_range(key, a);
     check_range(key, b);
     return {a, b};
+  }
+
+  // A fibre's per-lobe value: a number (one for every lobe) or [R, TT, TRT], each in range.
+  // `single` tells which form was given.
+  std::array<double, 3> lobes(const char* key, bool* single = nullptr) {
+    const json& v = value(key);
+    std::array<double, 3> r{};
+    if (v.is_number()) {
+      r.fill(finite(key, v));
+      if (single) *single = true;
+    } else if (v.is_array() && v.size() == 3 && v[0].is_number() && v[1].is_number() && v[2].is_number()) {
+      for (size_t i = 0; i < 3; ++i) r[i] = finite(key, v[i]);
+      if (single) *single = false;
+    } else {
+      fail(std::string(key) + " must be a number or [R, TT, TRT], got " + show(v));
+    }
+    for (double x : r) check_range(key, x);
+    return r;
+  }
+  // [a, b] (MaterialX's vector2), each in range.
+  std::array<double, 2> pair(const char* key) {
+    const json& v = value(key);
+    if (!(v.is_array() && v.size() == 2 && v[0].is_number() && v[1].is_number()))
+      fail(std::string(key) + " must be [a, b] (two numbers), got " + show(v));
+    const std::array<double, 2> r{finite(key, v[0]), finite(key, v[1])};
+    for (double x : r) check_range(key, x);
+    return r;
   }
 
   const json& raw(const char* key) { return value(key); }
@@ -570,6 +598,69 @@ BxDF make_sheen(Params& p) {
   return m;
 }
 
+// The hair fibre (bxdf/hair.h; SPEC §2): absorption from sigma_a, a colour (Chiang eq. 9)
+// or melanin concentrations (d'Eon et al. 2011), roughness per lobe, tilt in degrees.
+BxDF make_hair(Params& p) {
+  HairBxDF m;
+  bool single_m = true, single_n = true;
+  const auto bm = p.lobes("beta_m", &single_m), bn = p.lobes("beta_n", &single_n);
+  (void)single_n;
+  m.set_roughness({Float(bm[0]), Float(bm[1]), Float(bm[2])}, {Float(bn[0]), Float(bn[1]), Float(bn[2])});
+  if (single_m) {
+    // Chiang §4.1 after Marschner: TT and TRT have half and twice R's width.
+    m.v[1] = m.v[0] / 4;
+    m.v[2] = m.v[3] = 4 * m.v[0];
+    m.prepare();
+  }
+  m.set_alpha(Float(p.number("alpha") * kPiD / 180));
+  m.eta = Float(p.number("eta"));
+  m.tint = {p.color("tint_R"), p.color("tint_TT"), p.color("tint_TRT")};
+  if (p.has("h")) {
+    m.h = Float(p.number("h"));
+    m.average_h = false;
+  }
+  const bool has_sigma = p.has("sigma_a"), has_color = p.has("color");
+  const bool has_melanin = p.has("eumelanin") || p.has("pheomelanin");
+  if (int(has_sigma) + int(has_color) + int(has_melanin) > 1)
+    p.fail("give one of sigma_a, color, or eumelanin/pheomelanin");
+  if (has_sigma) {
+    m.sigma_a = p.color("sigma_a");
+  } else if (has_color) {
+    const Color c = p.color("color");
+    m.sigma_a = map(c, [&](Float x) { return hair::sigma_a_from_color(x, Float(bn[0])); });
+  } else {
+    const double ce = has_melanin ? (p.has("eumelanin") ? p.number("eumelanin") : 0) : 1.3;
+    const double cp = p.has("pheomelanin") ? p.number("pheomelanin") : 0;
+    for (int c = 0; c < 3; ++c)
+      m.sigma_a[c] = Float(ce * hair::kEumelanin[c] + cp * hair::kPheomelanin[c]);
+  }
+  return m;
+}
+
+// MaterialX's chiang_hair_bsdf (SPEC §2): (v, s) per lobe as chiang_hair_roughness gives
+// them (the logistic's scale is s sqrt(pi/8), MaterialX's mx_hair_trimmed_logistic),
+// clamped to [0.001, 1] as MaterialX's genglsl does; alpha = (cuticle_angle − 0.5) pi.
+BxDF make_chiang_hair(Params& p) {
+  HairBxDF m;
+  const char* keys[3] = {"roughness_R", "roughness_TT", "roughness_TRT"};
+  for (size_t i = 0; i < 3; ++i) {
+    const auto vs = p.pair(keys[i]);
+    m.v[i] = Float(std::clamp(vs[0], 0.001, 1.0));
+    m.s[i] = Float(std::clamp(vs[1], 0.001, 1.0)) * hair::kSqrtPiOver8;
+  }
+  m.v[3] = m.v[2];
+  m.prepare();
+  m.set_alpha(Float((p.number("cuticle_angle") - 0.5) * kPiD));
+  m.eta = Float(p.number("ior"));
+  m.tint = {p.color("tint_R"), p.color("tint_TT"), p.color("tint_TRT")};
+  m.sigma_a = p.color("absorption_coefficient");
+  if (p.has("h")) {
+    m.h = Float(p.number("h"));
+    m.average_h = false;
+  }
+  return m;
+}
+
 BxDF make_eon(Params& p) {
   return EonBxDF::make(p.color("reflectance"), Float(p.number("roughness")));
 }
@@ -626,6 +717,20 @@ BxDF make_measured(Params& p) {
   if (path.is_relative() && !p.base_dir().empty()) path = std::filesystem::path(p.base_dir()) / path;
   try {
     return MeasuredBxDF::make(load_measured(path.string()));
+  } catch (const InputError& e) {
+    p.fail(e.what());
+  }
+}
+
+// An RGL .bsdf file (SPEC §2 `rgl`, issue 59): read once per file (load_rgl), a relative
+// path as `measured`'s.
+BxDF make_rgl(Params& p) {
+  const std::string file = p.string("file");
+  if (file.empty()) p.fail("file must name an RGL .bsdf file, got \"\"");
+  std::filesystem::path path(file);
+  if (path.is_relative() && !p.base_dir().empty()) path = std::filesystem::path(p.base_dir()) / path;
+  try {
+    return RglBxDF::make(load_rgl(path.string()));
   } catch (const InputError& e) {
     p.fail(e.what());
   }
@@ -754,6 +859,22 @@ Subsurface parse_subsurface(Params& p, bool invert) {
 
 BxDF make_subsurface(Params& p) { return parse_subsurface(p, false).boundary; }
 
+BxDF make_mx_oren_nayar(Params& p);
+BxDF make_mx_conductor(Params& p);
+BxDF make_mx_dielectric(Params& p);
+BxDF make_mx_sheen(Params& p);
+BxDF make_mx_operator(Params& p, const std::string& type, const std::string& where, int depth);
+void check_pbr_depth(Params& p, int depth);
+// The maker of a pbrlib leaf node (not an operator), or nullptr.
+using LeafMaker = BxDF (*)(Params&);
+LeafMaker pbr_leaf_maker(std::string_view type) {
+  if (type == "oren_nayar_diffuse_bsdf") return make_mx_oren_nayar;
+  if (type == "conductor_bsdf") return make_mx_conductor;
+  if (type == "dielectric_bsdf") return make_mx_dielectric;
+  if (type == "sheen_bsdf") return make_mx_sheen;
+  return nullptr;
+}
+
 BxDF make_blend(Params& p, const std::string& where, int depth);
 BxDF make_layered(Params& p, const std::string& where, int depth);
 BxDF parse_description(const json& description, const std::string& where, int blend_depth, MaterialSpectra& spectra,
@@ -820,6 +941,19 @@ BxDF make_openpbr(Params& p) {
   return OpenPbrBxDF::make(o, openpbr_film(o, true), nullptr, {openpbr_metal_film(o), openpbr_glass_film(o)});
 }
 
+// gltf_pbr (issues 57, 58): every parameter from the registry (bxdf/gltf_pbr_params.h).
+BxDF make_gltf_pbr(Params& p) {
+  GltfPbrParams<Color> g;
+  for (const auto& f : kGltfPbrFields<Color>) {
+    if (f.number) g.*f.number = Float(p.number(f.key.data()));
+    else g.*f.colour = p.color(f.key.data());
+  }
+  if (g.alpha_mode != std::floor(g.alpha_mode)) p.fail("alpha_mode must be 0, 1 or 2, got " + std::to_string(g.alpha_mode));
+  if (g.iridescence > 0)
+    p.fail("iridescence is not implemented yet (docs/gltf_pbr.md); it must be 0, got " + std::to_string(g.iridescence));
+  return GltfPbrBxDF::make(g);
+}
+
 // The constructor of each type of the registry but blend (which needs its place and depth).
 struct TypeEntry {
   std::string_view name;
@@ -840,10 +974,14 @@ constexpr TypeEntry kMakers[] = {
     {"ashikhminshirley", make_ashikhminshirley},
     {"plastic", make_plastic},
     {"measured", make_measured},
+    {"rgl", make_rgl},
     {"subsurface", make_subsurface},
     {"sheen", make_sheen},
     {"thindielectric", make_thindielectric},
     {"openpbr", make_openpbr},
+    {"gltf_pbr", make_gltf_pbr},
+    {"hair", make_hair},
+    {"chiang_hair_bsdf", make_chiang_hair},
 };
 
 }  // namespace
@@ -874,6 +1012,227 @@ BxDF make_blend(Params& p, const std::string& where, int depth) {
   if (is_transmissive((*parts)[0].flags()) && is_transmissive((*parts)[1].flags()) && e0 != e1)
     p.fail("both parts refract, with different eta (" + format_number(e0) + " and " + format_number(e1) + ")");
   return BlendBxDF::make(Float(w), std::move(parts));
+}
+
+// --- MaterialX pbrlib nodes (SPEC §2, wave 4; issue 57; bxdf/pbr_node.h) -------------
+
+// E(μ) of a layerable node's untinted reflection lobe: the mean of its sample weights over
+// the upper hemisphere, stratified (24 × 24 in u1, u2; an anisotropic lobe 16 × 16 at each
+// of 4 azimuths of wo), channels averaged; exact for a lobe whose sample weight is its
+// albedo (a delta lobe, Zeltner's sheen).
+std::shared_ptr<const PbrAlbedoTable> pbr_albedo_table(const BxDF& lobe) {
+  auto t = std::make_shared<PbrAlbedoTable>();
+  const bool iso = lobe.is_isotropic();
+  const int grid = iso ? 24 : 16, azimuths = iso ? 1 : 4;
+  for (int i = 0; i < PbrAlbedoTable::kSize; ++i) {
+    const double x = double(i) / (PbrAlbedoTable::kSize - 1);
+    const double mu = std::max(x * x, 1e-6);
+    const double sin_o = std::sqrt(1 - mu * mu);
+    double sum = 0;
+    for (int a = 0; a < azimuths; ++a) {
+      const double phi = (a + 0.5) * kPiD / (2 * azimuths);
+      const Vec3 wo(Float(sin_o * std::cos(phi)), Float(sin_o * std::sin(phi)), Float(mu));
+      for (int j = 0; j < grid; ++j)
+        for (int k = 0; k < grid; ++k) {
+          const double u_lobe = std::fmod((j * grid + k) * 0.6180339887498949 + 0.5, 1.0);
+          const auto s = lobe.sample(wo, Float(u_lobe), Float((j + 0.5) / grid), Float((k + 0.5) / grid),
+                                     TransportMode::Radiance);
+          if (s && s->wi.z > 0) sum += double(s->weight.average());
+        }
+    }
+    t->e[size_t(i)] = Float(sum / (azimuths * grid * grid));
+  }
+  return t;
+}
+
+void check_pbr_depth(Params& p, int depth) {
+  if (depth >= kMaxBlendDepth)
+    p.fail("MaterialX nodes, blends and layered materials nested deeper than " + std::to_string(kMaxBlendDepth) +
+           " levels (a pbrlib BSDF node counts as one)");
+}
+
+// A leaf node: `inner` times `scale`, its spectra moved to the node's first part (as a
+// blend's parts hold theirs).
+BxDF pbr_leaf(Params& p, BxDF inner, const Color& scale, PbrThroughput through, Float weight,
+              std::shared_ptr<const PbrAlbedoTable> table) {
+  MaterialSpectra& s = p.spectra();
+  MaterialSpectra own = std::move(s);
+  s = MaterialSpectra{};
+  s.parts.resize(2);
+  s.parts[0] = std::move(own);
+  auto parts = std::make_shared<std::array<BxDF, 2>>();
+  (*parts)[0] = std::move(inner);
+  PbrNodeBxDF n = PbrNodeBxDF::make(PbrOp::Scale, std::move(parts));
+  n.scale = scale;
+  n.through = through;
+  n.weight = weight;
+  n.albedo_table = table.get();
+  n.table_owner = std::move(table);
+  return n;
+}
+
+void refuse_retroreflective(Params& p) {
+  if (p.boolean("retroreflective")) p.fail("retroreflective true is not supported (no retroreflection mode yet)");
+  p.choice("distribution");  // ggx, the only one
+}
+
+MicrofacetDistribution pbr_distribution(Params& p) {
+  MicrofacetDistribution d;
+  const auto [ax, ay] = p.roughness("roughness");
+  d.alpha_x = Float(ax);
+  d.alpha_y = Float(ay);
+  return d;
+}
+
+// MaterialX's thin film (thickness in nm, its index) on a substrate.
+ThinFilmT<Color> pbr_film(Params& p, const std::function<std::pair<double, double>(double)>& substrate) {
+  ThinFilmT<Color> film;
+  film.lambda = thin_film_rgb_lambda();
+  film.thickness = Float(p.number("thinfilm_thickness"));
+  film.eta = Float(p.number("thinfilm_ior"));
+  if (film.active()) film.table = make_thin_film_rgb_table(film.thickness, film.eta, substrate);
+  return film;
+}
+
+BxDF make_mx_oren_nayar(Params& p) {
+  const Float weight = Float(p.number("weight"));
+  const Color color = p.color("color");
+  const Float r = Float(p.number("roughness"));
+  BxDF inner;
+  if (p.boolean("energy_compensation")) {
+    inner = EonBxDF::make(color, r);
+  } else {
+    OrenNayarBxDF m;  // MaterialX's qualitative form: sigma = roughness, in radians
+    m.reflectance = color;
+    m.sigma = r;
+    inner = m;
+  }
+  return pbr_leaf(p, std::move(inner), Color(weight), PbrThroughput::Opaque, weight, nullptr);
+}
+
+BxDF make_mx_conductor(Params& p) {
+  const Float weight = Float(p.number("weight"));
+  refuse_retroreflective(p);
+  RoughConductorBxDF m;
+  m.distribution = pbr_distribution(p);
+  m.fresnel.model = FresnelModel::Exact;
+  m.fresnel.eta = p.color("ior");
+  m.fresnel.k = p.color("extinction");
+  set_f0_from_index(m.fresnel);
+  const Color eta = m.fresnel.eta, k = m.fresnel.k;
+  m.fresnel.film = pbr_film(p, [eta, k](double) { return std::pair<double, double>(eta[1], k[1]); });
+  if (!m.fresnel.film.active() && !m.distribution.effectively_smooth())
+    m.multiscatter = MultiscatterLobe::make(m.distribution, conductor_average_fresnel(m.fresnel));
+  return pbr_leaf(p, m, Color(weight), PbrThroughput::Opaque, weight, nullptr);
+}
+
+BxDF make_mx_dielectric(Params& p) {
+  const Float weight = Float(p.number("weight"));
+  const Color tint = p.color("tint");
+  refuse_retroreflective(p);
+  const double ior = p.number("ior");
+  const std::string mode = p.choice("scatter_mode");
+  const MicrofacetDistribution dist = pbr_distribution(p);
+  if (mode == "T")
+    p.fail("scatter_mode \"T\" is not supported yet (transmission without reflection); use \"RT\"");
+  if (mode == "RT" && ior < 1e-4)
+    p.fail("scatter_mode \"RT\" needs ior >= 0.0001 (0, no Fresnel curve, is for \"R\"), got " + format_number(ior));
+  if (mode == "R" && ior > 0 && ior < 1)
+    p.fail("scatter_mode \"R\" needs ior >= 1 (or 0: no Fresnel curve), got " + format_number(ior));
+  // The reflection lobe alone (R): a microfacet reflector with the dielectric's Fresnel,
+  // which is the exact conductor formula with k = 0 (for ior >= 1: no total reflection
+  // from outside); ior 0: F = 1 (Schlick with F0 = 1).
+  RoughConductorBxDF r;
+  r.distribution = dist;
+  if (ior == 0) {
+    r.fresnel.model = FresnelModel::Schlick;
+    r.fresnel.f0 = Color(1);
+  } else {
+    r.fresnel.model = FresnelModel::Exact;
+    r.fresnel.eta = Color(Float(ior));
+    r.fresnel.k = Color(0);
+    set_f0_from_index(r.fresnel);
+  }
+  const auto substrate = [ior](double) { return std::pair<double, double>(ior, 0); };
+  if (ior > 0) r.fresnel.film = pbr_film(p, substrate);
+  else if (p.number("thinfilm_thickness") > 0) p.fail("a thin film needs ior > 0 (its substrate), got 0");
+  if (!r.fresnel.film.active() && !dist.effectively_smooth())
+    r.multiscatter = MultiscatterLobe::make(dist, conductor_average_fresnel(r.fresnel));
+  if (mode == "R") {
+    auto table = pbr_albedo_table(r);
+    return pbr_leaf(p, r, tint * weight, PbrThroughput::Albedo, weight, std::move(table));
+  }
+  RoughDielectricBxDF m;
+  m.distribution = dist;
+  m.eta = Float(ior);
+  m.film = pbr_film(p, substrate);
+  if (!m.film.active() && m.distribution.is_isotropic() && m.eta >= 0.25f && m.eta <= 4 && !m.specular())
+    m.multiscatter = DielectricMultiscatterLobe::make(m.distribution, m.eta);
+  p.spectra().index = ConstantSpectrum{Float(ior)};
+  auto table = pbr_albedo_table(m);
+  return pbr_leaf(p, m, tint * weight, PbrThroughput::Albedo, weight, std::move(table));
+}
+
+BxDF make_mx_sheen(Params& p) {
+  const Float weight = Float(p.number("weight"));
+  SheenBxDF m;
+  m.color = p.color("color");
+  // MaterialX clamps zeltner's roughness to [0.01, 1] (mx_sheen_bsdf.glsl).
+  m.roughness = std::max(Float(p.number("roughness")), Float(0.01));
+  if (p.choice("mode") == "conty_kulla") {
+    CharlieSheenBxDF c;
+    c.color = m.color;
+    c.roughness = Float(p.number("roughness"));  // floored at 0.005 by the model, as MaterialX does
+    CharlieSheenBxDF cw = c;
+    cw.color = Color(1);
+    return pbr_leaf(p, c, Color(weight), PbrThroughput::Albedo, weight, pbr_albedo_table(cw));
+  }
+  SheenBxDF white = m;
+  white.color = Color(1);  // the throughput is of the untinted lobe
+  return pbr_leaf(p, m, Color(weight), PbrThroughput::Albedo, weight, pbr_albedo_table(white));
+}
+
+// One material input of an operator, parsed in the node's spectra part `i`.
+BxDF pbr_input(Params& p, const char* key, size_t i, const std::string& where, int depth) {
+  const json& v = p.raw(key);
+  if (!v.is_object()) p.fail(std::string(key) + " must be a material (a JSON object), got " + show(v));
+  return parse_description(v, where + "." + key, depth + 1, p.spectra().parts[i], p.base_dir());
+}
+
+BxDF make_mx_operator(Params& p, const std::string& type, const std::string& where, int depth) {
+  check_pbr_depth(p, depth);
+  p.spectra().parts.resize(2);
+  auto parts = std::make_shared<std::array<BxDF, 2>>();
+  PbrOp op = PbrOp::Add;
+  Float weight = 1;
+  Color scale(1);
+  if (type == "mix") {
+    op = PbrOp::Mix;
+    (*parts)[0] = pbr_input(p, "fg", 0, where, depth);
+    (*parts)[1] = pbr_input(p, "bg", 1, where, depth);
+    weight = Float(p.number("mix"));
+  } else if (type == "add") {
+    (*parts)[0] = pbr_input(p, "in1", 0, where, depth);
+    (*parts)[1] = pbr_input(p, "in2", 1, where, depth);
+  } else if (type == "layer") {
+    op = PbrOp::Layer;
+    (*parts)[0] = pbr_input(p, "top", 0, where, depth);
+    (*parts)[1] = pbr_input(p, "base", 1, where, depth);
+  } else {  // multiply
+    op = PbrOp::Scale;
+    (*parts)[0] = pbr_input(p, "in1", 0, where, depth);
+    scale = p.color("in2");
+  }
+  if (op != PbrOp::Scale) {
+    const Float e0 = (*parts)[0].relative_eta(), e1 = (*parts)[1].relative_eta();
+    if (is_transmissive((*parts)[0].flags()) && is_transmissive((*parts)[1].flags()) && e0 != e1)
+      p.fail("both inputs refract, with different ior (" + format_number(e0) + " and " + format_number(e1) + ")");
+  }
+  PbrNodeBxDF n = PbrNodeBxDF::make(op, std::move(parts));
+  n.weight = weight;
+  n.scale = scale;
+  n.through = op == PbrOp::Scale ? PbrThroughput::Input : PbrThroughput::Opaque;
+  return n;
 }
 
 // A whole number of the registry's range (max_depth, samples).
@@ -1034,6 +1393,21 @@ BxDF parse_description(const json& description, const std::string& where, int bl
     p.reject_unknown();
     return m;
   }
+  if (type == "mix" || type == "add" || type == "multiply" || type == "layer") {
+    Params p(description, at + type + ": ", *spec, spectra, base_dir);
+    p.reject_undeclared();
+    BxDF m = make_mx_operator(p, type, where.empty() ? type : where + ": " + type, blend_depth);
+    p.reject_unknown();
+    return m;
+  }
+  if (const auto leaf = pbr_leaf_maker(type)) {
+    Params p(description, at + type + ": ", *spec, spectra, base_dir);
+    check_pbr_depth(p, blend_depth);
+    p.reject_undeclared();
+    BxDF m = leaf(p);
+    p.reject_unknown();
+    return m;
+  }
   for (const auto& t : kMakers) {
     if (t.name == type) {
       Params p(description, at + type + ": ", *spec, spectra, base_dir);
@@ -1188,9 +1562,7 @@ void finish(RoughConductorBxDF& m, const Changed& c) {
     m.multiscatter.reset();  // as material_from_json does for a smooth distribution
     return;
   }
-  // An anisotropic distribution's E(μ, φ) table (multiscatter.h) is kept while α is.
-  m.multiscatter = MultiscatterLobe::make(m.distribution, c.fresnel ? conductor_average_fresnel(m.fresnel) : m.multiscatter->f_avg,
-                                          c.alpha ? nullptr : m.multiscatter->aniso);
+  m.multiscatter = MultiscatterLobe::make(m.distribution, c.fresnel ? conductor_average_fresnel(m.fresnel) : m.multiscatter->f_avg);
 }
 
 // openpbr: the model made again from its parameters with the new values (make() derives
@@ -1235,11 +1607,37 @@ OpenPbrBxDF with_openpbr_params(const OpenPbrBxDF& model, std::span<const ParamV
   return OpenPbrBxDF::make(p, std::move(film), same_solved ? &solved : nullptr, std::move(films));
 }
 
+// gltf_pbr: the new values set in its parameters (make() derives nothing else).
+GltfPbrBxDF with_gltf_pbr_params(const GltfPbrBxDF& model, std::span<const ParamValue> values) noexcept {
+  GltfPbrParams<Color> p = model.params;
+  for (const ParamValue& v : values) {
+    const size_t i = size_t(v.param) - kGltfPbrFirst;
+    if (size_t(v.param) < kGltfPbrFirst || i >= kGltfPbrFieldCount) continue;
+    const auto& f = kGltfPbrFields<Color>[i];
+    if (f.number) p.*f.number = v.value[0];
+    else p.*f.colour = v.value;
+  }
+  return GltfPbrBxDF::make(p);
+}
+
 }  // namespace
 
 const MaterialParamInfo& material_param_info(MaterialParam p) {
   const size_t i = static_cast<size_t>(p);
   if (i < std::size(kParamInfo)) return kParamInfo[i];
+  if (i >= kGltfPbrFirst) {
+    // gltf_pbr's, from its field table; each probe is the parameter's default.
+    static const auto gltf = [] {
+      const GltfPbrParams<Color> d;
+      std::array<MaterialParamInfo, kGltfPbrFieldCount> info{};
+      for (size_t k = 0; k < kGltfPbrFieldCount; ++k) {
+        const auto& f = kGltfPbrFields<Color>[k];
+        info[k] = {f.key, f.number != nullptr, double(f.number ? d.*f.number : (d.*f.colour)[0])};
+      }
+      return info;
+    }();
+    return gltf[std::min(i - kGltfPbrFirst, kGltfPbrFieldCount - 1)];
+  }
   // openpbr's, from its field table; each probe is the parameter's default, which its
   // range accepts whatever the others (make_openpbr checks no combination).
   static const auto openpbr = [] {
@@ -1255,6 +1653,11 @@ const MaterialParamInfo& material_param_info(MaterialParam p) {
 }
 
 std::optional<MaterialParam> varying_param(std::string_view type, std::string_view key) {
+  if (type == GltfPbrBxDF::kName) {
+    for (size_t i = 0; i < kGltfPbrFieldCount; ++i)
+      if (kGltfPbrFields<Color>[i].varying && kGltfPbrFields<Color>[i].key == key) return MaterialParam(kGltfPbrFirst + i);
+    return std::nullopt;
+  }
   if (type == OpenPbrBxDF::kName) {
     for (size_t i = 0; i < kOpenPbrFieldCount; ++i)
       if (kOpenPbrFields<Color>[i].key == key) return MaterialParam(size_t(MP::OpenPbrFirst) + i);
@@ -1270,6 +1673,9 @@ std::string varying_param_keys(std::string_view type) {
   const auto add = [&keys](std::string_view key) { keys += (keys.empty() ? "" : ", ") + std::string(key); };
   if (type == OpenPbrBxDF::kName)
     for (const auto& f : kOpenPbrFields<Color>) add(f.key);
+  if (type == GltfPbrBxDF::kName)
+    for (const auto& f : kGltfPbrFields<Color>)
+      if (f.varying) add(f.key);
   for (const auto& v : kVarying)
     if (v.type == type) add(material_param_info(v.param).key);
   return keys;
@@ -1306,8 +1712,12 @@ BxDF with_params(const BxDF& model, std::span<const ParamValue> values) noexcept
         using M = std::decay_t<decltype(base)>;
         if constexpr (std::is_same_v<M, OpenPbrBxDF>) {
           return with_openpbr_params(base, values);
-        } else if constexpr (std::is_same_v<M, BlendBxDF> || std::is_same_v<M, UserBxDF> ||
-                             std::is_same_v<M, MeasuredBxDF> || std::is_same_v<M, LayeredBxDF>) {
+        } else if constexpr (std::is_same_v<M, GltfPbrBxDF>) {
+          return with_gltf_pbr_params(base, values);
+        } else if constexpr (std::is_same_v<M, BlendBxDF> || std::is_same_v<M, UserBxDF> || std::is_same_v<M, PbrNodeBxDF> ||
+                             std::is_same_v<M, CharlieSheenBxDF> ||
+                             std::is_same_v<M, MeasuredBxDF> || std::is_same_v<M, LayeredBxDF> ||
+                             std::is_same_v<M, HairBxDF> || std::is_same_v<M, RglBxDF>) {
           return base;  // nothing of theirs varies
         } else {
           M m = base;

@@ -121,6 +121,10 @@ constexpr ParamSpec kMeasured[] = {
     {"file", K::File, "", {}, "", "", true,
      "A MERL .binary table (SPEC §2); relative to the scene file, or to the working directory on the command line."},
 };
+constexpr ParamSpec kRgl[] = {
+    {"file", K::File, "", {}, "", "", true,
+     "An RGL .bsdf tensor file (SPEC §2; Dupuy & Jakob 2018); relative to the scene file, or to the working directory on the command line."},
+};
 constexpr ParamSpec kBlend[] = {
     {"weight", K::Number, "", closed(0, 1), "", "", true, "w in (1 - w) f0 + w f1."},
     {"bsdfs", K::Materials, "", {}, "", "", true, "The two materials [f0, f1]; blends nest at most 8 deep."},
@@ -192,6 +196,54 @@ constexpr ParamSpec kThinDielectric[] = {
 // (OpenPBR's parameter reference; the hard ranges, [0, 1] where OpenPBR's is the soft one
 // only for weights and colours), plus gonio's rotations. thin_film_thickness in µm.
 constexpr ParamRange kUnbounded = closed(0, 1e9);
+// gltf_pbr (issues 57, 58; SPEC §2 "Wave 4"): MaterialX 1.39's ND_gltf_pbr_surfaceshader
+// inputs (names, defaults), the glTF 2.0 / KHR_materials_* ranges, in the order of
+// kGltfPbrFields (bxdf/gltf_pbr_params.h). normal, clearcoat_normal and occlusion are not
+// material parameters (docs/gltf_pbr.md).
+constexpr ParamSpec kGltfPbr[] = {
+    {"base_color", K::Colour, "1", kUnit, "", "", false, "Diffuse albedo of the dielectric and F0 of the metal (baseColorFactor)."},
+    {"metallic", K::Number, "1", kUnit, "", "", false, "Mix weight of the metal against the dielectric (metallicFactor)."},
+    {"roughness", K::Number, "1", kUnit, "", "", false,
+     "Perceptual roughness; GGX alpha = roughness^2 (at least 0.002: no lobe is a delta)."},
+    {"transmission", K::Number, "0", kUnit, "", "", false,
+     "Share of the dielectric's base that is a specular transmission tinted by base_color (KHR_materials_transmission)."},
+    {"specular", K::Number, "1", kUnit, "", "", false, "Strength of the dielectric's specular reflection, f90 (KHR_materials_specular)."},
+    {"specular_color", K::Colour, "1", kUnit, "", "", false,
+     "Tint of the dielectric's F0: f0 = min(((ior-1)/(ior+1))^2 specular_color, 1) specular (KHR_materials_specular)."},
+    {"ior", K::Number, "1.5", closed(1, kMaxIndex), "", "", false,
+     "Index of refraction of the dielectric (KHR_materials_ior); refracts where thickness > 0."},
+    {"alpha", K::Number, "1", kUnit, "", "", false, "Coverage (baseColorFactor's alpha), read by alpha_mode."},
+    {"alpha_mode", K::Number, "0", closed(0, 2), "", "", false,
+     "0 OPAQUE (alpha ignored), 1 MASK (opaque where alpha >= alpha_cutoff, else a hole), 2 BLEND (alpha is the "
+     "coverage); the uncovered share passes straight through."},
+    {"alpha_cutoff", K::Number, "0.5", kUnit, "", "", false, "The MASK threshold."},
+    {"iridescence", K::Number, "0", kUnit, "", "", false, "Weight of the thin-film interference (KHR_materials_iridescence)."},
+    {"iridescence_ior", K::Number, "1.3", closed(1, kMaxIndex), "", "", false, "Index of the film."},
+    {"iridescence_thickness", K::Number, "100", closed(0, 10000), "nm", "", false, "Thickness of the film."},
+    {"sheen_color", K::Colour, "0", kUnit, "", "", false, "Colour of the Charlie sheen layer; 0 is none (KHR_materials_sheen)."},
+    {"sheen_roughness", K::Number, "0", kUnit, "", "", false,
+     "Charlie alpha of the sheen (KHR_materials_sheen: alphaG = sheenRoughness); taken as 0.07 below 0.07."},
+    {"clearcoat", K::Number, "0", kUnit, "", "", false, "Weight of the clear coat, ior 1.5 (KHR_materials_clearcoat)."},
+    {"clearcoat_roughness", K::Number, "0", kUnit, "", "", false, "Perceptual roughness of the coat (alpha = roughness^2, at least 0.002)."},
+    {"emissive", K::Colour, "0", kUnit, "", "", false, "Emitted colour (emissiveFactor); the renderer's, not the BSDF's."},
+    {"emissive_strength", K::Number, "1", closed(0, 1e9), "", "", false, "Multiplier on emissive (KHR_materials_emissive_strength)."},
+    {"thickness", K::Number, "0", closed(0, 1e9), "units", "", false,
+     "Thickness of the volume (KHR_materials_volume): 0 is thin-walled (no refraction), > 0 makes the transmission refract at ior."},
+    {"attenuation_distance", K::Number, "0", closed(0, 1e9), "units", "", false,
+     "Distance at which light in the volume keeps attenuation_color; 0 means infinite (glTF's default): no absorption."},
+    {"attenuation_color", K::Colour, "1", kUnit, "", "", false, "Colour light in the volume keeps after attenuation_distance."},
+    {"anisotropy_strength", K::Number, "0", kUnit, "", "", false,
+     "KHR_materials_anisotropy: alpha along the anisotropy direction is mix(alpha, 1, strength^2)."},
+    {"anisotropy_rotation", K::Number, "0", closed(-1000, 1000), "radians", "", false,
+     "Angle of the anisotropy direction from the tangent, counter-clockwise."},
+    {"dispersion", K::Number, "0", closed(0, 1e4), "", "", false,
+     "KHR_materials_dispersion, 20 / Abbe number (gonio's extension of MaterialX's inputs); spectral mode only."},
+    {"diffuse_transmission", K::Number, "0", kUnit, "", "", false,
+     "Share of the diffuse that is transmitted, Lambertian, to the other side (KHR_materials_diffuse_transmission; "
+     "gonio's extension of MaterialX's inputs)."},
+    {"diffuse_transmission_color", K::Colour, "1", kUnit, "", "", false, "Colour of the diffuse transmission."},
+};
+
 constexpr ParamSpec kOpenPbr[] = {
     {"base_weight", K::Number, "1", kUnit, "", "", false, "Multiplier on base_color (diffuse albedo and metal F0)."},
     {"base_color", K::Colour, "0.8", kUnit, "", "", false, "Diffuse albedo of the glossy-diffuse base and F0 of the metal."},
@@ -248,6 +300,117 @@ constexpr ParamSpec kOpenPbr[] = {
      "becomes reciprocal (the fuzz lobe itself stays view-keyed)."},
 };
 
+// MaterialX pbrlib's BSDF nodes (SPEC §2, wave 4; issue 57): MaterialX's input names and
+// defaults (documents/Specification/MaterialX.PBRSpec.md, "BSDF Nodes" and "Utility
+// Nodes"). Every node's weight scales its response; docs/materialx.md says what each
+// becomes among gonio's models.
+constexpr ParamSpec kMxWeight{"weight", K::Number, "1", kUnit, "", "", false, "Weight of the BSDF contribution."};
+constexpr ParamSpec kMxRoughness{"roughness", K::Roughness, "[0.05, 0.05]", kUnit, "", "", false,
+                                 "Microfacet alpha along the tangent and bitangent (a number: both), used as given; "
+                                 "below 1e-3 the surface is smooth."};
+constexpr ParamSpec kMxRetro{"retroreflective", K::Boolean, "false", {}, "", "", false,
+                             "Retroreflection mode: not supported (true is refused)."};
+constexpr ParamSpec kMxFilmThickness{"thinfilm_thickness", K::Number, "0", closed(0, 1e4), "nm", "", false,
+                                     "Thickness of the iridescent thin film; 0: none."};
+constexpr ParamSpec kMxFilmIor{"thinfilm_ior", K::Number, "1.5", closed(1, kMaxIndex), "", "", false,
+                               "Index of refraction of the thin film."};
+constexpr ParamSpec kMxDistribution{"distribution", K::Choice, "\"ggx\"", {}, "", "ggx", false,
+                                    "Microfacet distribution (MaterialX defines GGX only)."};
+constexpr ParamSpec kMxScatterMode{"scatter_mode", K::Choice, "\"R\"", {}, "", "R|T|RT", false,
+                                   "Reflection (R), transmission (T) or both (RT)."};
+constexpr ParamSpec kMxOrenNayar[] = {
+    kMxWeight,
+    {"color", K::Colour, "0.18", kUnit, "", "", false, "Diffuse albedo rho."},
+    {"roughness", K::Number, "0", kUnit, "", "", false, "Oren-Nayar sigma in radians (qualitative), or EON's roughness."},
+    {"energy_compensation", K::Boolean, "false", {}, "", "", false,
+     "false: the qualitative Oren-Nayar model (gonio orennayar); true: energy-preserving Oren-Nayar (gonio eon)."},
+};
+constexpr ParamSpec kMxConductor[] = {
+    kMxWeight,
+    {"ior", K::Colour, "[0.183, 0.421, 1.373]", kIndex, "", "", false, "Real part of the complex index, per channel."},
+    {"extinction", K::Colour, "[3.424, 2.346, 1.770]", kExtinction, "", "", false, "Imaginary part of the index, per channel."},
+    kMxRoughness, kMxRetro, kMxFilmThickness, kMxFilmIor, kMxDistribution,
+};
+constexpr ParamSpec kMxDielectric[] = {
+    kMxWeight,
+    {"tint", K::Colour, "1", kUnit, "", "", false, "Colour on the reflected and transmitted light (not on the throughput)."},
+    {"ior", K::Number, "1.5", closed(0, kMaxIndex), "", "", false,
+     "Index of refraction relative to the outside; 0 disables the Fresnel curve (F = 1; scatter_mode R only)."},
+    kMxRoughness, kMxRetro, kMxFilmThickness, kMxFilmIor, kMxDistribution, kMxScatterMode,
+};
+constexpr ParamSpec kMxSheen[] = {
+    kMxWeight,
+    {"color", K::Colour, "1", kUnit, "", "", false, "Sheen colour (not on the throughput)."},
+    {"roughness", K::Number, "0.3", kUnit, "", "", false, "Fibre roughness r (zeltner: below 0.01 taken as 0.01)."},
+    {"mode", K::Choice, "\"conty_kulla\"", {}, "", "conty_kulla|zeltner", false,
+     "conty_kulla: Conty & Kulla 2017 (Estevez & Kulla's Charlie sheen); zeltner: Zeltner et al. 2022 (gonio sheen)."},
+};
+constexpr ParamSpec kMxMix[] = {
+    {"fg", K::Material, "", {}, "", "", true, "The foreground BSDF (a material)."},
+    {"bg", K::Material, "", {}, "", "", true, "The background BSDF (a material)."},
+    {"mix", K::Number, "0", kUnit, "", "", false, "bg (1 - mix) + fg mix."},
+};
+constexpr ParamSpec kMxAdd[] = {
+    {"in1", K::Material, "", {}, "", "", true, "The first BSDF (a material)."},
+    {"in2", K::Material, "", {}, "", "", true, "The second BSDF (a material)."},
+};
+constexpr ParamSpec kMxMultiply[] = {
+    {"in1", K::Material, "", {}, "", "", true, "The BSDF (a material)."},
+    {"in2", K::Colour, "1", kUnit, "", "", false, "The colour or number it is multiplied by."},
+};
+constexpr ParamSpec kMxLayer[] = {
+    {"top", K::Material, "", {}, "", "", true,
+     "The top BSDF: a layerable node (dielectric_bsdf, generalized_schlick_bsdf, sheen_bsdf) or an operator of them; "
+     "any other material is opaque."},
+    {"base", K::Material, "", {}, "", "", true, "The base BSDF (a material)."},
+};
+// The Chiang et al. 2016 hair fibre (bxdf/hair.h; SPEC §2) and MaterialX's node for it.
+constexpr ParamRange kFibreRoughness = open_closed(0, 1);
+constexpr ParamSpec kHair[] = {
+    {"sigma_a", K::Colour, "", closed(0, 1e4), "per unit radius", "", false,
+     "Absorption coefficient inside the fibre, per unit radius (the path across it is 2 cos gamma_t / cos theta_t); "
+     "excludes color and the melanins."},
+    {"color", K::Colour, "", open_closed(0, 1), "", "", false,
+     "The fibre's colour, mapped to sigma_a by Chiang et al.'s inverse (eq. 9, with beta_n of R); excludes sigma_a and "
+     "the melanins."},
+    {"eumelanin", K::Number, "", closed(0, 100), "", "", false,
+     "Eumelanin concentration: sigma_a += eumelanin x (0.419, 0.697, 1.37) (d'Eon et al. 2011, pbrt-v4). With none "
+     "of sigma_a, color and the melanins, eumelanin is 1.3 (brown)."},
+    {"pheomelanin", K::Number, "", closed(0, 100), "", "", false,
+     "Pheomelanin concentration: sigma_a += pheomelanin x (0.187, 0.4, 1.05)."},
+    {"beta_m", K::Lobes, "0.3", kFibreRoughness, "", "", false,
+     "Longitudinal roughness; a number gives R that value and TT, TRT the variances v/4 and 4v (Marschner's widths), "
+     "an array gives each lobe its own (Chiang eq. 7: v = (0.726 b + 0.812 b^2 + 3.7 b^20)^2)."},
+    {"beta_n", K::Lobes, "0.3", kFibreRoughness, "", "", false,
+     "Azimuthal roughness, one or per lobe (Chiang eq. 8: s = sqrt(pi/8) (0.265 b + 1.194 b^2 + 5.372 b^22))."},
+    {"alpha", K::Number, "2", ParamRange{-90, 90, true, true, true}, "degrees", "", false,
+     "Cuticle scale tilt: R shifted by -2 alpha, TT by +alpha, TRT by +4 alpha (pbrt-v4)."},
+    {"eta", K::Number, "1.55", open_closed(1, 10), "", "", false, "Index of refraction of the fibre (> 1)."},
+    {"tint_R", K::Colour, "1", kUnit, "", "", false, "Colour multiplying the R lobe."},
+    {"tint_TT", K::Colour, "1", kUnit, "", "", false, "Colour multiplying the TT lobe."},
+    {"tint_TRT", K::Colour, "1", kUnit, "", "", false, "Colour multiplying TRT and the residual lobe."},
+    {"h", K::Number, "", closed(-1, 1), "", "", false,
+     "Offset across the fibre; unset: averaged over h by 8-point Gauss-Legendre (eval, sample and pdf alike)."},
+};
+constexpr ParamSpec kChiangHair[] = {
+    {"tint_R", K::Colour, "1", kUnit, "", "", false, "Colour multiplying the R lobe."},
+    {"tint_TT", K::Colour, "1", kUnit, "", "", false, "Colour multiplying the TT lobe."},
+    {"tint_TRT", K::Colour, "1", kUnit, "", "", false, "Colour multiplying TRT and the residual lobe."},
+    {"ior", K::Number, "1.55", open_closed(1, 10), "", "", false, "Index of refraction of the fibre (> 1)."},
+    {"roughness_R", K::Pair, "[0.1, 0.1]", closed(0, 1), "", "", false,
+     "(v, s) of the R lobe as chiang_hair_roughness makes them: the longitudinal variance v and the azimuthal "
+     "scale s before sqrt(pi/8); each clamped to [0.001, 1] as MaterialX does."},
+    {"roughness_TT", K::Pair, "[0.05, 0.05]", closed(0, 1), "", "", false, "(v, s) of the TT lobe."},
+    {"roughness_TRT", K::Pair, "[0.2, 0.2]", closed(0, 1), "", "", false,
+     "(v, s) of the TRT lobe and the residual's v."},
+    {"cuticle_angle", K::Number, "0.5", closed(0, 1), "", "", false,
+     "Cuticle tilt as a fraction: alpha = (cuticle_angle - 0.5) pi radians (0.5: no tilt)."},
+    {"absorption_coefficient", K::Colour, "0", closed(0, 1e4), "", "", false,
+     "sigma_a of the fibre, per unit radius."},
+    {"h", K::Number, "", closed(-1, 1), "", "", false,
+     "Offset across the fibre; unset: averaged over h by 8-point Gauss-Legendre."},
+};
+
 constexpr MaterialTypeSpec kTypes[] = {
     {"diffuse", "Ideal diffuse (Lambertian) reflection, f = ρ/π.", "Lambert 1760; the lecture, §5.1", kDiffuse, ""},
     {"mirror", "Perfect specular reflection with a constant reflectance.", "The lecture, §5.2, eq. 23", kMirror, ""},
@@ -285,6 +448,10 @@ constexpr MaterialTypeSpec kTypes[] = {
      "Matusik et al. 2003 (MERL format); Rusinkiewicz 1998 (half/difference angles)", kMeasured,
      "Reflection only; an entry whose f (stored x scale) exceeds 1e30 1/sr is refused. docs/measured.md says how it "
      "interpolates, treats unmeasured entries and samples."},
+    {"rgl", "A measured BRDF in the RGL .bsdf format: NDF, VNDF and luminance warps and spectra on the warped grid, isotropic or anisotropic.",
+     "Dupuy & Jakob 2018 (An Adaptive Parameterization for Efficient Material Acquisition and Rendering)", kRgl,
+     "Reflection only; the file's theta_i/phi_i axis is wo. Reciprocal only up to the table's interpolation error "
+     "(docs/measured.md)."},
     {"subsurface", "Dielectric boundary (smooth or rough) over a homogeneous scattering medium (a BSSRDF).",
      "Henyey & Greenstein 1941 (phase function); Jensen et al. 2001 (measured media); Chiang, Kutz & Burley 2016 "
      "(random walk, albedo and mfp)",
@@ -328,6 +495,54 @@ constexpr MaterialTypeSpec kTypes[] = {
      "docs/openpbr.md: the layering per layer (reciprocal albedo scaling for specular over diffuse, view-dependent for coat "
      "and fuzz, so a coat or fuzz makes it non-reciprocal), what the BSDF leaves to the renderer (emission, interior "
      "media, subsurface transport, dispersion) and the furnace errors."},
+    {"gltf_pbr", "glTF 2.0 metallic-roughness with KHR_materials_* extensions, MaterialX's gltf_pbr inputs.",
+     "glTF 2.0 specification, Appendix B; KHR_materials_ior, _specular, _transmission, _volume, _clearcoat, _sheen "
+     "(Estevez & Kulla 2017), _emissive_strength, _anisotropy, _dispersion, _diffuse_transmission; Walter et al. 2007",
+     kGltfPbr,
+     "docs/gltf_pbr.md: the formulas per extension, what the BSDF leaves to the renderer (normal maps, occlusion, "
+     "emission, the volume's absorption) and the furnace figures (the specification's mixing is not exactly "
+     "energy-preserving). iridescence is refused until implemented."},
+    {"oren_nayar_diffuse_bsdf", "MaterialX's Oren-Nayar diffuse node: qualitative Oren-Nayar, or EON with energy_compensation.",
+     "MaterialX PBR spec, oren_nayar_diffuse_bsdf; Oren & Nayar 1994 (qualitative model); Portsmouth, Kutz & Hill 2025 (EON)",
+     kMxOrenNayar, "weight x orennayar(color, sigma = roughness rad) or weight x eon(color, roughness). Opaque under layer."},
+    {"conductor_bsdf", "MaterialX's conductor node: GGX microfacet reflection with the exact complex Fresnel.",
+     "MaterialX PBR spec, conductor_bsdf; Walter et al. 2007; Kulla & Conty 2017 (energy compensation); Belcour & Barla 2017",
+     kMxConductor, "weight x roughconductor(eta = ior, k = extinction, alpha = roughness), multiscatter on (without a thin "
+     "film: gonio's compensation tables are of the bare metal). Opaque under layer."},
+    {"dielectric_bsdf", "MaterialX's dielectric node: GGX microfacet reflection (R), transmission (T) or both (RT).",
+     "MaterialX PBR spec, dielectric_bsdf; Walter et al. 2007; Kulla & Conty 2017; Belcour & Barla 2017", kMxDielectric,
+     "R: weight x tint x the reflection of a roughconductor with the dielectric's index (k = 0); RT: weight x tint x "
+     "roughdielectric. Its throughput under layer is 1 - weight E(mu_v), E the untinted reflection albedo. "
+     "scatter_mode T is not supported yet (refused)."},
+    {"sheen_bsdf", "MaterialX's sheen node (cloth): Conty-Kulla or Zeltner.",
+     "MaterialX PBR spec, sheen_bsdf; Estevez & Kulla 2017 (Charlie sheen, as Conty & Kulla 2017); Zeltner, Burley & "
+     "Chiang 2022", kMxSheen,
+     "conty_kulla: weight x color x D / (4 (mu_i + mu_o - mu_i mu_o)), D = (2 + 1/r) sin(theta_h)^(1/r) / (2 pi), r "
+     "floored at 0.005 (reciprocal); zeltner: weight x sheen(color, roughness) (not reciprocal). Throughput "
+     "1 - weight E(mu_v), E the untinted lobe's albedo."},
+    {"mix", "MaterialX's mix of two BSDFs: bg (1 - mix) + fg mix.", "MaterialX PBR spec, mix (genglsl mx_mix_bsdf)",
+     kMxMix, "Operators nest at most 8 deep (leaf nodes count as a level)."},
+    {"add", "MaterialX's sum of two BSDFs (not energy-bounded).", "MaterialX PBR spec, add (genglsl mx_add_bsdf)", kMxAdd,
+     "Throughput max(T1 + T2 - 1, 0)."},
+    {"multiply", "MaterialX's BSDF times a colour or a number in [0, 1].", "MaterialX PBR spec, multiply (genglsl mx_multiply_bsdf_color3)",
+     kMxMultiply, "The throughput is in1's."},
+    {"layer", "MaterialX's vertical layering by albedo scaling: top + base (1 - E_top(v)).",
+     "MaterialX PBR spec, layer (genglsl mx_layer_bsdf)", kMxLayer,
+     "Not reciprocal: the base's weight is a function of the view direction v alone (docs/materialx.md measures it)."},
+    {"hair",
+     "Hair fibre (Chiang et al. 2016): R, TT, TRT and residual lobes with d'Eon's longitudinal and a trimmed "
+     "logistic azimuthal scattering, tilted cuticles and absorption; the fibre runs along +x.",
+     "Chiang, Bitterli, Tappan & Burley 2016 (CGF 35(2)), eqs. 3-9; d'Eon et al. 2011 (Mp, melanin); d'Eon et al. 2013 "
+     "(sampling); Marschner et al. 2003; pbrt-v4 HairBxDF (frame and tilt)",
+     kHair,
+     "At most one of sigma_a, color, (eumelanin, pheomelanin). f = S/|wi.z| (SPEC §2): f |cos| integrates to the "
+     "fibre's albedo over the whole sphere. Not reciprocal and not isotropic about z: gonio check reports both as not "
+     "applicable and tests sampling over the whole sphere. docs/hair.md. Polarized mode: depolarizing."},
+    {"chiang_hair_bsdf",
+     "MaterialX's chiang_hair_bsdf: the hair model with MaterialX's inputs (per-lobe tints and (v, s) roughnesses).",
+     "MaterialX PBR specification 1.39 (chiang_hair_bsdf); Chiang et al. 2016", kChiangHair,
+     "The same model as hair: v is the variance (the residual takes TRT's), the logistic scale is s sqrt(pi/8) "
+     "(MaterialX's genglsl mx_hair_trimmed_logistic), alpha = (cuticle_angle - 0.5) pi."},
 };
 
 std::string number_text(double v) {

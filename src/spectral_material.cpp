@@ -105,7 +105,7 @@ struct Converter {
         f_avg = spectra.f_avg->eval(w);
       else
         f_avg = conductor_average_fresnel(s.fresnel);  // a textured index: per shading point
-      s.multiscatter = MultiscatterLobeT<SS>::make(m.distribution, f_avg, m.multiscatter->aniso);
+      s.multiscatter = MultiscatterLobeT<SS>::make(m.distribution, f_avg);
     }
     return s;
   }
@@ -120,8 +120,28 @@ struct Converter {
                            : DielectricMultiscatterLobe::remake(m.distribution, s.eta, spectra.f_avg->eval(w[0]));
     return s;
   }
+  // A fibre: sigma_a (like an index: linear between the channels' wavelengths, as its
+  // RGB coefficients are values at them) and the tints upsampled as reflectances.
+  SpectralBxDF operator()(const HairBxDF& m) const {
+    HairBxDFT<SS> s;
+    s.sigma_a = upsample_colour(MP::Eta, m.sigma_a, w);
+    s.eta = m.eta;
+    s.h = m.h;
+    s.average_h = m.average_h;
+    s.v = m.v;
+    s.s = m.s;
+    for (size_t i = 0; i < 3; ++i) s.tint[i] = upsample_colour(MP::Reflectance, m.tint[i], w);
+    s.sin_tilt = m.sin_tilt;
+    s.cos_tilt = m.cos_tilt;
+    s.log_norm = m.log_norm;
+    s.inv_trim = m.inv_trim;
+    return s;
+  }
   SpectralBxDF operator()(const SheenBxDF& m) const {
     return SheenBxDFT<SS>{colour(MP::SheenColor, m.color), m.roughness};
+  }
+  SpectralBxDF operator()(const CharlieSheenBxDF& m) const {
+    return CharlieSheenBxDFT<SS>{colour(MP::SheenColor, m.color), m.roughness};
   }
   SpectralBxDF operator()(const OrenNayarBxDF& m) const {
     OrenNayarBxDFT<SS> s;
@@ -164,6 +184,12 @@ struct Converter {
   }
   SpectralBxDF operator()(const MeasuredBxDF& m) const {
     MeasuredBxDFT<SS> s;
+    s.data = m.data;  // the parsed material's table outlives the spectral model
+    s.wavelengths = w;
+    return s;
+  }
+  SpectralBxDF operator()(const RglBxDF& m) const {
+    RglBxDFT<SS> s;
     s.data = m.data;  // the parsed material's table outlives the spectral model
     s.wavelengths = w;
     return s;
@@ -221,6 +247,41 @@ struct Converter {
     }
     const openpbr::Solved solved = m.solved();
     return OpenPbrBxDFT<SS>::make(s, film(m.film), &solved);
+  }
+  // gltf_pbr: its colours upsampled at the path's wavelengths (as openpbr's). Dispersion
+  // (KHR_materials_dispersion: η(λ) = η_d + (η_d − 1)/V (523655/λ² − 1.5168), V = 20 /
+  // dispersion, the formula of openpbr_dispersion.h): where the material refracts, the
+  // index at the hero wavelength, and the path goes on with the hero only.
+  SpectralBxDF operator()(const GltfPbrBxDF& m) const {
+    const GltfPbrParams<Color>& p = m.params;
+    GltfPbrParams<SS> s;
+    for (size_t i = 0; i < kGltfPbrFieldCount; ++i) {
+      const auto& from = kGltfPbrFields<Color>[i];
+      const auto& to = kGltfPbrFields<SS>[i];
+      if (from.number) s.*to.number = p.*from.number;
+      else s.*to.colour = upsample_colour(MP::Reflectance, p.*from.colour, w);
+    }
+    if (m.volume() && p.dispersion > 0) {
+      s.ior = std::max(Float(1), openpbr::cauchy_index(p.ior, 20 / p.dispersion, w[0]));
+      w.terminate_secondary();
+    }
+    return GltfPbrBxDFT<SS>::make(s);
+  }
+  // A MaterialX node (pbr_node.h): its inputs in one scratch slot, its factor upsampled
+  // as a reflectance, the throughput table shared with the RGB model.
+  SpectralBxDF operator()(const PbrNodeBxDF& m) const {
+    std::array<SpectralBxDF, 2>* parts = scratch.next_parts();
+    if (!parts || spectra.parts.size() != 2) return DiffuseBxDFT<SS>{SS(0)};
+    const size_t n = m.op == PbrOp::Scale ? 1 : 2;
+    for (size_t i = 0; i < n; ++i) (*parts)[i] = Converter{spectra.parts[i], w, scratch, 0}.convert((*m.parts)[i]);
+    PbrNodeBxDFT<SS> s;
+    s.op = m.op;
+    s.through = m.through;
+    s.scale = m.scale == Color(1) ? SS(1) : upsample_colour(MP::Reflectance, m.scale, w);
+    s.weight = m.weight;
+    s.albedo_table = m.albedo_table;
+    s.parts = parts;
+    return s;
   }
   SpectralBxDF operator()(const UserBxDF&) const { return DiffuseBxDFT<SS>{SS(0)}; }
 

@@ -1,6 +1,8 @@
 // gonio fit: fits an analytic model to a MERL table (SPEC §3, docs/fitting.md).
 
 #include <cstdio>
+#include <cstring>
+#include <fstream>
 #include <iostream>
 #include <memory>
 #include <string>
@@ -10,10 +12,19 @@
 #include "gonio/fit/fit.h"
 #include "gonio/json_text.h"
 #include "gonio/merl.h"
+#include "gonio/rgl_data.h"
+#include "gonio/tabulate.h"
 
 namespace gonio::cli {
 
 namespace {
+bool is_tensor_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  char head[12] = {};
+  in.read(head, sizeof head);
+  return in.gcount() == 12 && std::memcmp(head, "tensor_file", 12) == 0;
+}
+
 struct FitArgs {
   std::string data, model, distribution, metric = "log", init;
   std::int64_t stride = 3;
@@ -48,7 +59,9 @@ void run_fit(const FitArgs& a) {
   }
   // The model and its init are checked before the 35 MB table is read.
   check_fit_options(options);
-  const MerlTable table = read_merl(a.data);
+  // MERL or RGL, told apart by content (SPEC §3): an RGL .bsdf file starts with
+  // "tensor_file\0"; it is tabulated as a MERL table (its rgl model, SPEC §2) and fitted so.
+  const MerlTable table = is_tensor_file(a.data) ? tabulate(RglBxDF::make(load_rgl(a.data))) : read_merl(a.data);
   const FitResult r = fit_merl(table, options);
   std::cout << "{\"material\":" << r.material.dump() << ",\"error\":" << json_number(r.error) << ",\"metric\":\""
             << fit_metric_name(options.metric) << "\",\"evaluations\":" << r.evaluations
@@ -62,7 +75,7 @@ void register_fit(CLI::App& app) {
       "fit",
       "Fit an analytic model to a MERL table; prints "
       "{\"material\":{...},\"error\":e,\"metric\":\"log|ngan\",\"evaluations\":n,\"seconds\":s}");
-  cmd->add_option("--data", args->data, "the MERL .binary table to fit")->required();
+  cmd->add_option("--data", args->data, "the MERL .binary table or RGL .bsdf file to fit (told apart by content)")->required();
   cmd->add_option("--model", args->model,
                   "roughconductor, plastic, blinnphong, phong, ward, ashikhminshirley, orennayar or blend")
       ->required();

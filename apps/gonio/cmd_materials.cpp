@@ -66,6 +66,8 @@ std::string kind_text(const ParamSpec& p, bool code) {
     case ParamKind::Material: return "material";
     case ParamKind::File: return "path";
     case ParamKind::Film: return code ? "object `{\"thickness\": nm, \"eta\": n}`" : "object {\"thickness\": nm, \"eta\": n}";
+    case ParamKind::Lobes: return code ? "number or `[R, TT, TRT]`" : "number or [R, TT, TRT]";
+    case ParamKind::Pair: return code ? "`[a, b]`" : "[a, b]";
   }
   return "";
 }

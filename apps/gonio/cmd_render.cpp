@@ -29,6 +29,7 @@
 #include "cli_signals.h"
 #include "commands.h"
 #include "gonio/error.h"
+#include "gonio/render/gltf_loader.h"
 #include "gonio/render/image_output.h"
 #include "gonio/render/renderer.h"
 #include "gonio/render/scene_loader.h"
@@ -52,6 +53,10 @@ struct RenderArgs {
   // --sample-range A B: only the per-pixel sample indices [A, B), written as their sums
   // (docs/distributed.md); empty: the whole render.
   std::vector<std::int64_t> sample_range;
+  // SPEC §3 (glTF scenes, and every scene): image size, a glTF camera by name, exposure.
+  int width = 0, height = 0;  // 0: the scene's
+  std::string camera;
+  std::optional<double> exposure;
 };
 
 // "1.23 M" style figures for the closing line.
@@ -98,8 +103,25 @@ void run_render(const RenderArgs& a) {
   // An unwritable location fails here, before any work.
   create_removable([&] { return out.emplace(a.output).temporary_path(); });
   if (!a.dop.empty()) create_removable([&] { return dop_out.emplace(a.dop).temporary_path(); });
+  if (a.exposure && !(std::isfinite(*a.exposure) && std::abs(*a.exposure) <= 64))
+    throw InputError("--exposure must be a number of stops in [-64, 64], got " + format_number(*a.exposure));
+  const bool gltf = !a.scene.empty() && render::is_gltf_path(a.scene);
+  if (!a.camera.empty() && !gltf)
+    throw InputError("--camera " + a.camera + ": only a glTF scene (.gltf, .glb) has named cameras");
   render::Scene scene = a.scene.empty() ? render::parse_scene(render::default_scene_json(), "default scene", "")
+                        : gltf          ? render::load_gltf_scene(a.scene, {a.camera})
                                         : render::load_scene_file(a.scene);
+  if (a.width > 0 || a.height > 0) {
+    // One of the two given: the other keeps the camera's aspect ratio.
+    const double aspect = double(scene.camera.width) / double(scene.camera.height);
+    const int w = a.width > 0 ? a.width : std::max(1, int(std::lround(a.height * aspect)));
+    const int h = a.height > 0 ? a.height : std::max(1, int(std::lround(a.width / aspect)));
+    if (std::int64_t(w) * h > render::kMaxFilmPixels)
+      throw InputError("--width/--height: " + std::to_string(w) + " x " + std::to_string(h) + " is more than " +
+                       std::to_string(render::kMaxFilmPixels) + " pixels");
+    scene.camera.width = w;
+    scene.camera.height = h;
+  }
   if (a.spp > 0) scene.settings.spp = a.spp;
   if (a.seed >= 0) scene.settings.seed = static_cast<std::uint64_t>(a.seed);
   if (a.sampler) {
@@ -156,7 +178,16 @@ void run_render(const RenderArgs& a) {
   // From here on the first signal stops the render between tiles, and the passes done
   // are written; a second one ends gonio at once.
   set_interruptible(true);
-  const render::Image image = render::render(scene, options, &stats, &stokes);
+  render::Image image = render::render(scene, options, &stats, &stokes);
+  if (a.exposure && *a.exposure != 0) {
+    // --exposure EV multiplies the image by 2^EV (SPEC §3), in every output format.
+    const Float k = Float(std::exp2(*a.exposure));
+    for (int y = 0; y < image.height(); ++y)
+      for (int x = 0; x < image.width(); ++x) image.at(x, y) *= k;
+    for (render::Image& s : stokes)
+      for (int y = 0; y < s.height(); ++y)
+        for (int x = 0; x < s.width(); ++x) s.at(x, y) *= k;
+  }
   if (tty && last_step >= 0) std::fprintf(stderr, "\n");
   const int sig = stop_signal() == SIGTERM ? SIGTERM : SIGINT;
   const char* sig_name = sig == SIGTERM ? "SIGTERM" : "SIGINT";
@@ -205,8 +236,14 @@ void run_render(const RenderArgs& a) {
 void register_render(CLI::App& app) {
   auto args = std::make_shared<RenderArgs>();
   auto* cmd = app.add_subcommand(
-      "render", "Render a scene (JSON, docs/scene-format.md); without one, the built-in default scene");
-  cmd->add_option("scene", args->scene, "scene file (JSON)");
+      "render", "Render a scene (JSON, docs/scene-format.md, or glTF 2.0, docs/gltf.md); without one, the built-in default scene");
+  cmd->add_option("scene", args->scene, "scene file (JSON, .gltf or .glb)");
+  cmd->add_option("--width", args->width, "image width in pixels, 1 to 65536 (overrides the scene's camera)")
+      ->transform(decimal_in_range(1, 65536));
+  cmd->add_option("--height", args->height, "image height in pixels, 1 to 65536 (overrides the scene's camera)")
+      ->transform(decimal_in_range(1, 65536));
+  cmd->add_option("--camera", args->camera, "NAME: the glTF camera to render through (default: the first)");
+  cmd->add_option("--exposure", args->exposure, "EV: multiply the image by 2^EV (default 0)")->check(decimal_number());
   cmd->add_option("-o,--output", args->output, "output image: .exr (linear) or .png (tone-mapped sRGB); default gonio.png");
   cmd->add_option("--spp", args->spp, "samples per pixel, 1 to 1048576 (overrides the scene's)")
       ->transform(decimal_in_range(1, kMaxSpp));

@@ -12,21 +12,26 @@
 #include "gonio/bxdf/ashikhminshirley.h"
 #include "gonio/bxdf/blend.h"
 #include "gonio/bxdf/blinnphong.h"
+#include "gonio/bxdf/charlie_sheen.h"
 #include "gonio/bxdf/conductor.h"
 #include "gonio/bxdf/contract.h"
 #include "gonio/bxdf/custom.h"
 #include "gonio/bxdf/dielectric.h"
 #include "gonio/bxdf/diffuse.h"
 #include "gonio/bxdf/eon.h"
+#include "gonio/bxdf/gltf_pbr.h"
+#include "gonio/bxdf/hair.h"
 #include "gonio/bxdf/layered.h"
 #include "gonio/bxdf/measured.h"
 #include "gonio/bxdf/mirror.h"
 #include "gonio/bxdf/openpbr.h"
 #include "gonio/bxdf/orennayar.h"
+#include "gonio/bxdf/pbr_node.h"
 #include "gonio/bxdf/phong.h"
 #include "gonio/bxdf/plastic.h"
 #include "gonio/bxdf/roughconductor.h"
 #include "gonio/bxdf/roughdielectric.h"
+#include "gonio/bxdf/rgl.h"
 #include "gonio/bxdf/sheen.h"
 #include "gonio/bxdf/thindielectric.h"
 #include "gonio/bxdf/ward.h"
@@ -43,7 +48,8 @@ class BxDFT {
                               RoughConductorBxDFT<C>, RoughDielectricBxDFT<C>, OrenNayarBxDFT<C>, PhongBxDFT<C>,
                               BlinnPhongBxDFT<C>, WardBxDFT<C>, AshikhminShirleyBxDFT<C>, PlasticBxDFT<C>,
                               MeasuredBxDFT<C>, BlendBxDFT<C>, UserBxDFT<C>, SheenBxDFT<C>, EonBxDFT<C>,
-                              ThinDielectricBxDFT<C>, LayeredBxDFT<C>, OpenPbrBxDFT<C>>;
+                              ThinDielectricBxDFT<C>, LayeredBxDFT<C>, OpenPbrBxDFT<C>, GltfPbrBxDFT<C>,
+                              PbrNodeBxDFT<C>, CharlieSheenBxDFT<C>, HairBxDFT<C>, RglBxDFT<C>>;
 
   BxDFT() = default;
   template <typename M>
@@ -75,6 +81,16 @@ class BxDFT {
         },
         m_);
   }
+  // A fibre (hair.h): its frame's x is the fibre's axis, z no normal; `check` tests it
+  // over the whole sphere and reports isotropy about z as not applicable.
+  bool is_fibre() const {
+    return std::visit(
+        [](const auto& m) -> bool {
+          if constexpr (requires { m.is_fibre(); }) return m.is_fibre();
+          else return false;
+        },
+        m_);
+  }
   bool is_isotropic() const {
     return std::visit(
         [](const auto& m) -> bool {
@@ -93,6 +109,16 @@ class BxDFT {
           if constexpr (requires { m.nonreciprocal_reason(); }) return m.nonreciprocal_reason();
           else if constexpr (requires { M::kReciprocal; }) return M::kReciprocal ? std::string_view{} : M::kNonReciprocalReason;
           else return {};
+        },
+        m_);
+  }
+  // The reciprocity threshold of a model reciprocal only up to a documented error (a
+  // measured table's interpolation error, `rgl`); 0 for the others (the validator's own).
+  Float reciprocity_tolerance() const {
+    return std::visit(
+        [](const auto& m) -> Float {
+          if constexpr (requires { m.reciprocity_tolerance(); }) return m.reciprocity_tolerance();
+          else return 0;
         },
         m_);
   }
@@ -184,5 +210,7 @@ std::optional<DirectionalAlbedoT<C>> BlendBxDFT<C>::albedo(const Vec3& wo, Trans
 
 // LayeredBxDF, now that BxDF is complete.
 #include "gonio/bxdf/layered_impl.h"  // IWYU pragma: export
+// PbrNodeBxDF (MaterialX's operators), likewise.
+#include "gonio/bxdf/pbr_node_impl.h"  // IWYU pragma: export
 // Where the models' code is generated (once, in the library).
 #include "gonio/bxdf/instances.h"  // IWYU pragma: export

@@ -17,6 +17,7 @@
 #include <nlohmann/json_fwd.hpp>
 
 #include "gonio/bxdf.h"
+#include "gonio/bxdf/gltf_pbr_params.h"
 #include "gonio/bxdf/openpbr_params.h"
 #include "gonio/error.h"
 
@@ -58,8 +59,11 @@ enum class MaterialParam : std::uint8_t {
   // openpbr's colour and number parameters: OpenPbrFirst + i is kOpenPbrFields[i]
   // (bxdf/openpbr_params.h), so that their list is not written here again.
   OpenPbrFirst,
+  // gltf_pbr's: kGltfPbrFirst + i is kGltfPbrFields[i] (bxdf/gltf_pbr_params.h); only those
+  // whose `varying` is set are named by varying_param.
 };
-inline constexpr std::size_t kMaterialParamCount = std::size_t(MaterialParam::OpenPbrFirst) + kOpenPbrFieldCount;
+inline constexpr std::size_t kGltfPbrFirst = std::size_t(MaterialParam::OpenPbrFirst) + kOpenPbrFieldCount;
+inline constexpr std::size_t kMaterialParamCount = kGltfPbrFirst + kGltfPbrFieldCount;
 
 struct MaterialParamInfo {
   std::string_view key;  // the JSON key of SPEC §2 ("alpha" for Alpha, AlphaX and AlphaY)

@@ -22,6 +22,8 @@ enum class ParamKind {
   Material,   // one material description (layered's top and bottom)
   File,       // a path (a string), relative to the scene file or the working directory
   Film,       // a thin film: an object {"thickness": nm, "eta": index} (issue 34)
+  Lobes,      // a number (every lobe of a fibre) or [R, TT, TRT] (hair, issue 60)
+  Pair,       // [a, b] (MaterialX's vector2)
 };
 
 // An interval of accepted values; `present` false means any (finite) value.

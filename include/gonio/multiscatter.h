@@ -17,7 +17,7 @@
 // uses the α = 1 entries. Anisotropic roughness: E(ωo) depends on ωo's azimuth too and on
 // no single isotropic α (with sqrt(αx αy) standing in, a white furnace at α = [0.05, 1]
 // kept 0.60 at normal incidence), so the lobe reads E(μ, φ) of the distribution itself,
-// tabulated when the lobe is made (anisotropic_albedo.h); its μi is then drawn from the
+// from tables on a grid of (αx, αy) made once per process (anisotropic_albedo.h); its μi is then drawn from the
 // isotropic tables at α = max(αx, αy), whose loss 1 − E is at least the anisotropic one's
 // nearly everywhere, so that the weight stays bounded, and lobe_pdf is that density.
 
@@ -63,22 +63,20 @@ struct MultiscatterLobeT {
   AlbedoComplementSampler sampler;  // draws μi ∝ (1 − E(μi)) μi
   Float inv_pi_loss = 0;  // 1 / (π (1 − E_avg)) of the sampler's normalisation (0: no lobe)
   // Anisotropic roughness: E(μ, φ) of the distribution (then `alpha` is the sampler's).
-  std::shared_ptr<const AnisotropicAlbedo> aniso;
+  AnisotropicAlbedoBlend aniso;
 
-  // `f_avg`: the cosine-weighted average Fresnel reflectance 2 ∫ F(μ) μ dμ. `table`: an
-  // anisotropic distribution's E, made already (the spectral and polarized forms of a
-  // model take their RGB form's instead of tabulating again).
-  static MultiscatterLobeT<C> make(const MicrofacetDistribution& d, const C& f_avg,
-                                   std::shared_ptr<const AnisotropicAlbedo> table = nullptr) {
+  // `f_avg`: the cosine-weighted average Fresnel reflectance 2 ∫ F(μ) μ dμ. No allocation
+  // (an anisotropic distribution's tables are the process's, anisotropic_albedo.h).
+  static MultiscatterLobeT<C> make(const MicrofacetDistribution& d, const C& f_avg) {
     MultiscatterLobeT<C> m;
     m.type = d.type;
     if (d.is_isotropic()) {
       m.alpha = d.alpha_x;
       m.e_avg = microfacet_average_albedo(m.type, m.alpha);
     } else {
-      m.aniso = table ? std::move(table) : AnisotropicAlbedo::make(d);
+      m.aniso = AnisotropicAlbedoBlend::at(d);
       m.alpha = std::max(d.alpha_x, d.alpha_y);
-      m.e_avg = m.aniso->average();
+      m.e_avg = m.aniso.average();
     }
     m.f_avg = f_avg;
     const Float e = m.e_avg;
@@ -93,7 +91,7 @@ struct MultiscatterLobeT {
   }
 
   // E(ω) in the distribution's frame.
-  Float E(const Vec3& w) const { return aniso ? aniso->E(w) : microfacet_albedo(type, alpha, std::abs(w.z)); }
+  Float E(const Vec3& w) const { return aniso.active() ? aniso.E(w) : microfacet_albedo(type, alpha, std::abs(w.z)); }
 
   // The lobe from E(μo) and E(μi).
   C f(Float e_o, Float e_i) const { return f_ms * ((1 - e_o) * (1 - e_i)); }
@@ -111,7 +109,7 @@ struct MultiscatterLobeT {
   // sampling gave (1 − E(μi))/(1 − E_avg), 10⁴ for a near-smooth surface at grazing μi.
   // (Anisotropic: of the sampler's isotropic E at `alpha`, not the lobe's e_i.)
   Float lobe_pdf(Float cos_i, Float e_i) const {
-    const Float e = aniso ? microfacet_albedo(type, alpha, cos_i) : e_i;
+    const Float e = aniso.active() ? microfacet_albedo(type, alpha, cos_i) : e_i;
     return std::max(Float(0), 1 - e) * cos_i * inv_pi_loss;
   }
   Float mix_pdf(Float e_o, Float pdf_single, Float cos_i, Float e_i) const {

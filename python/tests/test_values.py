@@ -33,6 +33,10 @@ EXAMPLES = {
                '"bottom":{"type":"diffuse","reflectance":0.5},"thickness":0.1,"albedo":0.5}',
     "openpbr": '{"type":"openpbr","base_color":[0.8,0.3,0.1],"base_diffuse_roughness":0.5,"coat_weight":0.6,'
                '"coat_roughness":0.2,"fuzz_weight":0.3,"base_metalness":0.2,"transmission_weight":0.2}',
+    "gltf_pbr": '{"type":"gltf_pbr","base_color":[0.8,0.3,0.1],"metallic":0.2,"roughness":0.4,"clearcoat":0.5,'
+                '"sheen_color":[0.3,0.3,0.5],"transmission":0.3}',
+    "hair": '{"type":"hair","eumelanin":0.4,"pheomelanin":0.3,"beta_m":0.3,"beta_n":0.4,"alpha":3}',
+    "chiang_hair_bsdf": '{"type":"chiang_hair_bsdf","absorption_coefficient":[0.2,0.4,0.8],"cuticle_angle":0.52}',
 }
 # More of the code paths the same types take.
 VARIANTS = [

@@ -132,6 +132,8 @@ std::string kind_name(ParamKind k) {
     case ParamKind::Material: return "material";
     case ParamKind::File: return "file";
     case ParamKind::Film: return "film";
+    case ParamKind::Lobes: return "lobes";
+    case ParamKind::Pair: return "pair";
   }
   return "";
 }

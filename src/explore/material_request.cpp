@@ -187,7 +187,9 @@ json example_material(std::string_view type) {
     "sheen": {"type": "sheen", "color": [0.9, 0.6, 0.6], "roughness": 0.4},
     "thindielectric": {"type": "thindielectric", "eta": 1.5},
     "layered": {"type": "layered", "top": {"type": "roughdielectric", "alpha": 0.1, "eta": 1.5},
-                "bottom": {"type": "diffuse", "reflectance": [0.7, 0.2, 0.1]}}
+                "bottom": {"type": "diffuse", "reflectance": [0.7, 0.2, 0.1]}},
+    "gltf_pbr": {"type": "gltf_pbr", "base_color": [0.8, 0.3, 0.1], "metallic": 0, "roughness": 0.4,
+                 "clearcoat": 0.5, "clearcoat_roughness": 0.1}
   })");
   const auto it = examples.find(std::string(type));
   return it != examples.end() ? *it : json{{"type", std::string(type)}};

@@ -215,7 +215,8 @@ Float scene_radius(const Scene& scene) {
   for (const Sphere& s : scene.spheres) add(s.center, s.radius);
   for (const Mesh& m : scene.meshes)
     for (const Vec3& p : m.positions) add(p, 0);
-  for (const PointLight& l : scene.point_lights) add(l.position, 0);
+  for (const PointLight& l : scene.point_lights)
+    if (!l.directional) add(l.position, 0);
   if (!(hi.x >= lo.x)) return 1;
   const Float r = length(hi - lo) / 2;
   return std::isfinite(r) && r > 0 ? r : Float(1);
@@ -230,7 +231,9 @@ Color surface_emission(const Material& m, const Vec3& n, const Vec3& w, const Ve
   if (m.emits_both_sides) mu = std::abs(mu);
   if (!(mu > 0)) return Color(0);
   std::optional<BxDF> scratch;
-  const auto* model = std::get_if<OpenPbrBxDF>(&m.at(uv, scratch).models());
+  const BxDF& at = m.at(uv, scratch);
+  if (const auto* g = std::get_if<GltfPbrBxDF>(&at.models())) return g->emission();
+  const auto* model = std::get_if<OpenPbrBxDF>(&at.models());
   return model ? model->emission(mu) : Color(0);
 }
 
@@ -549,17 +552,29 @@ typename Shading::C PathTracer::direct_light(const SurfaceHit& hit, const Frame&
   using C = typename Shading::C;
   C sum(0);
   // Eq. 2: every point light contributes f · I / r² · |cos θi|.
+  // A spot light's intensity is scaled by its falloff; a directional light's irradiance
+  // E replaces I / r² (KHR_lights_punctual, SPEC §3).
   for (const PointLight& light : scene_.point_lights) {
-    const Vec3 d = light.position - hit.p;
-    const Float dist2 = length_squared(d);
-    if (!(dist2 > 0)) continue;
-    const Float dist = std::sqrt(dist2);
-    const Vec3 wi_world = d / dist;
+    Vec3 wi_world;
+    Float dist, scale;
+    if (light.directional) {
+      wi_world = -light.direction;
+      dist = std::numeric_limits<Float>::infinity();
+      scale = 1;
+    } else {
+      const Vec3 d = light.position - hit.p;
+      const Float dist2 = length_squared(d);
+      if (!(dist2 > 0)) continue;
+      dist = std::sqrt(dist2);
+      wi_world = d / dist;
+      scale = spot_factor(light, -wi_world) / dist2;
+      if (!(scale > 0)) continue;
+    }
     const Vec3 wi = normalize(frame.to_local(wi_world));
     if (!sides_agree(wo_world, wi_world, hit.ng, wo, wi)) continue;
     const C f = bxdf.f(wo, wi);
     if (f.is_black() || occluded(hit.p, hit.ng, wi_world, dist, stats)) continue;
-    sum += f * shading.point(light) * (std::abs(wi.z) / dist2);
+    sum += f * shading.point(light) * (std::abs(wi.z) * scale);
   }
   // Eq. 1 by sampling one of the other lights, chosen by the light sampler with the
   // probability choice.pmf, which divides out below.

@@ -2,8 +2,11 @@
 // JSON path of the offending value.
 
 #include "gonio/render/scene_loader.h"
+#include "gonio/render/gltf_loader.h"
+#include "gonio/render/texture/texture_load.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cfloat>
 #include <cmath>
 #include <filesystem>
@@ -204,6 +207,10 @@ struct Loader {
   // mode), or scattering (the random walk of a `subsurface` medium, with its limits: RGB,
   // closed shapes).
   void openpbr_surface(Material& m, const Node& desc) {
+    if (const auto* g = std::get_if<GltfPbrBxDF>(&m.bxdf.models())) {
+      gltf_pbr_surface(m, *g, desc);
+      return;
+    }
     const auto* model = std::get_if<OpenPbrBxDF>(&m.bxdf.models());
     if (!model) return;
     const OpenPbrParams<Color>& p = model->params;
@@ -610,8 +617,32 @@ struct Loader {
       m.material = material_of(n);
       check_walkable(n, m, "mesh " + file.string());
       scene.meshes.push_back(std::move(m));
+    } else if (type == "gltf") {
+      // A glTF file's default scene, with its own materials (SPEC §3); its cameras and
+      // lights: the lights are added, the cameras ignored (the scene has its own).
+      n.object({"type", "file", "translate", "scale", "rotate"});
+      const Node file = n.required("file");
+      MeshTransform t;
+      if (n.has("translate")) t.translate = n.at("translate").vec3();
+      if (n.has("scale")) {
+        const Node s = n.at("scale");
+        if (s.value().is_number()) {
+          const Float k = static_cast<Float>(s.number(0, 1e30, true));
+          t.scale = {k, k, k};
+        } else {
+          if (!s.value().is_array() || s.size() != 3) s.fail("must be a number or [x, y, z], got " + show(s.value()));
+          t.scale = {static_cast<Float>(s.at(0).number(0, 1e30, true)), static_cast<Float>(s.at(1).number(0, 1e30, true)),
+                     static_cast<Float>(s.at(2).number(0, 1e30, true))};
+        }
+      }
+      if (n.has("rotate")) {
+        const Node r = n.at("rotate").object({"axis", "degrees"});
+        t.rotate_axis = r.required("axis").direction();
+        t.rotate_degrees = static_cast<Float>(r.required("degrees").number());
+      }
+      append_gltf(scene, resolve(file.string()), t, file.where());
     } else {
-      n.at("type").fail("unknown shape type \"" + type + "\" (known: sphere, quad, mesh)");
+      n.at("type").fail("unknown shape type \"" + type + "\" (known: sphere, quad, mesh, gltf)");
     }
   }
 
@@ -680,9 +711,36 @@ struct Loader {
   // radiance cannot say: it is found by paths only (with the textured model), as a mesh's.
   static bool sampled_emitter(const Material& m) { return m.emits && m.textures.empty(); }
 
+  // What a `gltf_pbr` material adds beyond its BSDF (docs/gltf_pbr.md, "Rendering"): its
+  // emission (emissive × emissive_strength, a Lambertian emitter on the front face, glTF 2.0
+  // §3.9.3), and with a volume (KHR_materials_volume: thickness > 0) the absorbing interior,
+  // σa = −ln(attenuation_color) / attenuation_distance (none for an infinite distance).
+  void gltf_pbr_surface(Material& m, const GltfPbrBxDF& model, const Node& desc) {
+    const GltfPbrParams<Color>& p = model.params;
+    m.emits = p.emissive_strength > 0 && !p.emissive.is_black() && model.coverage() > 0;
+    if (!model.volume() || !(p.attenuation_distance > 0) || p.attenuation_color == Color(1)) return;
+    Color sigma;
+    for (int i = 0; i < 3; ++i)
+      sigma[i] = openpbr::extinction_from_colour(std::clamp(p.attenuation_color[i], Float(0), Float(1)), p.attenuation_distance);
+    m.absorption = sigma;
+    m.absorption_depth = p.attenuation_distance;
+    try {
+      m.absorption_colour.emplace(std::clamp(p.attenuation_color[0], Float(0), Float(1)),
+                                  std::clamp(p.attenuation_color[1], Float(0), Float(1)),
+                                  std::clamp(p.attenuation_color[2], Float(0), Float(1)));
+    } catch (const InputError& e) {
+      desc.fail(std::string("gltf_pbr: attenuation_color: ") + e.what());
+    }
+  }
+
   int emitting_shape(AreaLight light, int material) {
-    const auto& model = std::get<OpenPbrBxDF>(scene.materials[static_cast<size_t>(material)].bxdf.models());
-    const Color peak = model.params.emission_color * model.params.emission_luminance;
+    const BxDF& bxdf = scene.materials[static_cast<size_t>(material)].bxdf;
+    Color peak;
+    if (const auto* g = std::get_if<GltfPbrBxDF>(&bxdf.models())) peak = g->emission();
+    else {
+      const auto& model = std::get<OpenPbrBxDF>(bxdf.models());
+      peak = model.params.emission_color * model.params.emission_luminance;
+    }
     std::visit([&](auto& l) { l.radiance = peak; }, light);
     scene.area_lights.push_back(light);
     scene.area_light_material.push_back(material);
@@ -772,7 +830,22 @@ struct Loader {
     const Float rotation = n.has("rotation") ? static_cast<Float>(n.at("rotation").number()) : Float(0);
     Image map;
     try {
-      map = read_image(resolve(file.string()), true);
+      const std::string path = resolve(file.string());
+      std::string ext = std::filesystem::path(path).extension().string();
+      for (char& ch : ext) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+      if (ext == ".exr" || ext == ".png") {
+        map = read_image(path, true);
+      } else {
+        // Any other format OpenImageIO reads (Radiance .hdr, TIFF, JPEG, ...): through the
+        // texture layer, 8/16-bit codes decoded from sRGB, float formats as they are.
+        const TextureImage t = load_texture_file(path, ColorEncoding::Srgb);
+        map = Image(t.width(), t.height());
+        for (int y = 0; y < t.height(); ++y)
+          for (int x = 0; x < t.width(); ++x) {
+            const Rgba& c = t.level(0).at(x, y);
+            map.at(x, y) = Color(c.r, c.g, c.b);
+          }
+      }
     } catch (const InputError& e) {
       file.fail(e.what());
     }
@@ -814,6 +887,7 @@ Scene parse_scene(std::string_view text, const std::string& source, const std::s
 }
 
 Scene load_scene_file(const std::string& path) {
+  if (is_gltf_path(path)) return load_gltf_scene(path);
   const std::string text = read_text_file(path, kMaxJsonFileBytes, "a scene file");
   const std::string dir = std::filesystem::path(path).parent_path().string();
   return parse_scene(text, path, dir);

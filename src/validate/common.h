@@ -94,6 +94,11 @@ inline std::vector<Vec3> test_outgoing_directions(const BxDF& bxdf) {
     for (Float th : {Float(10), Float(40), Float(70), Float(88)})
       v.push_back(-direction_from_angles(th * deg, 4.0f - th * deg));
   }
+  if (bxdf.is_fibre()) {
+    // A fibre (bxdf/hair.h): normal to its axis x, and nearly along it.
+    v.push_back(normalize(Vec3{0, 0.6f, 0.8f}));
+    v.push_back(normalize(Vec3{0.98f, 0.1f, -0.17f}));
+  }
   return v;
 }
 

@@ -97,6 +97,7 @@ std::string describe_delta_direction(const Vec3& wo, const BSDFSample& s, double
 // a delta transmission straight on, of index 1 whatever the model refracts with below it
 // (a hole is not an interface). Only a model that declares one may have it.
 bool has_cutout(const BxDF& bxdf) {
+  if (const auto* g = std::get_if<GltfPbrBxDF>(&bxdf.models())) return g->coverage() < 1;
   const auto* m = std::get_if<OpenPbrBxDF>(&bxdf.models());
   return m && m->params.geometry_opacity < 1;
 }

@@ -367,6 +367,14 @@ inline std::optional<DeltaReference> delta_reference(const BxDF& bxdf, const Vec
           return r;
         } else if constexpr (std::is_same_v<M, OpenPbrBxDF>) {
           return openpbr_reference(m, wo, mode);
+        } else if constexpr (std::is_same_v<M, GltfPbrBxDF>) {
+          // gltf_pbr's one delta lobe: the pass-through of alpha coverage a (glTF 2.0 §3.9.4),
+          // 1 − a from alpha, alpha_mode and alpha_cutoff as the specification reads them.
+          const GltfPbrParams<Color>& p = m.params;
+          const double a = std::clamp(double(p.alpha), 0.0, 1.0);
+          const double cover = p.alpha_mode < 0.5 ? 1.0 : p.alpha_mode < 1.5 ? (a >= double(p.alpha_cutoff) ? 1.0 : 0.0) : a;
+          r.transmission.fill(1 - cover);
+          return r;
         } else if constexpr (std::is_same_v<M, UserBxDF>) {
           const BxDFFlags f = m.flags();
           if (has(f, BxDFFlags::Specular) && has(f, BxDFFlags::Transmission) && !has(f, BxDFFlags::Glossy | BxDFFlags::Diffuse))

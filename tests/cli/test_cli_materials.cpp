@@ -6,10 +6,12 @@
 #include <map>
 #include <sstream>
 #include <string>
+#include <cstdint>
 #include <vector>
 
 #include "../merl_files.h"
 #include "gonio/material.h"
+#include "gonio/rgl_write.h"
 #include "gonio/material_types.h"
 #include "run_gonio.h"
 
@@ -43,10 +45,31 @@ TEST(CliMaterials, DocsMaterialsMdIsTheGeneratedReference) {
 
 // The types of SPEC §2 this build implements, in SPEC §2's order (written out here, not
 // taken from the registry).
+// A small RGL .bsdf file (a Lambertian, written by gonio's own writer at a low resolution).
+const std::string& small_rgl_file() {
+  static const gonio_test_merl::TempTable file(gonio_test_merl::temp_path("materials_rgl"));
+  static const bool written = [] {
+    gonio::RglWriteOptions opt;
+    opt.n_theta_i = 4;
+    opt.n_ndf = 16;
+    opt.n_sample = 8;
+    const std::vector<std::uint8_t> bytes =
+        gonio::tabulate_rgl(gonio::parse_material(R"({"type":"diffuse","reflectance":0.5})"), opt);
+    gonio_test_merl::write_bytes(file.path, std::vector<unsigned char>(bytes.begin(), bytes.end()));
+    return true;
+  }();
+  (void)written;
+  return file.path;
+}
+
 const std::vector<std::string> kImplemented = {"diffuse", "mirror",     "conductor", "dielectric", "roughconductor",
                                                "roughdielectric", "orennayar", "phong", "blinnphong", "ward",
-                                               "ashikhminshirley", "plastic", "blend", "measured", "subsurface",
-                                               "eon", "sheen", "thindielectric", "layered", "openpbr"};
+                                               "ashikhminshirley", "plastic", "blend", "measured", "rgl", "subsurface",
+                                               "eon", "sheen", "thindielectric", "layered", "openpbr",
+                                               "gltf_pbr",
+                                               "oren_nayar_diffuse_bsdf", "conductor_bsdf", "dielectric_bsdf",
+                                               "sheen_bsdf", "mix", "add", "multiply", "layer",
+                                               "hair", "chiang_hair_bsdf"};
 
 TEST(CliMaterials, ListsEveryTypeOnOneLine) {
   const RunResult r = run_gonio({"materials"});
@@ -129,10 +152,22 @@ const std::map<std::string, nlohmann::json>& minimal_descriptions() {
       {"blend", {{"type", "blend"}, {"weight", 0.5}, {"bsdfs", {{{"type", "diffuse"}}, {{"type", "mirror"}}}}}},
       {"layered", {{"type", "layered"}, {"top", {{"type", "dielectric"}}}, {"bottom", {{"type", "diffuse"}}}}},
       {"measured", {{"type", "measured"}, {"file", gonio_test_merl::lambert_table()}}},
+      {"rgl", {{"type", "rgl"}, {"file", small_rgl_file()}}},
       {"subsurface", {{"type", "subsurface"}, {"sigma_s", 1}, {"sigma_a", 0.1}}},
       {"sheen", {{"type", "sheen"}}},
       {"thindielectric", {{"type", "thindielectric"}}},
       {"openpbr", {{"type", "openpbr"}}},
+      {"gltf_pbr", {{"type", "gltf_pbr"}}},
+      {"oren_nayar_diffuse_bsdf", {{"type", "oren_nayar_diffuse_bsdf"}}},
+      {"conductor_bsdf", {{"type", "conductor_bsdf"}}},
+      {"dielectric_bsdf", {{"type", "dielectric_bsdf"}}},
+      {"sheen_bsdf", {{"type", "sheen_bsdf"}}},
+      {"mix", {{"type", "mix"}, {"fg", {{"type", "sheen_bsdf"}}}, {"bg", {{"type", "oren_nayar_diffuse_bsdf"}}}}},
+      {"add", {{"type", "add"}, {"in1", {{"type", "sheen_bsdf"}}}, {"in2", {{"type", "oren_nayar_diffuse_bsdf"}}}}},
+      {"multiply", {{"type", "multiply"}, {"in1", {{"type", "oren_nayar_diffuse_bsdf"}}}}},
+      {"layer", {{"type", "layer"}, {"top", {{"type", "dielectric_bsdf"}}}, {"base", {{"type", "oren_nayar_diffuse_bsdf"}}}}},
+      {"hair", {{"type", "hair"}}},
+      {"chiang_hair_bsdf", {{"type", "chiang_hair_bsdf"}}},
   };
   return descriptions;
 }
@@ -197,11 +232,15 @@ TEST(CliMaterials, ParserFollowsTheReference) {
         EXPECT_EQ(explicit_default.pdf(wo, wi), implicit.pdf(wo, wi)) << type << "." << key;
       }
       if (!p.range.present) continue;
+      // gltf_pbr's iridescence is declared (MaterialX's input) but refused above 0 until it is
+      // implemented (docs/gltf_pbr.md): tests/unit/test_gltf_pbr.cpp checks the refusal.
+      if (type == "gltf_pbr" && key == "iridescence") continue;
       const double lo = p.range.lo, hi = p.range.hi;
       // A value strictly inside, the two ends, and two values beyond them.
-      // (A whole number for the counts: layered's max_depth and samples.)
+      // (A whole number for the counts: layered's max_depth and samples; gltf_pbr's alpha_mode.)
       const double inside = lo + 0.25 * (hi - lo);
-      EXPECT_TRUE(parses(with(key == "max_depth" || key == "samples" ? std::round(inside) : inside))) << type << "." << key;
+      const bool whole = key == "max_depth" || key == "samples" || key == "alpha_mode";
+      EXPECT_TRUE(parses(with(whole ? std::round(inside) : inside))) << type << "." << key;
       std::string err;
       EXPECT_EQ(parses(with(lo), &err), !p.range.lo_open) << type << "." << key << " = " << lo << ": " << err;
       EXPECT_EQ(parses(with(hi), &err), !p.range.hi_open) << type << "." << key << " = " << hi << ": " << err;

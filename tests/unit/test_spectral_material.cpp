@@ -14,6 +14,10 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <unistd.h>
 #include <functional>
 #include <map>
 #include <string>
@@ -21,6 +25,7 @@
 
 #include "../data_csv.h"
 #include "gonio/material.h"
+#include "gonio/rgl_write.h"
 #include "gonio/spectral_material.h"
 #include "gonio/spectrum/cie.h"
 
@@ -86,6 +91,25 @@ double bk7_sellmeier(double lambda_nm) {
 // One material of every type of SPEC §2 that gonio has, every colour parameter the grey
 // `g` (so that the spectral model must be the RGB one at every wavelength), indices
 // constant.
+// A grey diffuse written as an RGL file (small resolution): its spectra are the grey at
+// every wavelength, so spectral mode gives the RGB model.
+std::string grey_rgl_file(double g) {
+  const std::string path = (std::filesystem::temp_directory_path() /
+                            ("gonio_test_grey_" + std::to_string(::getpid()) + "_" + std::to_string(int(g * 1000)) + ".bsdf"))
+                               .string();
+  if (!std::filesystem::exists(path)) {
+    RglWriteOptions o;
+    o.n_theta_i = 4;
+    o.n_ndf = 8;
+    o.n_sample = 6;
+    o.wavelengths = {360, 600, 830};
+    const std::vector<std::uint8_t> bytes =
+        tabulate_rgl(parse_material(R"({"type":"diffuse","reflectance":)" + std::to_string(g) + "}"), o);
+    std::ofstream(path, std::ios::binary).write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
+  }
+  return path;
+}
+
 std::map<std::string, std::string> grey_materials(double g) {
   const std::string G = std::to_string(g), H = std::to_string(g / 2);
   return {
@@ -105,13 +129,17 @@ std::map<std::string, std::string> grey_materials(double g) {
       {"blend", R"({"type":"blend","weight":0.3,"bsdfs":[{"type":"diffuse","reflectance":)" + G +
                     R"(},{"type":"roughconductor","alpha":0.2,"fresnel":"schlick","f0":)" + G + "}]}"},
       {"measured", R"({"type":"measured","file":")" + gonio_test_merl::lambert_table() + R"("})"},
+      {"rgl", R"({"type":"rgl","file":")" + grey_rgl_file(g) + R"("})"},
       {"subsurface", R"({"type":"subsurface","eta":1.33,"alpha":0.2,"sigma_s":)" + G + R"(,"sigma_a":)" + H + "}"},
       {"sheen", R"({"type":"sheen","color":)" + G + R"(,"roughness":0.3})"},
       {"layered", R"({"type":"layered","top":{"type":"roughdielectric","alpha":0.3,"eta":1.4},"bottom":{"type":"diffuse","reflectance":)" +
                       G + R"(},"thickness":0.2,"albedo":)" + H + "}"},
       {"thindielectric", R"({"type":"thindielectric","eta":1.4})"},
+      {"gltf_pbr", R"({"type":"gltf_pbr","base_color":)" + G + R"(,"metallic":0.3,"roughness":0.4,"clearcoat":0.5,"sheen_color":)" + H +
+                       R"(,"transmission":0.4,"specular_color":)" + G + "}"},
       {"openpbr", R"({"type":"openpbr","base_color":)" + G + R"(,"base_diffuse_roughness":0.4,"coat_weight":0.5,"fuzz_weight":0.3,"fuzz_color":)" +
-                      G + R"(,"base_metalness":0.3,"transmission_weight":0.2})"},
+                      G + R"(,"base_metalness":0.3,"transmission_weight":0.2})"},      {"hair", R"({"type":"hair","tint_R":)" + G + R"(,"sigma_a":0.4,"alpha":3})"},
+      {"chiang_hair_bsdf", R"({"type":"chiang_hair_bsdf","tint_TT":)" + G + R"(,"absorption_coefficient":0.2})"},
   };
 }
 

@@ -16,6 +16,15 @@
 // stratified grid. E is read bilinearly; its cosine-weighted mean Ē over the hemisphere is
 // that of the interpolant, so that the compensation lobe returns 1 − E(ωo) exactly for
 // the table's E.
+//
+// A table costs 20–30 ms, too much to make at every shading point of a textured roughness
+// (with_params). So the models read E through AnisotropicAlbedoBlend: tables at the nodes
+// of a fixed grid in (log₂ αx, log₂ αy), four nodes per octave, each made once per
+// process on first use and kept, and E read bilinearly between the four nodes around
+// (αx, αy). Ē blends with the same weights, so it is still the mean of the E read, and
+// the lobe still returns 1 − E(ωo) exactly; what the blend changes is E itself, by the
+// interpolation error in α (the white furnace of docs/openpbr.md, "Anisotropic metal",
+// and the tests that hold it).
 
 #include <algorithm>
 #include <array>
@@ -33,8 +42,9 @@ class AnisotropicAlbedo {
  public:
   static constexpr int kMu = 32, kPhi = 13, kGrid = 20;
 
-  static std::shared_ptr<const AnisotropicAlbedo> make(const MicrofacetDistribution& d) {
-    auto t = std::make_shared<AnisotropicAlbedo>();
+  // Tabulates E for `d` (1.7 KB; AnisotropicAlbedoBlend keeps one per grid node).
+  static std::unique_ptr<AnisotropicAlbedo> make(const MicrofacetDistribution& d) {
+    auto t = std::make_unique<AnisotropicAlbedo>();
     for (int j = 0; j < kMu; ++j) {
       // μ = 0 itself is a direction in the tangent plane: its limit, at μ = 1e-6.
       const double s = double(j) / (kMu - 1), mu = std::max(s * s * s * s, 1e-6);
@@ -89,6 +99,32 @@ class AnisotropicAlbedo {
  private:
   std::array<Float, size_t(kMu * kPhi)> e_{};
   Float avg_ = 0;
+};
+
+// E and Ē at any (αx, αy): the grid nodes' tables blended bilinearly in (log₂ αx, log₂ αy)
+// (above). A value: four pointers to tables that live as long as the process, and their
+// weights; copying it allocates nothing.
+struct AnisotropicAlbedoBlend {
+  // Four nodes per octave, from α = 2^-10 (below MicrofacetDistribution::kSmoothAlpha, where
+  // no compensation is made) to 2^4 (above the largest α a material accepts, 10).
+  static constexpr int kNodesPerOctave = 4, kLowestOctave = -10, kHighestOctave = 4;
+  static constexpr int kNodes = (kHighestOctave - kLowestOctave) * kNodesPerOctave + 1;
+
+  std::array<const AnisotropicAlbedo*, 4> table{};  // null: no table (E reads 0)
+  std::array<Float, 4> weight{};
+  Float avg = 0;
+
+  // Makes the tables of the four nodes around (αx, αy) on first use (thread-safe).
+  static AnisotropicAlbedoBlend at(const MicrofacetDistribution& d);
+
+  bool active() const { return table[0] != nullptr; }
+  Float E(const Vec3& w) const {
+    Float e = 0;
+    for (size_t i = 0; i < 4; ++i)
+      if (weight[i] > 0) e += weight[i] * table[i]->E(w);
+    return e;
+  }
+  Float average() const { return avg; }
 };
 
 }  // namespace gonio

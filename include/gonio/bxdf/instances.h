@@ -20,7 +20,8 @@
   X(DiffuseBxDFT) X(MirrorBxDFT) X(ConductorBxDFT) X(DielectricBxDFT) X(RoughConductorBxDFT)    \
   X(RoughDielectricBxDFT) X(OrenNayarBxDFT) X(PhongBxDFT) X(BlinnPhongBxDFT) X(WardBxDFT)       \
   X(AshikhminShirleyBxDFT) X(PlasticBxDFT) X(MeasuredBxDFT) X(BlendBxDFT) X(UserBxDFT)          \
-  X(SheenBxDFT) X(EonBxDFT) X(ThinDielectricBxDFT) X(LayeredBxDFT) X(OpenPbrBxDFT)
+  X(SheenBxDFT) X(EonBxDFT) X(ThinDielectricBxDFT) X(LayeredBxDFT) X(OpenPbrBxDFT)      \
+  X(GltfPbrBxDFT) X(PbrNodeBxDFT) X(CharlieSheenBxDFT) X(HairBxDFT) X(RglBxDFT)
 
 namespace gonio {
 

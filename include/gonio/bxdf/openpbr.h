@@ -184,7 +184,6 @@ struct Solved {
   const Float* coat_avg = nullptr;
   const Float* spec_avg_bare = nullptr;
   const std::optional<DielectricMultiscatterLobe>* glass_ms = nullptr;
-  const std::shared_ptr<const AnisotropicAlbedo>* metal_aniso = nullptr;  // the metal's E(μ, φ), anisotropic
 };
 
 // A table at the nodes μ_j = (j + ½)/kNormNodes read at μ, linearly (clamped at the ends).
@@ -281,7 +280,7 @@ struct OpenPbrBxDFT {
   Float spec_avg_bare = 0;       // Ē_s without the film
   openpbr::Solved solved() const {
     return {&diff_b,    &film_dE,       &film_dE_rgb,      &diff_b_rgb,
-            &coat_avg,  &spec_avg_bare, &glass.multiscatter, metal.multiscatter ? &metal.multiscatter->aniso : nullptr};
+            &coat_avg,  &spec_avg_bare, &glass.multiscatter};
   }
   // Glass.
   RoughDielectricBxDFT<C> glass{};
@@ -423,13 +422,11 @@ struct OpenPbrBxDFT {
     } else {
       m.f82_avg_est = fresnel_f82_average(m.metal.fresnel.f0, m.metal.fresnel.f82);
     }
-    // Anisotropic roughness too (multiscatter.h: E(μ, φ) tabulated for the distribution,
-    // or taken from `solved`, made from the same distribution). Made whatever the
-    // metalness, so that a model whose base_metalness varies (a texture) takes its table
-    // from `solved` instead of tabulating at each shading point.
+    // Anisotropic roughness too (multiscatter.h: E(μ, φ) from the process's tables on a
+    // grid of (αx, αy), anisotropic_albedo.h, so a textured roughness tabulates nothing per
+    // shading point). Made whatever the metalness.
     if (!m.spec_dist.effectively_smooth())
-      m.metal.multiscatter = MultiscatterLobeT<U>::make(m.spec_dist, m.f82_avg_est,
-                                                        solved && solved->metal_aniso ? *solved->metal_aniso : nullptr);
+      m.metal.multiscatter = MultiscatterLobeT<U>::make(m.spec_dist, m.f82_avg_est);
     m.metal_xi = std::clamp(p.specular_weight, Float(0), Float(1));
     // Diffuse: EON of roughness base_diffuse_roughness (eon.h), mixed with the subsurface's.
     const Float r = p.base_diffuse_roughness;

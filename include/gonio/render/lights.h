@@ -4,6 +4,7 @@
 // sampling them (next-event estimation) and by following BSDF samples that hit them,
 // combined with multiple importance sampling.
 
+#include <algorithm>
 #include <optional>
 #include <variant>
 #include <vector>
@@ -21,11 +22,28 @@ namespace gonio::render {
 // Each light's colour is given twice: as linear sRGB for RGB mode and, for spectral
 // mode, as the emission spectrum it came from (unset: the RGB value upsampled as an
 // illuminant, rgb_illuminant()).
+// A spot light (KHR_lights_punctual) is a point light whose intensity is scaled by
+// spot_factor(); a directional light (`directional`) sends irradiance `intensity` along
+// `direction` from infinitely far (position unused).
 struct PointLight {
   Vec3 position;
   Color intensity{1};
   std::optional<Spectrum> spectrum;
+  Vec3 direction{0, 0, -1};  // where a spot or directional light points
+  Float cos_outer = -2, cos_inner = -2;  // a spot when cos_outer > -1
+  bool directional = false;
 };
+
+// The spot's angular falloff towards `to_receiver` (unit, from the light): 1 inside the
+// inner cone, 0 outside the outer one, and between them the smooth falloff that the
+// KHR_lights_punctual specification gives ("Inner and Outer Cone Angles"):
+// t = clamp((cos θ − cos outer) / max(0.001, cos inner − cos outer), 0, 1), factor t².
+inline Float spot_factor(const PointLight& l, const Vec3& to_receiver) {
+  if (!(l.cos_outer > -1)) return 1;
+  const Float cd = dot(l.direction, to_receiver);
+  const Float t = std::clamp((cd - l.cos_outer) / std::max(Float(0.001), l.cos_inner - l.cos_outer), Float(0), Float(1));
+  return t * t;
+}
 
 // Parallelogram corner + s·edge1 + t·edge2, emitting radiance L from the side its normal
 // edge1 × edge2 points to (both sides when two_sided).

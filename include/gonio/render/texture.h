@@ -11,6 +11,9 @@
 #include "gonio/material.h"
 #include "gonio/math/warp.h"
 #include "gonio/render/image.h"
+#include "gonio/render/texture/texture_image.h"
+#include "gonio/render/texture/texture_sampler.h"
+#include "gonio/render/texture/texture_transform.h"
 
 namespace gonio::render {
 
@@ -22,9 +25,26 @@ struct Texture {
   // The image's smallest and largest value per channel, which the loader validated:
   // bilinear weights can sum to 1 + 1 ulp, and a value must not leave the checked range.
   Color lo, hi;
+  // A glTF texture (gltf_loader.h) instead: an image of the shared texture layer with its
+  // sampler and KHR_texture_transform, read at glTF's uv (v down from the top row); the
+  // texel's RGB (channel < 0) or one channel (0–3: r, g, b, a) times `factor`, clamped to
+  // [lo, hi].
+  std::shared_ptr<const TextureImage> layer_image;
+  TextureSampler sampler;
+  TextureTransform transform;
+  int channel = -1;
+  Color factor{1};
 
   // No allocation, no exception.
   Color eval(const Vec2& uv) const {
+    if (layer_image) {
+      const Rgba t = lookup(*layer_image, sampler, transform.apply(uv));
+      const Float ch[4] = {t.r, t.g, t.b, t.a};
+      Color c = channel < 0 ? Color(t.r, t.g, t.b) : Color(ch[channel & 3]);
+      c *= factor;
+      for (int i = 0; i < Color::size(); ++i) c[i] = std::clamp(c[i], lo[i], hi[i]);
+      return c;
+    }
     const Float u = uv.x * su, v = uv.y * sv;
     if (image) {
       Color c = image->bilinear(u, v);
