@@ -59,7 +59,7 @@ string(REGEX REPLACE "/$" "" GONIO_PC_TO_PREFIX "${GONIO_PC_TO_PREFIX}")
 # with --static. Embree 3 ships no .pc file, hence -lembree3.
 set(GONIO_PC_RENDER_REQUIRES "gonio = ${PROJECT_VERSION}")
 set(GONIO_PC_RENDER_LIBS "-lgonio_render")
-set(GONIO_PC_RENDER_REQUIRES_PRIVATE "tbb OpenEXR libpng tinyobjloader")
+set(GONIO_PC_RENDER_REQUIRES_PRIVATE "tbb OpenEXR libpng tinyobjloader OpenImageIO tinygltf")
 set(GONIO_PC_RENDER_LIBS_PRIVATE "-lembree3")
 if(NOT BUILD_SHARED_LIBS)
   string(APPEND GONIO_PC_RENDER_REQUIRES ", ${GONIO_PC_RENDER_REQUIRES_PRIVATE}")

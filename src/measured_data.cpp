@@ -16,6 +16,7 @@
 #include "gonio/math/select.h"
 #include "gonio/math/warp.h"
 #include "gonio/merl/coverage.h"
+#include "gonio/io/file_cache.h"
 #include "gonio/io/notes.h"
 
 namespace gonio {
@@ -360,34 +361,17 @@ Vec3 MeasuredData::sample(const Vec3& wo, Float u_lobe, Float u1, Float u2) cons
 // --- loading -----------------------------------------------------------------------
 
 std::shared_ptr<const MeasuredData> load_measured(const std::string& path) {
-  // Keyed by the canonical path, its size and modification time: a file rewritten in
-  // place is read again.
-  static std::mutex mutex;
-  static std::map<std::string, std::weak_ptr<const MeasuredData>> cache;
-  std::error_code ec;
-  const std::filesystem::path canonical = std::filesystem::weakly_canonical(path, ec);
-  std::string key = ec ? path : canonical.string();
-  const auto mtime = std::filesystem::last_write_time(path, ec);
-  if (!ec) {
-    key.push_back('|');
-    key.append(std::to_string(mtime.time_since_epoch().count()));
-  }
-  {
-    const std::lock_guard<std::mutex> lock(mutex);
-    if (auto it = cache.find(key); it != cache.end())
-      if (auto data = it->second.lock()) return data;
-  }
-  auto data = std::make_shared<const MeasuredData>(read_merl(path), path);
-  if (const double missing = merl_missing_fraction(data->table()); missing > 0) {
-    char pct[32];
-    std::snprintf(pct, sizeof pct, "%.3g%%", 100 * missing);
-    note("warning: " + path + ": " + pct +
-         " of the table's entries above the horizon are missing; the measured model interpolates from measured "
-         "neighbours and reads f = 0 where all eight are missing");
-  }
-  const std::lock_guard<std::mutex> lock(mutex);
-  cache[key] = data;
-  return data;
+  return cached_file<MeasuredData>(path, [&] {
+    auto data = std::make_shared<const MeasuredData>(read_merl(path), path);
+    if (const double missing = merl_missing_fraction(data->table()); missing > 0) {
+      char pct[32];
+      std::snprintf(pct, sizeof pct, "%.3g%%", 100 * missing);
+      note("warning: " + path + ": " + pct +
+           " of the table's entries above the horizon are missing; the measured model interpolates from measured "
+           "neighbours and reads f = 0 where all eight are missing");
+    }
+    return data;
+  });
 }
 
 namespace {

@@ -13,6 +13,7 @@
 #include <string>
 
 #include "gonio/error.h"
+#include "gonio/io/file_cache.h"
 #include "gonio/io/tensor_file.h"
 #include "gonio/math/constants.h"
 #include "gonio/spectrum/cie.h"
@@ -280,25 +281,7 @@ RglData parse_rgl(const TensorFile& tf) {
 }
 
 std::shared_ptr<const RglData> load_rgl(const std::string& path) {
-  static std::mutex mutex;
-  static std::map<std::string, std::weak_ptr<const RglData>> cache;
-  std::error_code ec;
-  const std::filesystem::path canonical = std::filesystem::weakly_canonical(path, ec);
-  std::string key = ec ? path : canonical.string();
-  const auto mtime = std::filesystem::last_write_time(path, ec);
-  if (!ec) {
-    key.push_back('|');
-    key.append(std::to_string(mtime.time_since_epoch().count()));
-  }
-  {
-    const std::lock_guard<std::mutex> lock(mutex);
-    if (auto it = cache.find(key); it != cache.end())
-      if (auto data = it->second.lock()) return data;
-  }
-  auto data = std::make_shared<const RglData>(parse_rgl(TensorFile::read(path)));
-  const std::lock_guard<std::mutex> lock(mutex);
-  cache[key] = data;
-  return data;
+  return cached_file<RglData>(path, [&] { return std::make_shared<const RglData>(parse_rgl(TensorFile::read(path))); });
 }
 
 }  // namespace gonio

@@ -71,10 +71,12 @@ BsdfText with_point(BsdfText b) {
 
 void add_point_options(CLI::App& cmd) {
   cmd.add_option("--uv", g_uv, "U V: texture coordinates where a MaterialX material's graph is evaluated (default 0.5 0.5)")
-      ->expected(2);
+      ->expected(2)
+      ->check(decimal_number());
   cmd.add_option("--position", g_position,
                  "X Y Z: the position where a MaterialX material's graph is evaluated (default 0 0 0)")
-      ->expected(3);
+      ->expected(3)
+      ->check(decimal_number());
 }
 
 BxDF load_bsdf(const std::string& arg) {

@@ -12,6 +12,8 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <string_view>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -26,12 +28,15 @@
 #include "gonio/measure/surface.h"
 #include "gonio/measure/table.h"
 #include "gonio/io/output_file.h"
+#include "gonio/measured_data.h"
+#include "gonio/merl.h"
+#include "gonio/rgl_write.h"
 
 namespace gonio::cli {
 
 namespace {
 struct MeasureArgs {
-  std::string surface, output, gantry, json, preview, stderr_table, support_table;
+  std::string surface, output, gantry, json, preview, stderr_table, support_table, format = "merl";
   std::int64_t samples = 10'000'000;
   bool samples_given = false;
   int threads = 0;
@@ -258,7 +263,18 @@ void run_measure(const MeasureArgs& a) {
     create_removable([&] { return err.emplace(a.stderr_table, "the standard errors' table").temporary_path(); });
   if (!a.support_table.empty())
     create_removable([&] { return sup.emplace(a.support_table, "the support table").temporary_path(); });
-  write_merl(*out, t.table);
+  if (a.format == "rgl") {
+    // SPEC §3 `--format rgl`: the measured table, as the `measured` model reads it,
+    // acquired into an RGL .bsdf file by tabulate_rgl (its NDF by the power iteration from
+    // the measured retro-reflection; include/gonio/rgl_write.h).
+    RglWriteOptions opt;
+    opt.description = "gonio measure";
+    const BxDF measured = MeasuredBxDF::make(std::make_shared<const MeasuredData>(MerlTable(t.table), a.output));
+    const std::vector<std::uint8_t> bytes = tabulate_rgl(measured, opt);
+    out->commit(std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()));
+  } else {
+    write_merl(*out, t.table);
+  }
   if (err) write_merl(*err, stderr_table(t));
   if (sup) write_merl(*sup, support_table(t));
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -289,6 +305,9 @@ void register_measure(CLI::App& app) {
                   "estimated from its own bin, else from a region of bins around it, 0 to 1000000 (default 25; 0: "
                   "every bin from its own)")
       ->transform(decimal_in_range(0, 1'000'000));
+  cmd->add_option("--format", args->format,
+                  "with -o: merl (default, a MERL .binary table) or rgl (an RGL .bsdf file of the measured table, SPEC §3)")
+      ->check(CLI::IsMember({"merl", "rgl"}));
   cmd->add_option("--json", args->json, "write the JSON result to FILE instead of stdout");
   cmd->add_option("--preview", args->preview, "write a shaded image of the height field (.png or .exr)");
   CLI::Option* samples = cmd->add_option("--samples", args->samples,

@@ -189,7 +189,21 @@ json example_material(std::string_view type) {
     "layered": {"type": "layered", "top": {"type": "roughdielectric", "alpha": 0.1, "eta": 1.5},
                 "bottom": {"type": "diffuse", "reflectance": [0.7, 0.2, 0.1]}},
     "gltf_pbr": {"type": "gltf_pbr", "base_color": [0.8, 0.3, 0.1], "metallic": 0, "roughness": 0.4,
-                 "clearcoat": 0.5, "clearcoat_roughness": 0.1}
+                 "clearcoat": 0.5, "clearcoat_roughness": 0.1},
+    "rgl": {"type": "rgl", "file": "material.bsdf"},
+    "oren_nayar_diffuse_bsdf": {"type": "oren_nayar_diffuse_bsdf", "color": [0.7, 0.4, 0.2], "roughness": 0.3},
+    "conductor_bsdf": {"type": "conductor_bsdf", "roughness": 0.2},
+    "dielectric_bsdf": {"type": "dielectric_bsdf", "roughness": 0.1, "scatter_mode": "RT"},
+    "sheen_bsdf": {"type": "sheen_bsdf", "color": [0.9, 0.6, 0.6], "roughness": 0.4},
+    "mix": {"type": "mix", "mix": 0.3, "fg": {"type": "conductor_bsdf", "roughness": 0.2},
+            "bg": {"type": "oren_nayar_diffuse_bsdf", "color": 0.6}},
+    "add": {"type": "add", "in1": {"type": "sheen_bsdf", "color": 0.3},
+            "in2": {"type": "oren_nayar_diffuse_bsdf", "color": 0.5}},
+    "multiply": {"type": "multiply", "in1": {"type": "oren_nayar_diffuse_bsdf", "color": 0.8}, "in2": [1, 0.5, 0.2]},
+    "layer": {"type": "layer", "top": {"type": "dielectric_bsdf", "roughness": 0.1},
+              "base": {"type": "oren_nayar_diffuse_bsdf", "color": [0.7, 0.2, 0.1]}},
+    "hair": {"type": "hair", "eumelanin": 0.4, "pheomelanin": 0.3},
+    "chiang_hair_bsdf": {"type": "chiang_hair_bsdf", "absorption_coefficient": [0.2, 0.4, 0.8]}
   })");
   const auto it = examples.find(std::string(type));
   return it != examples.end() ? *it : json{{"type", std::string(type)}};

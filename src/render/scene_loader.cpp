@@ -595,24 +595,7 @@ struct Loader {
     } else if (type == "mesh") {
       n.object({"type", "file", "material", "translate", "scale", "rotate"});
       const Node file = n.required("file");
-      MeshTransform t;
-      if (n.has("translate")) t.translate = n.at("translate").vec3();
-      if (n.has("scale")) {
-        const Node s = n.at("scale");
-        if (s.value().is_number()) {
-          const Float k = static_cast<Float>(s.number(0, 1e30, true));
-          t.scale = {k, k, k};
-        } else {
-          if (!s.value().is_array() || s.size() != 3) s.fail("must be a number or [x, y, z], got " + show(s.value()));
-          t.scale = {static_cast<Float>(s.at(0).number(0, 1e30, true)), static_cast<Float>(s.at(1).number(0, 1e30, true)),
-                     static_cast<Float>(s.at(2).number(0, 1e30, true))};
-        }
-      }
-      if (n.has("rotate")) {
-        const Node r = n.at("rotate").object({"axis", "degrees"});
-        t.rotate_axis = r.required("axis").direction();
-        t.rotate_degrees = static_cast<Float>(r.required("degrees").number());
-      }
+      const MeshTransform t = shape_transform(n);
       Mesh m = load_obj_mesh(resolve(file.string()), t, file.where());
       m.material = material_of(n);
       check_walkable(n, m, "mesh " + file.string());
@@ -622,24 +605,7 @@ struct Loader {
       // lights: the lights are added, the cameras ignored (the scene has its own).
       n.object({"type", "file", "translate", "scale", "rotate"});
       const Node file = n.required("file");
-      MeshTransform t;
-      if (n.has("translate")) t.translate = n.at("translate").vec3();
-      if (n.has("scale")) {
-        const Node s = n.at("scale");
-        if (s.value().is_number()) {
-          const Float k = static_cast<Float>(s.number(0, 1e30, true));
-          t.scale = {k, k, k};
-        } else {
-          if (!s.value().is_array() || s.size() != 3) s.fail("must be a number or [x, y, z], got " + show(s.value()));
-          t.scale = {static_cast<Float>(s.at(0).number(0, 1e30, true)), static_cast<Float>(s.at(1).number(0, 1e30, true)),
-                     static_cast<Float>(s.at(2).number(0, 1e30, true))};
-        }
-      }
-      if (n.has("rotate")) {
-        const Node r = n.at("rotate").object({"axis", "degrees"});
-        t.rotate_axis = r.required("axis").direction();
-        t.rotate_degrees = static_cast<Float>(r.required("degrees").number());
-      }
+      const MeshTransform t = shape_transform(n);
       append_gltf(scene, resolve(file.string()), t, file.where());
     } else {
       n.at("type").fail("unknown shape type \"" + type + "\" (known: sphere, quad, mesh, gltf)");
@@ -731,6 +697,30 @@ struct Loader {
     } catch (const InputError& e) {
       desc.fail(std::string("gltf_pbr: attenuation_color: ") + e.what());
     }
+  }
+
+  // A mesh's or glTF file's "translate", "scale" (a number or [x, y, z]) and "rotate"
+  // ({"axis", "degrees"}).
+  MeshTransform shape_transform(const Node& n) {
+    MeshTransform t;
+    if (n.has("translate")) t.translate = n.at("translate").vec3();
+    if (n.has("scale")) {
+      const Node s = n.at("scale");
+      if (s.value().is_number()) {
+        const Float k = static_cast<Float>(s.number(0, 1e30, true));
+        t.scale = {k, k, k};
+      } else {
+        if (!s.value().is_array() || s.size() != 3) s.fail("must be a number or [x, y, z], got " + show(s.value()));
+        t.scale = {static_cast<Float>(s.at(0).number(0, 1e30, true)), static_cast<Float>(s.at(1).number(0, 1e30, true)),
+                   static_cast<Float>(s.at(2).number(0, 1e30, true))};
+      }
+    }
+    if (n.has("rotate")) {
+      const Node r = n.at("rotate").object({"axis", "degrees"});
+      t.rotate_axis = r.required("axis").direction();
+      t.rotate_degrees = static_cast<Float>(r.required("degrees").number());
+    }
+    return t;
   }
 
   int emitting_shape(AreaLight light, int material) {

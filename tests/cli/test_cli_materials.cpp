@@ -236,16 +236,19 @@ TEST(CliMaterials, ParserFollowsTheReference) {
       // implemented (docs/gltf_pbr.md): tests/unit/test_gltf_pbr.cpp checks the refusal.
       if (type == "gltf_pbr" && key == "iridescence") continue;
       const double lo = p.range.lo, hi = p.range.hi;
+      // A pair (MaterialX's vector2) takes each value as [v, v].
+      const bool pair = p.kind == gonio::ParamKind::Pair;
+      const auto value = [&](double v) { return pair ? nlohmann::json::array({v, v}) : nlohmann::json(v); };
       // A value strictly inside, the two ends, and two values beyond them.
       // (A whole number for the counts: layered's max_depth and samples; gltf_pbr's alpha_mode.)
       const double inside = lo + 0.25 * (hi - lo);
       const bool whole = key == "max_depth" || key == "samples" || key == "alpha_mode";
-      EXPECT_TRUE(parses(with(whole ? std::round(inside) : inside))) << type << "." << key;
+      EXPECT_TRUE(parses(with(value(whole ? std::round(inside) : inside)))) << type << "." << key;
       std::string err;
-      EXPECT_EQ(parses(with(lo), &err), !p.range.lo_open) << type << "." << key << " = " << lo << ": " << err;
-      EXPECT_EQ(parses(with(hi), &err), !p.range.hi_open) << type << "." << key << " = " << hi << ": " << err;
+      EXPECT_EQ(parses(with(value(lo)), &err), !p.range.lo_open) << type << "." << key << " = " << lo << ": " << err;
+      EXPECT_EQ(parses(with(value(hi)), &err), !p.range.hi_open) << type << "." << key << " = " << hi << ": " << err;
       for (double beyond : {lo - 1e-3 * (hi - lo) - 1e-3, hi + 1e-3 * (hi - lo) + 1e-3}) {
-        EXPECT_FALSE(parses(with(beyond), &err)) << type << "." << key << " = " << beyond;
+        EXPECT_FALSE(parses(with(value(beyond)), &err)) << type << "." << key << " = " << beyond;
         EXPECT_NE(err.find(key + " must be"), std::string::npos) << err;
       }
     }

@@ -397,7 +397,7 @@ TEST_F(ExploreApi, RegistryListsEveryTypeWithAValidExample) {
   for (const auto& t : d["types"]) got.push_back(t["name"]);
   EXPECT_EQ(got, expected);
   for (const auto& t : d["types"]) {
-    if (t["name"] == "measured") continue;  // its example names a file of --data
+    if (t["name"] == "measured" || t["name"] == "rgl") continue;  // their examples name a file of --data
     const auto [status, v] = post("/api/validate", {{"bsdf", t["example"]}});
     EXPECT_EQ(status, 200) << t["name"] << ": " << v;
   }

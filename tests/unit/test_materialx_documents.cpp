@@ -134,11 +134,11 @@ TEST(MaterialxDocuments, SurfaceWrapperAndANodeOfAGonioTypeByItsName) {
   EXPECT_EQ(materialx_file_to_json((d / "o.mtlx").string()), json::parse(R"({"type": "surface", "bsdf": {"type": "diffuse"}, "opacity": 0.5})"));
   // A pbrlib node this build has no type for: refused naming node, category and line.
   write_doc(d / "u.mtlx",
-            "  <chiang_hair_bsdf name=\"H\" type=\"BSDF\" />\n"
+            "  <burley_diffuse_bsdf name=\"H\" type=\"BSDF\" />\n"
             "  <surface name=\"S\" type=\"surfaceshader\">\n    <input name=\"bsdf\" type=\"BSDF\" nodename=\"H\" />\n  </surface>\n" +
                 material("M", "S"));
   EXPECT_EQ(error_of(d / "u.mtlx"),
-            (d / "u.mtlx").string() + ": line 3: <chiang_hair_bsdf> \"H\": unsupported node (category \"chiang_hair_bsdf\", type \"BSDF\")");
+            (d / "u.mtlx").string() + ": line 3: <burley_diffuse_bsdf> \"H\": unsupported node (category \"burley_diffuse_bsdf\", type \"BSDF\")");
   fs::remove_all(d);
 }
 

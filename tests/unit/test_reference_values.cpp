@@ -226,6 +226,12 @@ TEST(ReferenceValues, EveryMaterialTypeHasRecords) {
     // that it evaluates and samples exactly as the dielectric or roughdielectric with the
     // same parameters, whose records are here.
     if (type == "subsurface") continue;
+    // MaterialX's pbrlib nodes are gonio's lobes under MaterialX's names: test_pbrlib.cpp
+    // holds each against MaterialX's formulas written in the test, and the lobes they
+    // become have their records here.
+    constexpr std::string_view kPbrlibNodes[] = {"oren_nayar_diffuse_bsdf", "conductor_bsdf", "dielectric_bsdf",
+                                                 "sheen_bsdf", "mix", "add", "multiply", "layer"};
+    if (std::find(std::begin(kPbrlibNodes), std::end(kPbrlibNodes), type) != std::end(kPbrlibNodes)) continue;
     EXPECT_TRUE(covered.count(std::string(type))) << "material type \"" << type
                                                   << "\" has no record in " << data_dir();
   }

@@ -138,7 +138,19 @@ std::map<std::string, std::string> grey_materials(double g) {
       {"gltf_pbr", R"({"type":"gltf_pbr","base_color":)" + G + R"(,"metallic":0.3,"roughness":0.4,"clearcoat":0.5,"sheen_color":)" + H +
                        R"(,"transmission":0.4,"specular_color":)" + G + "}"},
       {"openpbr", R"({"type":"openpbr","base_color":)" + G + R"(,"base_diffuse_roughness":0.4,"coat_weight":0.5,"fuzz_weight":0.3,"fuzz_color":)" +
-                      G + R"(,"base_metalness":0.3,"transmission_weight":0.2})"},      {"hair", R"({"type":"hair","tint_R":)" + G + R"(,"sigma_a":0.4,"alpha":3})"},
+                      G + R"(,"base_metalness":0.3,"transmission_weight":0.2})"},
+      {"oren_nayar_diffuse_bsdf", R"({"type":"oren_nayar_diffuse_bsdf","color":)" + G + R"(,"roughness":0.3})"},
+      {"conductor_bsdf", R"({"type":"conductor_bsdf","ior":1.3,"extinction":2.5,"roughness":0.3})"},
+      {"dielectric_bsdf", R"({"type":"dielectric_bsdf","tint":)" + G + R"(,"roughness":0.2,"scatter_mode":"RT"})"},
+      {"sheen_bsdf", R"({"type":"sheen_bsdf","color":)" + G + R"(,"roughness":0.4,"mode":"conty_kulla"})"},
+      {"mix", R"({"type":"mix","mix":0.4,"fg":{"type":"sheen_bsdf","color":)" + G +
+                  R"(},"bg":{"type":"oren_nayar_diffuse_bsdf","color":)" + G + "}}"},
+      {"add", R"({"type":"add","in1":{"type":"sheen_bsdf","color":)" + H + R"(},"in2":{"type":"oren_nayar_diffuse_bsdf","color":)" +
+                  H + "}}"},
+      {"multiply", R"({"type":"multiply","in1":{"type":"oren_nayar_diffuse_bsdf","color":)" + G + R"(},"in2":0.5})"},
+      {"layer", R"({"type":"layer","top":{"type":"dielectric_bsdf","roughness":0.2},"base":{"type":"oren_nayar_diffuse_bsdf","color":)" +
+                    G + "}}"},
+      {"hair", R"({"type":"hair","tint_R":)" + G + R"(,"sigma_a":0.4,"alpha":3})"},
       {"chiang_hair_bsdf", R"({"type":"chiang_hair_bsdf","tint_TT":)" + G + R"(,"absorption_coefficient":0.2})"},
   };
 }
