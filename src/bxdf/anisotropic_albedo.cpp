@@ -9,9 +9,9 @@ namespace gonio {
 namespace {
 
 using Blend = AnisotropicAlbedoBlend;
-constexpr int kTypes = 2;  // GGX, Beckmann
+constexpr int kDistributionTypes = 2;  // GGX, Beckmann
 // Zero-initialised (static storage): a null entry is a node not made yet.
-std::atomic<const AnisotropicAlbedo*> g_node_tables[kTypes][Blend::kNodes][Blend::kNodes];
+std::atomic<const AnisotropicAlbedo*> g_node_tables[kDistributionTypes][Blend::kNodes][Blend::kNodes];
 
 // The node's value of α: 2^(lowest octave + i / nodes per octave).
 Float node_alpha(int i) {
