@@ -117,7 +117,7 @@ double spot_closed_form(double cos_theta, double inner, double outer) {
 }
 
 TEST(Gltf, SpotLightOnLambertianFloorMatchesItsIrradiance) {
-  test::ScratchDir dir("gonio_gltf");
+  gonio::test::ScratchDir dir("gonio_gltf");
   Doc d;
   // A white Lambertian floor: no specular layer (KHR_materials_specular factor 0).
   d.j["materials"].push_back({{"pbrMetallicRoughness", {{"baseColorFactor", {1, 1, 1, 1}}, {"metallicFactor", 0}, {"roughnessFactor", 1}}},
@@ -152,7 +152,7 @@ TEST(Gltf, SpotLightOnLambertianFloorMatchesItsIrradiance) {
 }
 
 TEST(Gltf, DirectionalLightGivesItsIrradiance) {
-  test::ScratchDir dir("gonio_gltf");
+  gonio::test::ScratchDir dir("gonio_gltf");
   Doc d;
   d.j["materials"].push_back({{"pbrMetallicRoughness", {{"baseColorFactor", {0.5, 0.5, 0.5, 1}}, {"metallicFactor", 0}, {"roughnessFactor", 1}}},
                               {"extensions", {{"KHR_materials_specular", {{"specularFactor", 0}}}}}});
@@ -168,7 +168,7 @@ TEST(Gltf, DirectionalLightGivesItsIrradiance) {
 }
 
 TEST(Gltf, OrthographicCameraProjectsAndTextureTransformShifts) {
-  test::ScratchDir dir("gonio_gltf");
+  gonio::test::ScratchDir dir("gonio_gltf");
   // A 2 × 2 texture, nearest, clamped: red, green (top row), blue, white (bottom row).
   Image tex(2, 2);
   tex.at(0, 0) = Color(1, 0, 0), tex.at(1, 0) = Color(0, 1, 0), tex.at(0, 1) = Color(0, 0, 1), tex.at(1, 1) = Color(1, 1, 1);
@@ -236,7 +236,7 @@ void expect_refused(const std::string& path, const std::string& needle) {
 }
 
 TEST(Gltf, MalformedFilesAreRefusedInOneLine) {
-  test::ScratchDir dir("gonio_gltf");
+  gonio::test::ScratchDir dir("gonio_gltf");
   expect_refused(dir.file("trunc.gltf", "{\"asset\": {\"version\": \"2.0\"}, \"nodes\": ["), "trunc.gltf");
   expect_refused(dir.file("trunc.glb", std::string("glTF\x02\0\0\0\xff\0\0\0", 12)), "trunc.glb");
   expect_refused(dir.path("missing.gltf"), "missing.gltf");
@@ -292,7 +292,7 @@ TEST(Gltf, MalformedFilesAreRefusedInOneLine) {
 }
 
 TEST(Gltf, NodeHierarchyComposesMatrixAndTrs) {
-  test::ScratchDir dir("gonio_gltf");
+  gonio::test::ScratchDir dir("gonio_gltf");
   Doc d;
   const float c[3] = {0, 0, 0}, e1[3] = {1, 0, 0}, e2[3] = {0, 1, 0};
   const int mesh = d.quad(c, e1, e2, -1);

@@ -137,7 +137,7 @@ std::string slurp(const std::string& p) {
 }
 
 TEST(TextureLayer, ReadsPngFromFileAndMemory) {
-  test::ScratchDir dir("gonio_texture");
+  gonio::test::ScratchDir dir("gonio_texture");
   Image img(2, 1);
   img.at(0, 0) = Color(0.2f, 0.5f, 1.0f);
   img.at(1, 0) = Color(0.0f, 0.05f, 0.8f);
@@ -165,7 +165,7 @@ TEST(TextureLayer, ReadsPngFromFileAndMemory) {
 }
 
 TEST(TextureLayer, ReadsExrAndRadianceHdrAsLinear) {
-  test::ScratchDir dir("gonio_texture");
+  gonio::test::ScratchDir dir("gonio_texture");
   Image img(1, 2);
   img.at(0, 0) = Color(3.5f, 0.25f, 0.0f);
   img.at(0, 1) = Color(0.125f, 7.0f, 1.0f);
