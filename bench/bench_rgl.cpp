@@ -11,8 +11,8 @@
 #include "gonio/bxdf.h"
 #include "gonio/io/tensor_file.h"
 #include "gonio/material.h"
-#include "gonio/rgl_data.h"
-#include "gonio/rgl_write.h"
+#include "gonio/rgl/data.h"
+#include "gonio/rgl/write.h"
 #include "gonio/spectral_material.h"
 
 namespace {

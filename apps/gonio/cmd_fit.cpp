@@ -12,7 +12,7 @@
 #include "gonio/fit/fit.h"
 #include "gonio/json_text.h"
 #include "gonio/merl.h"
-#include "gonio/rgl_data.h"
+#include "gonio/rgl/data.h"
 #include "gonio/tabulate.h"
 
 namespace gonio::cli {

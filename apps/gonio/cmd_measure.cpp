@@ -30,7 +30,7 @@
 #include "gonio/io/output_file.h"
 #include "gonio/measured_data.h"
 #include "gonio/merl.h"
-#include "gonio/rgl_write.h"
+#include "gonio/rgl/write.h"
 
 namespace gonio::cli {
 
@@ -266,7 +266,7 @@ void run_measure(const MeasureArgs& a) {
   if (a.format == "rgl") {
     // SPEC §3 `--format rgl`: the measured table, as the `measured` model reads it,
     // acquired into an RGL .bsdf file by tabulate_rgl (its NDF by the power iteration from
-    // the measured retro-reflection; include/gonio/rgl_write.h).
+    // the measured retro-reflection; include/gonio/rgl/write.h).
     RglWriteOptions opt;
     opt.description = "gonio measure";
     const BxDF measured = MeasuredBxDF::make(std::make_shared<const MeasuredData>(MerlTable(t.table), a.output));

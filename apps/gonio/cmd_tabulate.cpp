@@ -15,7 +15,7 @@
 #include "commands.h"
 #include "gonio/merl.h"
 #include "gonio/io/output_file.h"
-#include "gonio/rgl_write.h"
+#include "gonio/rgl/write.h"
 #include "gonio/tabulate.h"
 
 namespace gonio::cli {
@@ -25,7 +25,7 @@ struct TabulateArgs {
   std::string bsdf, output, format = "merl";
 };
 
-// --format rgl: the RGL .bsdf tensor file (SPEC §3; include/gonio/rgl_write.h), anisotropic
+// --format rgl: the RGL .bsdf tensor file (SPEC §3; include/gonio/rgl/write.h), anisotropic
 // when the material is.
 void run_tabulate_rgl(const TabulateArgs& a, const BxDF& model) {
   install_stop_signals();

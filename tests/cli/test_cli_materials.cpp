@@ -11,7 +11,7 @@
 
 #include "../merl_files.h"
 #include "gonio/material.h"
-#include "gonio/rgl_write.h"
+#include "gonio/rgl/write.h"
 #include "gonio/material_types.h"
 #include "run_gonio.h"
 

@@ -20,8 +20,8 @@
 #include "gonio/io/tensor_file.h"
 #include "gonio/material.h"
 #include "gonio/math/bilinear_warp.h"
-#include "gonio/rgl_data.h"
-#include "gonio/rgl_write.h"
+#include "gonio/rgl/data.h"
+#include "gonio/rgl/write.h"
 #include "test_scale.h"
 
 namespace gonio {

@@ -25,7 +25,7 @@
 
 #include "../data_csv.h"
 #include "gonio/material.h"
-#include "gonio/rgl_write.h"
+#include "gonio/rgl/write.h"
 #include "gonio/spectral_material.h"
 #include "gonio/spectrum/cie.h"
 

@@ -1,6 +1,6 @@
 #pragma once
 // A measured material in the RGL `.bsdf` format (SPEC §2 `rgl`; Dupuy & Jakob 2018):
-// evaluated and sampled from its tables as rgl_data.h describes. The file's θi/φi axis is
+// evaluated and sampled from its tables as rgl/data.h describes. The file's θi/φi axis is
 // gonio's wo: f(wo, wi) = value(a = wo, b = wi)/cos θi (SPEC §2). Reflection only,
 // two-sided like every reflecting model (SPEC §1: both directions mirrored to the upper
 // side when wo is below). The table is shared: the model holds a pointer to it, `owner`
@@ -20,7 +20,7 @@
 // Spectral mode: a spectral file at the path's wavelengths (linear between the file's
 // wavelengths, clamped beyond); an RGB-only file's RGB upsampled as an unbounded spectrum
 // (Jakob & Hanika 2019). RGB mode: the file's `rgb`, or its spectra reduced as
-// rgl_data.cpp documents.
+// src/rgl/data.cpp documents.
 
 #include <memory>
 #include <optional>
@@ -28,7 +28,7 @@
 #include <type_traits>
 
 #include "gonio/bxdf/contract.h"
-#include "gonio/rgl_data.h"
+#include "gonio/rgl/data.h"
 #include "gonio/spectrum/rgb_to_spectrum.h"
 #include "gonio/spectrum/wavelengths.h"
 
@@ -88,7 +88,7 @@ struct RglBxDFT {
   static bool same_side(const Vec3& wo, const Vec3& wi) { return wo.z * wi.z > 0; }
   static Vec3 upper(const Vec3& wo, const Vec3& w) { return wo.z > 0 ? w : Vec3{w.x, w.y, -w.z}; }
   C bounded_f(const Vec3& o, const Vec3& i) const { return i.z >= o.z ? value(o, i) / i.z : value(i, o) / o.z; }
-  // value(a, b) = f(wo = a, wi = b)·cos θb (rgl_data.h).
+  // value(a, b) = f(wo = a, wi = b)·cos θb (rgl/data.h).
   C value(const Vec3& a, const Vec3& b) const {
     RglData::Point p;
     return data->locate(a, b, p) ? colour(p) : C(0);

@@ -1,7 +1,7 @@
-// RGL `.bsdf` tables (include/gonio/rgl_data.h): parsing and the paper's evaluation and
+// RGL `.bsdf` tables (include/gonio/rgl/data.h): parsing and the paper's evaluation and
 // sampling (Dupuy & Jakob 2018, §5–6).
 
-#include "gonio/rgl_data.h"
+#include "gonio/rgl/data.h"
 
 #include <algorithm>
 #include <array>

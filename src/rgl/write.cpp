@@ -1,6 +1,6 @@
-// A material written as an RGL .bsdf file (include/gonio/rgl_write.h).
+// A material written as an RGL .bsdf file (include/gonio/rgl/write.h).
 
-#include "gonio/rgl_write.h"
+#include "gonio/rgl/write.h"
 
 #include <algorithm>
 #include <cmath>
